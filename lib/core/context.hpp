@@ -1,0 +1,82 @@
+// The state behind a um_context: thread arena, callbacks, memory cap and the
+// sticky first error. Objects created from a context share this state, so a
+// context may be destroyed before its objects.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include <oneapi/tbb/task_arena.h>
+
+#include "unimesh.h"
+
+namespace um {
+
+class Context {
+public:
+    Context();
+
+    // Threads ------------------------------------------------------------
+    void set_threads(int32_t n_threads);  // 0 = all cores
+    int32_t threads() const { return threads_; }
+    // Runs fn inside this context's arena (serially when threads() == 1).
+    template <class Fn>
+    void run(Fn &&fn) {
+        if (threads_ == 1) {
+            fn();
+        } else {
+            arena_->execute(fn);
+        }
+    }
+
+    // Callbacks -----------------------------------------------------------
+    void set_progress(um_progress_fn fn, void *user) { progress_fn_ = fn, progress_user_ = user; }
+    void set_log(um_log_fn fn, void *user, int32_t min_level) {
+        log_fn_ = fn, log_user_ = user, log_min_level_ = min_level;
+    }
+    // Reports progress; throws um::Error(UM_CANCELLED) when the callback asks
+    // to stop. Host thread only.
+    void progress(const char *stage, double fraction) const;
+    void log(int32_t level, const std::string &message) const;
+
+    // Limits ---------------------------------------------------------------
+    void set_memory_cap(int64_t bytes) { memory_cap_ = bytes; }
+    int64_t memory_cap() const { return memory_cap_; }
+    // Throws UM_ERR_MEMORY_CAP, naming `what` and the estimate, when the
+    // estimate exceeds the cap.
+    void check_memory(int64_t estimate_bytes, const char *what) const;
+
+    // Errors ---------------------------------------------------------------
+    void set_error_mode(int32_t mode, um_abort_fn hook, void *user);
+    // Keeps the message if it is the first since the last clear, logs it and,
+    // in abort mode, calls the hook.
+    void record_error(um_status status, const std::string &message);
+    void clear_error();
+    const std::string &last_error() const { return first_message_; }
+    um_status last_status() const { return first_status_; }
+
+private:
+    int32_t threads_ = 1;
+    std::unique_ptr<oneapi::tbb::task_arena> arena_;
+
+    um_progress_fn progress_fn_ = nullptr;
+    void *progress_user_ = nullptr;
+    um_log_fn log_fn_ = nullptr;
+    void *log_user_ = nullptr;
+    int32_t log_min_level_ = UM_LOG_WARNING;
+
+    int64_t memory_cap_ = 0;
+
+    int32_t error_mode_ = UM_ERROR_MODE_RETURN;
+    um_abort_fn abort_hook_ = nullptr;
+    void *abort_user_ = nullptr;
+
+    um_status first_status_ = UM_OK;
+    std::string first_message_;
+};
+
+using ContextPtr = std::shared_ptr<Context>;
+
+}  // namespace um
