@@ -235,6 +235,61 @@ UM_API um_status um_option_name(um_option key, char *buf, int64_t capacity, int6
 /* The key of a name; UM_ERR_UNKNOWN_OPTION if none. */
 UM_API um_status um_option_key(const char *name, um_option *key);
 
+/* ------------------------------------------------------------ triangulation */
+
+/* The Laguerre (regular, weighted Delaunay) triangulation of points on the
+ * unit sphere: the convex hull of the lifted points x_i / (1 - w_i / 2).
+ * Weights are in units of R^2 (squared chord lengths on the unit sphere) and
+ * must be < 2; 0 gives the Delaunay triangulation. A point whose power cell is
+ * empty is "hidden": it is not a vertex and is listed by
+ * um_triangulation_copy_hidden.
+ *
+ * Vertex indices in every output are INPUT indices (plus the base).
+ * Triangles are counter-clockwise seen from outside the sphere; neighbour k of
+ * a triangle lies across the edge opposite its vertex k.
+ *
+ * Rejected input (the message names the argument, index and value):
+ *   n < 4, NaN/Inf coordinates or weights, |lat| > 90, weights >= 2,
+ *   exactly coincident points (UM_ERR_DUPLICATE_POINTS naming both indices;
+ *   the caller removes one), points that do not surround the centre of the
+ *   sphere (all in one hemisphere or on one great circle:
+ *   UM_ERR_DEGENERATE_INPUT), n above what int32 indices can address.
+ * Ties (cocircular points) are broken by a symbolic perturbation keyed on the
+ * input index, so the result is unique and the same for any thread count. */
+typedef struct um_triangulation um_triangulation;
+
+UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const double *lon_deg,
+                                         const double *lat_deg,
+                                         const double *weights /* NULL = 0 */,
+                                         um_triangulation **out);
+/* The same from unit vectors (3 per point, x y z; normalised on input). */
+UM_API um_status um_triangulation_create_xyz(um_context *ctx, int64_t n, const double *xyz,
+                                             const double *weights /* NULL = 0 */,
+                                             um_triangulation **out);
+UM_API void um_triangulation_destroy(um_triangulation *t); /* NULL-safe */
+
+UM_API um_status um_triangulation_counts(const um_triangulation *t, int64_t *n_vertices,
+                                         int64_t *n_triangles, int64_t *n_hidden);
+/* 3 vertex indices (+ base) per triangle; capacity in elements. */
+UM_API um_status um_triangulation_copy_triangles(const um_triangulation *t, int32_t base,
+                                                 int32_t *out /* 3 per triangle */,
+                                                 int64_t capacity);
+/* 3 triangle indices (+ base) per triangle: across the edge opposite vertex k. */
+UM_API um_status um_triangulation_copy_neighbours(const um_triangulation *t, int32_t base,
+                                                  int32_t *out /* 3 per triangle */,
+                                                  int64_t capacity);
+/* The orthocentre (power vertex) of each triangle as a unit vector (3 per triangle). */
+UM_API um_status um_triangulation_copy_orthocentres(const um_triangulation *t,
+                                                    double *out /* 3 per triangle */,
+                                                    int64_t capacity);
+/* Input indices (+ base) of the hidden points, ascending (n_hidden of them). */
+UM_API um_status um_triangulation_copy_hidden(const um_triangulation *t, int32_t base,
+                                              int32_t *out, int64_t capacity);
+/* Re-checks every invariant with exact predicates (links, Euler characteristic,
+ * orientation, local regularity of every edge, hidden points inside the hull).
+ * UM_OK when all hold, UM_ERR_INTERNAL with the first violation otherwise. */
+UM_API um_status um_triangulation_check(const um_triangulation *t);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

@@ -1,6 +1,8 @@
 #include "core/context.hpp"
 
-#include <thread>
+#include <algorithm>
+
+#include <oneapi/tbb/info.h>
 
 #include "core/error.hpp"
 
@@ -23,7 +25,9 @@ void Context::set_threads(int32_t n_threads) {
              kMaxThreads, "] (0 = all cores)");
     int32_t resolved = n_threads == 0 ? all_cores() : n_threads;
     // Build the new arena first so that a failure leaves the context as it was.
-    auto arena = std::make_unique<oneapi::tbb::task_arena>(resolved);
+    // It never asks for more threads than the machine has (TBB would warn on
+    // stderr); results do not depend on the number of threads anyway.
+    auto arena = std::make_unique<oneapi::tbb::task_arena>(std::min(resolved, all_cores()));
     arena_ = std::move(arena);
     threads_ = resolved;
 }

@@ -5,9 +5,10 @@
 
 #include <cstdint>
 #include <memory>
-#include <mutex>
 #include <string>
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include "unimesh.h"
@@ -29,6 +30,24 @@ public:
         } else {
             arena_->execute(fn);
         }
+    }
+
+    // Calls fn(begin, end) over chunks of [0, n) in parallel in this context's
+    // arena; serially when n <= grain or with one thread. fn must not depend
+    // on how the range is split (that is what keeps results deterministic).
+    template <class Fn>
+    void parallel_for(int64_t n, int64_t grain, Fn &&fn) {
+        if (n <= 0) return;
+        if (threads_ == 1 || n <= grain) {
+            fn(int64_t(0), n);
+            return;
+        }
+        arena_->execute([&] {
+            oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<int64_t>(0, n, grain),
+                                      [&](const oneapi::tbb::blocked_range<int64_t> &r) {
+                                          fn(r.begin(), r.end());
+                                      });
+        });
     }
 
     // Callbacks -----------------------------------------------------------

@@ -1,0 +1,112 @@
+// Floating-point expansions: a real number held exactly as a sum of
+// non-overlapping doubles, with error-free transformations (Knuth's two-sum,
+// FMA-based two-product). Used only by the exact fallback of the predicates,
+// so it favours simplicity over speed; fixed-capacity storage avoids the heap.
+#pragma once
+
+#include <cassert>
+#include <cmath>
+
+namespace um::geom {
+
+// x = a + b exactly as hi + lo.
+inline void two_sum(double a, double b, double &hi, double &lo) {
+    hi = a + b;
+    double bv = hi - a;
+    double av = hi - bv;
+    lo = (a - av) + (b - bv);
+}
+
+// x = a * b exactly as hi + lo (needs a correctly rounded fma).
+inline void two_product(double a, double b, double &hi, double &lo) {
+    hi = a * b;
+    lo = std::fma(a, b, -hi);
+}
+
+template <int Capacity>
+struct Expansion {
+    double c[Capacity];  // increasing magnitude, no zeros
+    int n = 0;
+
+    static Expansion of(double v) {
+        Expansion e;
+        if (v != 0) e.c[e.n++] = v;
+        return e;
+    }
+    // a - b exactly.
+    static Expansion difference(double a, double b) {
+        Expansion e;
+        double hi, lo;
+        two_sum(a, -b, hi, lo);
+        if (lo != 0) e.c[e.n++] = lo;
+        if (hi != 0) e.c[e.n++] = hi;
+        return e;
+    }
+    int sign() const { return n == 0 ? 0 : (c[n - 1] > 0 ? 1 : -1); }
+};
+
+// Sum of two expansions (Shewchuk's grow-expansion applied term by term,
+// zero-eliminating): correct for any non-overlapping inputs.
+// The result has at most a.n + b.n components: callers size C for that.
+template <int C, int A, int B>
+Expansion<C> add(const Expansion<A> &a, const Expansion<B> &b) {
+    assert(a.n + b.n <= C);
+    Expansion<C> out;
+    for (int i = 0; i < a.n; ++i) out.c[out.n++] = a.c[i];
+    for (int j = 0; j < b.n; ++j) {
+        // grow out by b.c[j]
+        double q = b.c[j];
+        int m = 0;
+        for (int i = 0; i < out.n; ++i) {
+            double hi, lo;
+            two_sum(q, out.c[i], hi, lo);
+            q = hi;
+            if (lo != 0) out.c[m++] = lo;
+        }
+        if (q != 0) out.c[m++] = q;
+        out.n = m;
+    }
+    return out;
+}
+
+template <int C, int A, int B>
+Expansion<C> subtract(const Expansion<A> &a, const Expansion<B> &b) {
+    Expansion<B> neg = b;
+    for (int i = 0; i < neg.n; ++i) neg.c[i] = -neg.c[i];
+    return add<C>(a, neg);
+}
+
+// An expansion times a double, exactly (scale-expansion, zero-eliminating).
+template <int C, int A>
+Expansion<C> scale(const Expansion<A> &a, double s) {
+    static_assert(C >= 2 * A, "expansion capacity");
+    Expansion<C> out;
+    if (a.n == 0 || s == 0) return out;
+    double q, lo;
+    two_product(a.c[0], s, q, lo);
+    if (lo != 0) out.c[out.n++] = lo;
+    for (int i = 1; i < a.n; ++i) {
+        double p_hi, p_lo, s_hi, s_lo;
+        two_product(a.c[i], s, p_hi, p_lo);
+        two_sum(q, p_lo, s_hi, s_lo);
+        if (s_lo != 0) out.c[out.n++] = s_lo;
+        double t_hi, t_lo;
+        two_sum(p_hi, s_hi, t_hi, t_lo);  // p_hi and s_hi may overlap: full two-sum
+        if (t_lo != 0) out.c[out.n++] = t_lo;
+        q = t_hi;
+    }
+    if (q != 0) out.c[out.n++] = q;
+    return out;
+}
+
+// Product of two expansions: sum of a scaled by each component of b.
+template <int C, int A, int B>
+Expansion<C> multiply(const Expansion<A> &a, const Expansion<B> &b) {
+    static_assert(C >= 2 * A * B, "expansion capacity");
+    Expansion<C> out;
+    // After j terms out has at most 2 * A * j components, within C.
+    for (int j = 0; j < b.n; ++j) out = add<C>(out, scale<2 * A>(a, b.c[j]));
+    return out;
+}
+
+}  // namespace um::geom

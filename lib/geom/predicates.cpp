@@ -1,0 +1,88 @@
+#include "geom/predicates.hpp"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+
+#include "geom/expansion.hpp"
+
+namespace um::geom {
+
+namespace {
+using E2 = Expansion<2>;
+
+
+// Exact sign of det[u, v, w] for coordinates given as exact expansions.
+template <int N>
+int det3_exact_sign(const Expansion<N> u[3], const Expansion<N> v[3], const Expansion<N> w[3]) {
+    constexpr int P = 2 * N * N;  // product of two N-expansions
+    constexpr int M = 2 * P;      // difference of two products
+    constexpr int T = 2 * M * N;  // times an N-expansion
+    auto minor = [&](int i, int j) {  // v_i w_j - v_j w_i
+        return subtract<M>(multiply<P>(v[i], w[j]), multiply<P>(v[j], w[i]));
+    };
+    auto t0 = multiply<T>(minor(1, 2), u[0]);
+    auto t1 = multiply<T>(minor(2, 0), u[1]);
+    auto t2 = multiply<T>(minor(0, 1), u[2]);
+    return add<3 * T>(add<2 * T>(t0, t1), t2).sign();
+}
+
+}  // namespace
+
+int orient3d_exact(const double *a, const double *b, const double *c, const double *d) {
+    E2 u[3], v[3], w[3];
+    for (int k = 0; k < 3; ++k) {
+        u[k] = E2::difference(b[k], a[k]);
+        v[k] = E2::difference(c[k], a[k]);
+        w[k] = E2::difference(d[k], a[k]);
+    }
+    // det[u, v, w] = u . (v x w)
+    return det3_exact_sign<2>(u, v, w);
+}
+
+int orient_origin_exact(const double *a, const double *b, const double *c) {
+    Expansion<1> u[3], v[3], w[3];
+    for (int k = 0; k < 3; ++k) {
+        u[k] = Expansion<1>::of(a[k]);
+        v[k] = Expansion<1>::of(b[k]);
+        w[k] = Expansion<1>::of(c[k]);
+    }
+    // det[a, b, c] = a . (b x c) = (a x b) . c
+    return det3_exact_sign<1>(u, v, w);
+}
+
+namespace {
+// First-order coefficient of the perturbed orient3d for the point at row k of
+// (a, b, c, d): (-1)^(k+1) * p_k . ((r - q) x (s - q)) with (q, r, s) the
+// other rows in order (see the derivation in predicates.hpp's tie rule).
+int first_order_sign(const double *const rows[4], int k) {
+    const double *others[3];
+    for (int i = 0, m = 0; i < 4; ++i)
+        if (i != k) others[m++] = rows[i];
+    // det[p, r - q, s - q] = p . ((r - q) x (s - q)), exactly.
+    E2 p[3], r[3], s[3];
+    for (int j = 0; j < 3; ++j) {
+        p[j] = E2::of(rows[k][j]);
+        r[j] = E2::difference(others[1][j], others[0][j]);
+        s[j] = E2::difference(others[2][j], others[0][j]);
+    }
+    int sign = det3_exact_sign<2>(p, r, s);
+    return (k % 2 == 0) ? -sign : sign;
+}
+
+}  // namespace
+
+int orient3d_tie_break(const double *a, const double *b, const double *c, const double *d,
+                       int64_t id_a, int64_t id_b, int64_t id_c, int64_t id_d) {
+    const double *rows[4] = {a, b, c, d};
+    int64_t ids[4] = {id_a, id_b, id_c, id_d};
+    int order[4] = {0, 1, 2, 3};
+    std::sort(order, order + 4, [&](int i, int j) { return ids[i] < ids[j]; });
+    for (int k : order) {
+        int t = first_order_sign(rows, k);
+        if (t != 0) return t;
+    }
+    return -1;
+}
+
+}  // namespace um::geom

@@ -1,0 +1,97 @@
+// Exact geometric predicates: the only code that decides combinatorics.
+//
+// Every predicate first evaluates in double precision with a forward error
+// bound (a "filter"); only when the result is within the bound does it
+// recompute exactly with floating-point expansions (error-free sums and
+// products), so the sign returned is always the sign of the exact value for
+// the stored doubles.
+//
+// Tie rule (symbolic perturbation). Lifted points are perturbed radially,
+// q_i -> q_i (1 + eps_i), with eps_i infinitesimal and eps_i >> eps_j when
+// id_i < id_j (smaller id = larger perturbation). When the exact determinant
+// is zero, the sign is that of the first non-zero first-order term, taken in
+// id order. Four coplanar lifted points on a plane that misses the origin
+// always have a non-zero first-order term (three distinct points on a sphere
+// are never collinear), which is every case a triangulated sphere around the
+// origin meets; should all terms vanish the predicate returns -1 ("not
+// beyond"), a fixed, documented choice.
+#pragma once
+
+#include <cstdint>
+
+#include <cfloat>
+#include <cmath>
+
+namespace um::geom {
+
+// Exact signs for the rare inputs the filters cannot decide (predicates.cpp).
+int orient3d_exact(const double *a, const double *b, const double *c, const double *d);
+int orient_origin_exact(const double *a, const double *b, const double *c);
+int orient3d_tie_break(const double *a, const double *b, const double *c, const double *d,
+                       int64_t id_a, int64_t id_b, int64_t id_c, int64_t id_d);
+
+namespace detail {
+constexpr double kUnitRoundoff = DBL_EPSILON / 2;  // u = 2^-53
+// Forward error bounds relative to the "permanent" (the same expression with
+// every term replaced by its absolute value); a little looser than the
+// tightest known ones (Shewchuk: (7 + 56u)u for orient3d).
+constexpr double kOrient3dBound = 8 * kUnitRoundoff;
+constexpr double kOrientOriginBound = 6 * kUnitRoundoff;
+}  // namespace detail
+
+// Sign of det[b - a, c - a, d - a] = ((b - a) x (c - a)) . (d - a):
+// +1 when d lies beyond the plane of (a, b, c) on the side its normal
+// (b - a) x (c - a) points to, -1 on the other side, 0 when coplanar.
+inline int orient3d(const double *a, const double *b, const double *c, const double *d) {
+    const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+    const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+    const double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+    const double m0 = vy * wz, m1 = vz * wy;
+    const double m2 = vz * wx, m3 = vx * wz;
+    const double m4 = vx * wy, m5 = vy * wx;
+    const double det = ux * (m0 - m1) + uy * (m2 - m3) + uz * (m4 - m5);
+    const double permanent = std::fabs(ux) * (std::fabs(m0) + std::fabs(m1)) +
+                             std::fabs(uy) * (std::fabs(m2) + std::fabs(m3)) +
+                             std::fabs(uz) * (std::fabs(m4) + std::fabs(m5));
+    const double bound = detail::kOrient3dBound * permanent;
+    if (det > bound) return 1;
+    if (det < -bound) return -1;
+    return orient3d_exact(a, b, c, d);
+}
+
+// orient3d with the symbolic-perturbation tie rule above: never 0. The ids
+// are read only on an exact tie.
+template <class IdFn>
+inline int orient3d_perturbed(const double *a, const double *b, const double *c,
+                              const double *d, IdFn ids) {
+    int s = orient3d(a, b, c, d);
+    if (s != 0) return s;
+    int64_t i[4];
+    ids(i);
+    return orient3d_tie_break(a, b, c, d, i[0], i[1], i[2], i[3]);
+}
+
+inline int orient3d_perturbed(const double *a, const double *b, const double *c,
+                              const double *d, int64_t id_a, int64_t id_b, int64_t id_c,
+                              int64_t id_d) {
+    int s = orient3d(a, b, c, d);
+    return s != 0 ? s : orient3d_tie_break(a, b, c, d, id_a, id_b, id_c, id_d);
+}
+
+// Sign of det[a, b, c] = (a x b) . c: +1 when c is to the left of the great
+// circle through a then b (seen from outside the sphere), 0 on it.
+inline int orient_origin(const double *a, const double *b, const double *c) {
+    const double m0 = a[1] * b[2], m1 = a[2] * b[1];
+    const double m2 = a[2] * b[0], m3 = a[0] * b[2];
+    const double m4 = a[0] * b[1], m5 = a[1] * b[0];
+    const double det = c[0] * (m0 - m1) + c[1] * (m2 - m3) + c[2] * (m4 - m5);
+    const double permanent = std::fabs(c[0]) * (std::fabs(m0) + std::fabs(m1)) +
+                             std::fabs(c[1]) * (std::fabs(m2) + std::fabs(m3)) +
+                             std::fabs(c[2]) * (std::fabs(m4) + std::fabs(m5));
+    const double bound = detail::kOrientOriginBound * permanent;
+    if (det > bound) return 1;
+    if (det < -bound) return -1;
+    return orient_origin_exact(a, b, c);
+}
+
+}  // namespace um::geom

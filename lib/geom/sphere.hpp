@@ -1,0 +1,51 @@
+// Small vector algebra on the unit sphere and great-arc primitives.
+#pragma once
+
+#include <cmath>
+
+namespace um::geom {
+
+struct Vec3 {
+    double x = 0, y = 0, z = 0;
+    const double *data() const { return &x; }
+    double *data() { return &x; }
+    double operator[](int i) const { return (&x)[i]; }
+};
+
+inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3 operator*(double s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
+inline double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(Vec3 a, Vec3 b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double norm(Vec3 a) { return std::sqrt(dot(a, a)); }
+inline Vec3 normalized(Vec3 a) { return (1.0 / norm(a)) * a; }
+
+// Unit vector of a longitude/latitude in degrees. The poles map exactly to
+// (0, 0, +-1) whatever the longitude, so that every longitude at a pole is
+// the same point.
+Vec3 unit_from_lonlat_deg(double lon_deg, double lat_deg);
+// Longitude in (-180, 180] and latitude in [-90, 90], degrees.
+void lonlat_deg_from_unit(Vec3 u, double &lon_deg, double &lat_deg);
+
+// Great-circle distance between unit vectors (radians), accurate for tiny
+// and near-antipodal separations (atan2 of |a x b| and a . b).
+double arc_length(Vec3 a, Vec3 b);
+
+// Signed area (steradians) of the geodesic triangle (a, b, c) of unit
+// vectors: positive when counter-clockwise seen from outside. Uses the
+// Eriksson/van Oosterom formula tan(E/2) = det / (1 + a.b + b.c + c.a).
+double signed_triangle_area(Vec3 a, Vec3 b, Vec3 c);
+
+// Intersection of the minor great arcs (a0, a1) and (b0, b1), unit vectors.
+// Returns true and the crossing point when they cross. Arcs that only touch
+// within `tolerance` radians of an end point, or overlap along a common great
+// circle, count as crossing only if the end point lies within tolerance of
+// the other arc (the point returned is then that end point). The default
+// tolerance (1e-12 rad, about 6 micrometres on the Earth) is far below any
+// spacing the mesher uses and well above the rounding of unit vectors.
+bool arc_intersection(Vec3 a0, Vec3 a1, Vec3 b0, Vec3 b1, Vec3 &crossing,
+                      double tolerance = 1e-12);
+
+}  // namespace um::geom

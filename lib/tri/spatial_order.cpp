@@ -1,0 +1,132 @@
+#include "tri/spatial_order.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+
+namespace um::tri {
+
+namespace {
+
+constexpr int kBitsPerAxis = 14;
+constexpr int kHilbertBits = 3 + 2 * kBitsPerAxis;  // face + 2 axes
+
+// Hilbert curve of order 14 by a state machine: state = orientation of the
+// current sub-square; each level reads one bit of x and y, emits two bits of
+// the index and moves to the orientation of the chosen quadrant. Table-driven
+// so the loop has no data-dependent branches.
+struct HilbertTable {
+    uint8_t digit[4][4];  // [state][quadrant (x bit << 1 | y bit)]
+    uint8_t next[4][4];
+};
+
+constexpr HilbertTable make_hilbert_table() {
+    // Orientation 0 visits quadrants (x,y) = (0,0), (0,1), (1,1), (1,0); the
+    // sub-curves in the first and last quadrants are transposed /
+    // anti-transposed. States: 0 identity, 1 transpose, 2 anti-transpose,
+    // 3 rotation by 180 degrees; each maps (x, y) before the lookup.
+    HilbertTable t{};
+    const int order0[4] = {0, 1, 3, 2};  // quadrant visited at step d = 0..3
+    const int sub0[4] = {1, 0, 0, 2};    // orientation of the sub-curve at step d
+    // Composition of orientations (state s applied, then sub-orientation r).
+    const int compose[4][4] = {{0, 1, 2, 3}, {1, 0, 3, 2}, {2, 3, 0, 1}, {3, 2, 1, 0}};
+    for (int s = 0; s < 4; ++s)
+        for (int q = 0; q < 4; ++q) {
+            int x = q >> 1, y = q & 1, tx = x, ty = y;
+            if (s == 1) tx = y, ty = x;
+            if (s == 2) tx = 1 - y, ty = 1 - x;
+            if (s == 3) tx = 1 - x, ty = 1 - y;
+            int tq = (tx << 1) | ty;
+            for (int d = 0; d < 4; ++d)
+                if (order0[d] == tq) {
+                    t.digit[s][q] = static_cast<uint8_t>(d);
+                    t.next[s][q] = static_cast<uint8_t>(compose[s][sub0[d]]);
+                }
+        }
+    return t;
+}
+constexpr HilbertTable kHilbert = make_hilbert_table();
+
+uint64_t hilbert_2d(uint32_t x, uint32_t y) {
+    uint64_t d = 0;
+    int state = 0;
+    for (int level = kBitsPerAxis - 1; level >= 0; --level) {
+        int q = static_cast<int>(((x >> level) & 1) << 1 | ((y >> level) & 1));
+        d = (d << 2) | kHilbert.digit[state][q];
+        state = kHilbert.next[state][q];
+    }
+    return d;
+}
+
+uint64_t splitmix64(uint64_t x) {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+
+}  // namespace
+
+uint64_t hilbert_key(const geom::Vec3 &p) {
+    double ax = std::fabs(p.x), ay = std::fabs(p.y), az = std::fabs(p.z);
+    int face;
+    double u, v, m;
+    if (ax >= ay && ax >= az) face = p.x > 0 ? 0 : 3, m = ax, u = p.y, v = p.z;
+    else if (ay >= az) face = p.y > 0 ? 1 : 4, m = ay, u = p.z, v = p.x;
+    else face = p.z > 0 ? 2 : 5, m = az, u = p.x, v = p.y;
+    if (m == 0) return 0;
+    constexpr double scale = double(1u << kBitsPerAxis);
+    auto cell = [&](double t) {  // t in [-1, 1] -> [0, 2^bits - 1]
+        double c = std::floor((t / m + 1.0) * 0.5 * scale);
+        return static_cast<uint32_t>(std::clamp(c, 0.0, scale - 1));
+    };
+    return (static_cast<uint64_t>(face) << (2 * kBitsPerAxis)) | hilbert_2d(cell(u), cell(v));
+}
+
+uint64_t brio_round_key(int64_t index, int64_t n) {
+    // Round r (0 = first) holds about n / 2^(R - r + 1) points; the last round
+    // holds half of them. R keeps the first round at a few hundred points.
+    int rounds = 0;
+    while ((n >> rounds) > 512 && rounds < 31) ++rounds;  // fits 5 bits
+    uint64_t h = splitmix64(static_cast<uint64_t>(index));
+    int level = 0;
+    while (level < rounds && (h & 1)) h >>= 1, ++level;  // P(level >= k) = 2^-k
+    uint64_t round = static_cast<uint64_t>(rounds - level);
+    return round << kHilbertBits;
+}
+
+std::vector<int32_t> brio_order_from_keys(Context &ctx, std::vector<uint64_t> &keys) {
+    // Pack (key, index) into one word: the key (round + Hilbert, 36 bits)
+    // above a 28-bit index. An LSD radix sort on the key bits is stable, so
+    // equal keys keep index order: the result is fully determined by the keys.
+    constexpr int kIndexBits = 28, kDigitBits = 12;
+    constexpr int kKeyBits = 64 - kIndexBits;
+    const size_t n = keys.size();
+    ctx.parallel_for(static_cast<int64_t>(n), 16384, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) keys[i] = (keys[i] << kIndexBits) | uint64_t(i);
+    });
+    std::vector<uint64_t> buffer(n);
+    std::vector<size_t> count(size_t(1) << kDigitBits);
+    for (int shift = kIndexBits; shift < 64; shift += kDigitBits) {
+        std::fill(count.begin(), count.end(), 0);
+        const uint64_t mask = (uint64_t(1) << kDigitBits) - 1;
+        for (uint64_t k : keys) ++count[(k >> shift) & mask];
+        size_t sum = 0;
+        for (auto &c : count) {
+            size_t here = c;
+            c = sum;
+            sum += here;
+        }
+        for (uint64_t k : keys) buffer[count[(k >> shift) & mask]++] = k;
+        keys.swap(buffer);
+    }
+    static_assert((kKeyBits % kDigitBits) == 0, "whole digits");
+    std::vector<uint64_t>().swap(buffer);
+    std::vector<int32_t> order(n);
+    const uint64_t index_mask = (uint64_t(1) << kIndexBits) - 1;
+    for (size_t i = 0; i < n; ++i) order[i] = static_cast<int32_t>(keys[i] & index_mask);
+    std::vector<uint64_t>().swap(keys);
+    return order;
+}
+
+}  // namespace um::tri

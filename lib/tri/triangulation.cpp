@@ -1,0 +1,562 @@
+#include "tri/triangulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "geom/predicates.hpp"
+
+namespace um::tri {
+
+using geom::orient3d_perturbed;
+using geom::orient_origin;
+
+namespace {
+constexpr int kVirtual = 6;
+// Length of the virtual octahedron's lifted points: a power of two (exact
+// coordinates), tiny enough that real points around the whole sphere always
+// bury them.
+constexpr double kVirtualScale = 0x1p-30;
+inline int next(int k) { return k == 2 ? 0 : k + 1; }
+inline int prev(int k) { return k == 0 ? 2 : k - 1; }
+}  // namespace
+
+// ----------------------------------------------------------------- building
+
+void Triangulation::init_virtual_octahedron() {
+    const double r = kVirtualScale;
+    const Vec3 axes[kVirtual] = {{r, 0, 0}, {0, r, 0}, {0, 0, r},
+                                 {-r, 0, 0}, {0, -r, 0}, {0, 0, -r}};
+    for (int i = 0; i < kVirtual; ++i) q_[i] = axes[i], id_[i] = -1 - i;
+    // Faces counter-clockwise seen from outside: (+x,+y,+z) and its mirror images.
+    const int32_t faces[8][3] = {{0, 1, 2}, {1, 3, 2}, {3, 4, 2}, {4, 0, 2},
+                                 {1, 0, 5}, {3, 1, 5}, {4, 3, 5}, {0, 4, 5}};
+    tris_.clear();
+    for (auto &f : faces) tris_.push_back({{f[0], f[1], f[2]}, {kNone, kNone, kNone}});
+    // Neighbours by matching reversed edges (8 faces: quadratic is fine).
+    for (int32_t t = 0; t < 8; ++t)
+        for (int k = 0; k < 3; ++k) {
+            int32_t a = tris_[t].v[next(k)], b = tris_[t].v[prev(k)];
+            for (int32_t u = 0; u < 8; ++u)
+                for (int m = 0; m < 3; ++m)
+                    if (tris_[u].v[next(m)] == b && tris_[u].v[prev(m)] == a) tris_[t].n[k] = u;
+        }
+    for (int32_t t = 0; t < 8; ++t)
+        for (int k = 0; k < 3; ++k) vertex_tri_[tris_[t].v[k]] = t;
+    mark_.assign(8, 0);
+    free_.clear();
+}
+
+void Triangulation::insert_all(Context &ctx) {
+    const int64_t n_real = static_cast<int64_t>(q_.size()) - kVirtual;
+    // A triangulated sphere of V vertices has 2V - 4 triangles.
+    size_t max_triangles = 2 * q_.size();
+    tris_.reserve(max_triangles);
+    mark_.reserve(max_triangles);
+    init_virtual_octahedron();
+
+    int32_t hint = 0;
+    const int64_t report_every = std::max<int64_t>(n_real / 20, 65536);
+    for (int32_t v = kVirtual; v < static_cast<int32_t>(q_.size()); ++v) {
+        int32_t other = kNone;
+        if (insert_slot(v, hint, &other) == InsertResult::duplicate) {
+            double lon, lat;
+            geom::lonlat_deg_from_unit(direction(v), lon, lat);
+            int32_t i = std::min(id_[v], id_[other]), j = std::max(id_[v], id_[other]);
+            fail(UM_ERR_DUPLICATE_POINTS, "points ", i, " and ", j,
+                 " are at the same location (lon ", lon, ", lat ", lat,
+                 " degrees); remove one of them");
+        }
+        if ((v - kVirtual + 1) % report_every == 0)
+            ctx.progress("triangulate", double(v - kVirtual + 1) / double(n_real));
+    }
+    for (int32_t v = 0; v < kVirtual; ++v)
+        if (vertex_tri_[v] >= 0)
+            fail(UM_ERR_DEGENERATE_INPUT,
+                 "the points do not surround the centre of the sphere (they lie in one "
+                 "hemisphere or on one great circle, or too few are visible): a spherical "
+                 "triangulation needs points all around the sphere");
+    compact_after_build();
+}
+
+// Renumbers live triangles into 0..live-1 in order, and vertices v into
+// v - vertex_shift (to drop the virtual octahedron after construction).
+void Triangulation::compact_triangles(int32_t vertex_shift) {
+    std::vector<int32_t> new_index(tris_.size(), kNone);
+    int32_t live = 0;
+    for (size_t t = 0; t < new_index.size(); ++t)
+        if (tris_[t].v[0] != kNone) new_index[t] = live++;
+    // In place, in increasing order: a slot moves only down (to <= t), onto
+    // a slot already read.
+    for (size_t t = 0; t < new_index.size(); ++t) {
+        int32_t to = new_index[t];
+        if (to == kNone) continue;
+        for (int k = 0; k < 3; ++k) {
+            tris_[to].v[k] = tris_[t].v[k] - vertex_shift;
+            tris_[to].n[k] = new_index[tris_[t].n[k]];
+        }
+    }
+    tris_.resize(static_cast<size_t>(live));
+    for (auto &t : vertex_tri_)
+        if (t >= 0) t = new_index[t];
+    mark_.assign(static_cast<size_t>(live), 0);
+    free_.clear();
+}
+
+void Triangulation::compact() {
+    if (!free_.empty()) compact_triangles(0);
+}
+
+// Drops the virtual octahedron and the free triangle slots.
+void Triangulation::compact_after_build() {
+    compact_triangles(kVirtual);
+    tris_.shrink_to_fit();
+    q_.erase(q_.begin(), q_.begin() + kVirtual);
+    id_.erase(id_.begin(), id_.begin() + kVirtual);
+    vertex_tri_.erase(vertex_tri_.begin(), vertex_tri_.begin() + kVirtual);
+    std::vector<uint8_t>(mark_.size(), 0).swap(mark_);
+}
+
+// ---------------------------------------------------------------- insertion
+
+int64_t Triangulation::priority(int32_t v) const {
+    // Smaller = perturbed more. Real points by input index, then the virtual ones.
+    int32_t i = id_[v];
+    return i >= 0 ? i : (int64_t(1) << 40) - i;
+}
+
+bool Triangulation::visible(int32_t t, int32_t v) const {
+    const int32_t *tv = &tris_[t].v[0];
+    auto ids = [&](int64_t out[4]) {
+        out[0] = priority(tv[0]), out[1] = priority(tv[1]), out[2] = priority(tv[2]);
+        out[3] = priority(v);
+    };
+    return orient3d_perturbed(q_[tv[0]].data(), q_[tv[1]].data(), q_[tv[2]].data(),
+                              q_[v].data(), ids) > 0;
+}
+
+int Triangulation::local_index(int32_t t, int32_t v) const {
+    const int32_t *tv = &tris_[t].v[0];
+    return tv[0] == v ? 0 : (tv[1] == v ? 1 : 2);
+}
+
+void Triangulation::set_neighbour(int32_t outer, int32_t from, int32_t to, int32_t t) {
+    Tri &o = tris_[outer];
+    for (int m = 0; m < 3; ++m)
+        if (o.v[next(m)] == from && o.v[prev(m)] == to) o.n[m] = t;
+}
+
+Triangulation::InsertResult Triangulation::insert_slot(int32_t v, int32_t &hint,
+                                                       int32_t *other) {
+    int zero_edges[3], n_zero = 0;
+    int32_t t = locate(q_[v], hint, zero_edges, n_zero);
+    int32_t coincident = kNone;
+    int32_t start = find_visible_start(v, t, zero_edges, n_zero, &coincident);
+    if (coincident != kNone) {
+        *other = coincident;
+        return InsertResult::duplicate;
+    }
+    if (start == kNone) {
+        hint = t;
+        return InsertResult::hidden;
+    }
+    fill_cavity(v, start);
+    collect_horizon();
+    stitch_new_triangles(v);
+    hint = new_tris_[0];
+    return InsertResult::inserted;
+}
+
+// Visibility walk over the cones of the triangles (the hull contains the
+// centre, so their cones tile the directions): cross any edge that has p on
+// its outer side. Exact tests; a rotating first edge keeps the walk from
+// cycling, and a brute-force scan is the last resort.
+int32_t Triangulation::locate(const Vec3 &p, int32_t t, int zero_edges[3],
+                              int &n_zero) const {
+    const int64_t max_steps = 64 + 4 * static_cast<int64_t>(tris_.size());
+    int32_t from = kNone;  // the edge just crossed is known to have p inside
+    for (int64_t step = 0; step < max_steps; ++step) {
+        const Tri &tr = tris_[t];
+        int k0 = static_cast<int>(walk_counter_++ % 3);
+        n_zero = 0;
+        int32_t to = kNone;
+        for (int j = 0; j < 3; ++j) {
+            int k = k0 + j < 3 ? k0 + j : k0 + j - 3;
+            if (tr.n[k] == from) continue;
+            int s = orient_origin(q_[tr.v[next(k)]].data(), q_[tr.v[prev(k)]].data(), p.data());
+            if (s < 0) {
+                to = tr.n[k];
+                break;
+            }
+            if (s == 0) zero_edges[n_zero++] = k;
+        }
+        if (to == kNone) {
+            if (from != kNone) {  // the skipped edge may hold p exactly: test it too
+                for (int k = 0; k < 3; ++k)
+                    if (tr.n[k] == from &&
+                        orient_origin(q_[tr.v[next(k)]].data(), q_[tr.v[prev(k)]].data(),
+                                      p.data()) == 0)
+                        zero_edges[n_zero++] = k;
+            }
+            return t;
+        }
+        from = t;
+        t = to;
+    }
+    t = locate_brute_force(p);
+    n_zero = 0;
+    for (int k = 0; k < 3; ++k)
+        if (orient_origin(q_[tris_[t].v[next(k)]].data(), q_[tris_[t].v[prev(k)]].data(),
+                          p.data()) == 0)
+            zero_edges[n_zero++] = k;
+    return t;
+}
+
+int32_t Triangulation::locate_brute_force(const Vec3 &p) const {
+    for (int32_t t = 0; t < static_cast<int32_t>(tris_.size()); ++t) {
+        if (tris_[t].v[0] == kNone) continue;
+        bool inside = true;
+        for (int k = 0; k < 3 && inside; ++k)
+            inside = orient_origin(q_[tris_[t].v[next(k)]].data(),
+                                   q_[tris_[t].v[prev(k)]].data(), p.data()) >= 0;
+        if (inside) return t;
+    }
+    fail(UM_ERR_INTERNAL, "point location failed: the triangulation is not a sphere");
+}
+
+// A point outside the hull sees the facet whose cone holds its direction.
+// On a cone boundary it may see only the facet across it; on a vertex's
+// direction it coincides with that vertex (a duplicate, unless the vertex
+// is virtual and about to be buried).
+int32_t Triangulation::find_visible_start(int32_t v, int32_t t, const int zero_edges[3],
+                                          int n_zero, int32_t *coincident) {
+    if (n_zero >= 2) {
+        int32_t w = tris_[t].v[(3 - zero_edges[0] - zero_edges[1])];
+        if (id_[w] >= 0) {
+            *coincident = w;
+            return kNone;
+        }
+        for (int32_t u : star(w))
+            if (visible(u, v)) return u;
+        return kNone;
+    }
+    if (visible(t, v)) return t;
+    if (n_zero == 1) {
+        int32_t u = tris_[t].n[zero_edges[0]];
+        if (visible(u, v)) return u;
+    }
+    return kNone;
+}
+
+void Triangulation::fill_cavity(int32_t v, int32_t start) {
+    cavity_.clear();
+    touched_.clear();
+    cavity_.push_back(start);
+    mark_[start] = 1;
+    for (size_t i = 0; i < cavity_.size(); ++i) {
+        int32_t c = cavity_[i];
+        for (int k = 0; k < 3; ++k) {
+            int32_t u = tris_[c].n[k];
+            if (mark_[u] != 0) continue;
+            if (visible(u, v)) {
+                mark_[u] = 1;
+                cavity_.push_back(u);
+            } else {
+                mark_[u] = 2;
+                touched_.push_back(u);
+            }
+        }
+    }
+}
+
+// The boundary of the cavity (a topological disc) as a cycle of edges, each
+// directed as in its cavity triangle.
+void Triangulation::collect_horizon() {
+    horizon_.clear();
+    int32_t c = kNone;
+    int k = 0;
+    for (int32_t t : cavity_) {
+        for (k = 0; k < 3; ++k)
+            if (mark_[tris_[t].n[k]] != 1) break;
+        if (k < 3) {
+            c = t;
+            break;
+        }
+    }
+    const int32_t start_c = c;
+    const int start_k = k;
+    do {
+        int32_t a = tris_[c].v[next(k)], b = tris_[c].v[prev(k)];
+        horizon_.push_back({a, b, tris_[c].n[k]});
+        // Turn around b through cavity triangles to the boundary edge leaving b.
+        int kk = next(k);  // the edge of c leaving b = v(c, k + 2)
+        while (mark_[tris_[c].n[kk]] == 1) {
+            c = tris_[c].n[kk];
+            kk = next(next(local_index(c, b)));
+        }
+        k = kk;
+    } while (!(c == start_c && k == start_k));
+}
+
+int32_t Triangulation::new_triangle_slot() {
+    if (!free_.empty()) {
+        int32_t t = free_.back();
+        free_.pop_back();
+        return t;
+    }
+    int32_t t = static_cast<int32_t>(tris_.size());
+    tris_.push_back({{kNone, kNone, kNone}, {kNone, kNone, kNone}});
+    mark_.push_back(0);
+    return t;
+}
+
+void Triangulation::stitch_new_triangles(int32_t v) {
+    // A cavity of k triangles bounded by m edges has (k - m + 2) / 2 vertices
+    // inside it; those are buried (hidden) by v. Only then do the cavity's
+    // vertices need a fresh incident triangle from the new fan.
+    const bool buries = cavity_.size() + 2 != horizon_.size();
+    cavity_vertices_.clear();
+    for (int32_t t : cavity_) {
+        mark_[t] = 0;
+        if (buries)
+            for (int k = 0; k < 3; ++k) {
+                int32_t u = tris_[t].v[k];
+                if (vertex_tri_[u] >= 0) cavity_vertices_.push_back(u);
+                vertex_tri_[u] = kNone;
+            }
+    }
+    for (int32_t t : touched_) mark_[t] = 0;
+    for (auto it = cavity_.rbegin(); it != cavity_.rend(); ++it) free_triangle_slot(*it);
+
+    const size_t m = horizon_.size();
+    new_tris_.resize(m);
+    for (size_t i = 0; i < m; ++i) new_tris_[i] = new_triangle_slot();
+    for (size_t i = 0; i < m; ++i) {
+        const HorizonEdge &h = horizon_[i];
+        int32_t t = new_tris_[i];
+        tris_[t].v[0] = v, tris_[t].v[1] = h.a, tris_[t].v[2] = h.b;
+        tris_[t].n[0] = h.outside;
+        tris_[t].n[1] = new_tris_[i + 1 == m ? 0 : i + 1];
+        tris_[t].n[2] = new_tris_[i == 0 ? m - 1 : i - 1];
+        // The outside triangle's edge from b to a now faces t.
+        set_neighbour(h.outside, h.b, h.a, t);
+        vertex_tri_[h.a] = t;
+    }
+    vertex_tri_[v] = new_tris_[0];
+}
+
+// ------------------------------------------------------------------ updates
+
+void Triangulation::free_triangle_slot(int32_t t) {
+    tris_[t].v[0] = tris_[t].v[1] = tris_[t].v[2] = kNone;
+    free_.push_back(t);
+}
+
+int32_t Triangulation::insert(const Vec3 &direction, double weight, int32_t id,
+                              std::vector<int32_t> *buried) {
+    int32_t v = static_cast<int32_t>(q_.size());
+    q_.push_back(lifted_scale(weight) * direction);
+    id_.push_back(id);
+    vertex_tri_.push_back(kNone);
+    try {
+        return reinsert(v, buried);
+    } catch (...) {
+        q_.pop_back(), id_.pop_back(), vertex_tri_.pop_back();
+        throw;
+    }
+}
+
+// (Re)inserts the point already stored in slot v.
+int32_t Triangulation::reinsert(int32_t v, std::vector<int32_t> *buried) {
+    int32_t hint = 0;
+    while (tris_[hint].v[0] == kNone) ++hint;
+    int32_t other = kNone;
+    InsertResult r = insert_slot(v, hint, &other);
+    if (r == InsertResult::duplicate) {
+        double lon, lat;
+        geom::lonlat_deg_from_unit(direction(v), lon, lat);
+        fail(UM_ERR_DUPLICATE_POINTS, "point ", id_[v], " is at the location of point ",
+             id_[other], " (lon ", lon, ", lat ", lat, " degrees)");
+    }
+    if (r == InsertResult::inserted && buried)
+        for (int32_t u : cavity_vertices_)
+            if (vertex_tri_[u] == kNone) buried->push_back(u);
+    return v;
+}
+
+bool Triangulation::flippable(int32_t t, int k) const {
+    const Tri &tr = tris_[t];
+    int32_t a = tr.v[k], b = tr.v[next(k)], c = tr.v[prev(k)];
+    int32_t u = tr.n[k];
+    int32_t d = tris_[u].v[next(next(local_index(u, c)))];
+    // New triangles (a, b, d) and (d, c, a) must both face outwards.
+    return orient_origin(q_[a].data(), q_[b].data(), q_[d].data()) > 0 &&
+           orient_origin(q_[d].data(), q_[c].data(), q_[a].data()) > 0;
+}
+
+bool Triangulation::flip(int32_t t, int k) {
+    if (!flippable(t, k)) return false;
+    Tri &tr = tris_[t];
+    int32_t a = tr.v[k], b = tr.v[next(k)], c = tr.v[prev(k)];
+    int32_t u = tr.n[k];
+    int ku = next(next(local_index(u, c)));  // apex of u
+    Tri &ur = tris_[u];
+    int32_t d = ur.v[ku];
+    // Outer neighbours of the quad a -> b -> d -> c.
+    int32_t n_ab = tr.n[prev(k)], n_ca = tr.n[next(k)];
+    int32_t n_bd = ur.n[next(ku)], n_dc = ur.n[prev(ku)];
+    // t becomes (a, b, d), u becomes (d, c, a).
+    tr = {{a, b, d}, {n_bd, u, n_ab}};
+    ur = {{d, c, a}, {n_ca, t, n_dc}};
+    set_neighbour(n_bd, d, b, t);
+    set_neighbour(n_ca, a, c, u);
+    vertex_tri_[a] = t, vertex_tri_[b] = t, vertex_tri_[d] = u, vertex_tri_[c] = u;
+    return true;
+}
+
+// The ear (link[i-1], link[i], link[i+1]) of a vertex's link is a facet of
+// the hull of the remaining points: convex seen from the centre, and no other
+// link vertex beyond its plane.
+bool Triangulation::ear_is_hull_facet(const std::vector<int32_t> &link, size_t i) const {
+    const size_t k = link.size();
+    int32_t a = link[(i + k - 1) % k], b = link[i], c = link[(i + 1) % k];
+    if (orient_origin(q_[a].data(), q_[b].data(), q_[c].data()) <= 0) return false;
+    for (size_t j = 0; j < k; ++j) {
+        int32_t x = link[j];
+        if (x == a || x == b || x == c) continue;
+        auto ids = [&](int64_t out[4]) {
+            out[0] = priority(a), out[1] = priority(b), out[2] = priority(c), out[3] = priority(x);
+        };
+        if (geom::orient3d_perturbed(q_[a].data(), q_[b].data(), q_[c].data(), q_[x].data(), ids) > 0)
+            return false;
+    }
+    return true;
+}
+
+void Triangulation::remove(int32_t v) {
+    if (vertex_tri_[v] < 0) {
+        vertex_tri_[v] = kRemoved;
+        return;
+    }
+    // Clip ears by flipping the spoke (v, link[i]) until v has degree 3.
+    for (;;) {
+        std::vector<int32_t> st = star(v);
+        if (st.size() <= 3) break;
+        std::vector<int32_t> link(st.size());
+        for (size_t i = 0; i < st.size(); ++i) link[i] = tris_[st[i]].v[next(local_index(st[i], v))];
+        bool clipped = false;
+        for (size_t i = 0; i < link.size() && !clipped; ++i) {
+            if (!ear_is_hull_facet(link, i)) continue;
+            // The spoke (v, link[i]) is shared by st[i-1] = (v, link[i-1], link[i])
+            // and st[i]; in st[i-1] it is the edge opposite link[i-1]. Flipping
+            // it creates the ear (link[i-1], link[i], link[i+1]).
+            const size_t h = (i + st.size() - 1) % st.size();
+            int32_t tt = st[h];
+            int ka = local_index(tt, link[h]);
+            clipped = flip(tt, ka);
+        }
+        if (!clipped) fail(UM_ERR_INTERNAL, "vertex removal found no ear to clip");
+    }
+    remove_degree_three(v);
+}
+
+void Triangulation::remove_degree_three(int32_t v) {
+    std::vector<int32_t> st = star(v);
+    int32_t t1 = st[0], t2 = st[1], t3 = st[2];
+    int j1 = local_index(t1, v), j2 = local_index(t2, v), j3 = local_index(t3, v);
+    int32_t a = tris_[t1].v[next(j1)], b = tris_[t2].v[next(j2)], c = tris_[t3].v[next(j3)];
+    int32_t n_ab = tris_[t1].n[j1], n_bc = tris_[t2].n[j2], n_ca = tris_[t3].n[j3];
+    tris_[t1] = {{a, b, c}, {n_bc, n_ca, n_ab}};
+    set_neighbour(n_bc, c, b, t1);
+    set_neighbour(n_ca, a, c, t1);
+    free_triangle_slot(t2);
+    free_triangle_slot(t3);
+    vertex_tri_[a] = vertex_tri_[b] = vertex_tri_[c] = t1;
+    vertex_tri_[v] = kRemoved;
+}
+
+// Removes v, stores its new lifted point and inserts it again: insertion is
+// exact for any configuration, so this is correct however far v moves. On a
+// duplicate the old point is put back and the error rethrown.
+std::vector<int32_t> Triangulation::replace_point(int32_t v, const Vec3 &lifted) {
+    std::vector<int32_t> buried;
+    const Vec3 old = q_[v];
+    const bool was_in = vertex_tri_[v] >= 0;
+    if (was_in) remove(v);
+    q_[v] = lifted;
+    try {
+        reinsert(v, &buried);
+    } catch (...) {
+        q_[v] = old;
+        if (was_in) reinsert(v, nullptr);
+        throw;
+    }
+    if (vertex_tri_[v] < 0) buried.push_back(v);
+    return buried;
+}
+
+std::vector<int32_t> Triangulation::move(int32_t v, const Vec3 &direction) {
+    return replace_point(v, geom::norm(q_[v]) * direction);
+}
+
+std::vector<int32_t> Triangulation::set_weight(int32_t v, double weight) {
+    return replace_point(v, lifted_scale(weight) * geom::normalized(q_[v]));
+}
+
+// ------------------------------------------------------------------ queries
+
+int64_t Triangulation::vertex_count() const {
+    int64_t n = 0;
+    for (int32_t t : vertex_tri_) n += t >= 0;
+    return n;
+}
+
+std::vector<int32_t> Triangulation::hidden_ids() const {
+    std::vector<int32_t> out;
+    for (size_t v = 0; v < vertex_tri_.size(); ++v)
+        if (vertex_tri_[v] == kNone && id_[v] >= 0) out.push_back(id_[v]);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+std::vector<int32_t> Triangulation::star(int32_t v) const {
+    std::vector<int32_t> out;
+    int32_t t0 = vertex_tri_[v];
+    if (t0 < 0) return out;
+    int32_t t = t0;
+    do {
+        out.push_back(t);
+        // Next counter-clockwise around v: across the edge (v, v(t, j+2)).
+        t = tris_[t].n[next(local_index(t, v))];
+    } while (t != t0);
+    return out;
+}
+
+Vec3 Triangulation::orthocentre(int32_t t) const {
+    const Vec3 &a = q_[tris_[t].v[0]], &b = q_[tris_[t].v[1]], &c = q_[tris_[t].v[2]];
+    return geom::normalized(geom::cross(b - a, c - a));
+}
+
+Vec3 Triangulation::edge_orthocentre(int32_t t, int k) const {
+    // p = alpha x_i + beta x_j with p . (q_i - q_j) = 0, alpha, beta > 0.
+    const Vec3 &qi = q_[tris_[t].v[next(k)]], &qj = q_[tris_[t].v[prev(k)]];
+    double si = geom::norm(qi), sj = geom::norm(qj);
+    Vec3 xi = (1.0 / si) * qi, xj = (1.0 / sj) * qj;
+    double c = geom::dot(xi, xj);
+    return geom::normalized((sj - si * c) * xi + (si - sj * c) * xj);
+}
+
+std::vector<Vec3> Triangulation::power_cell(int32_t v) const {
+    std::vector<Vec3> out;
+    for (int32_t t : star(v)) out.push_back(orthocentre(t));
+    return out;
+}
+
+bool Triangulation::is_locally_regular(int32_t t, int k) const {
+    int32_t u = tris_[t].n[k];
+    int32_t apex = tris_[u].v[next(next(local_index(u, tris_[t].v[prev(k)])))];
+    // Convex across the edge iff the far apex is not beyond t's facet.
+    return !visible(t, apex);
+}
+
+}  // namespace um::tri

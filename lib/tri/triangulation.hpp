@@ -1,0 +1,187 @@
+// The Laguerre (regular, weighted Delaunay) triangulation of the sphere,
+// held as the convex hull of lifted points (DESIGN.md section 3):
+//   q_i = x_i / (1 - w_i / 2),  x_i on the unit sphere, w_i in units of R^2.
+// A generator strictly inside the hull is hidden (empty power cell).
+//
+// Storage is a triangulated sphere: triangle t has vertices v(t,0..2),
+// counter-clockwise seen from outside, and neighbour n(t,k) across edge k,
+// the edge opposite v(t,k) running from v(t,k+1) to v(t,k+2). Every
+// combinatorial decision is an exact predicate (geom/predicates.hpp) with its
+// symbolic-perturbation tie rule, so the structure is the exact hull of the
+// stored doubles, the same for any insertion order.
+//
+// Construction starts from a virtual octahedron of six tiny lifted points
+// around the centre; real points bury them. If any is left at the end, the
+// input does not surround the centre (all in one hemisphere, or on one great
+// circle) and construction fails.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/context.hpp"
+#include "geom/sphere.hpp"
+#include "tri/spatial_order.hpp"
+
+namespace um::tri {
+
+using geom::Vec3;
+
+// Length of the lifted point of a weight: 1 / (1 - w / 2). Needs w < 2.
+inline double lifted_scale(double weight) { return 1.0 / (1.0 - 0.5 * weight); }
+
+class Triangulation {
+public:
+    static constexpr int32_t kNone = -1;
+    static constexpr int32_t kRemoved = -2;  // vertex_tri_ of a removed (not hidden) slot
+
+    // Builds the triangulation of n points; direction(i) gives point i's unit
+    // vector, weights (may be null = all 0) its weight. Point i gets id i.
+    // Throws um::Error: too few points, coincident points (naming both),
+    // points that do not surround the centre, memory cap.
+    template <class DirectionFn>
+    void build(Context &ctx, int64_t n, DirectionFn direction, const double *weights);
+
+    // Counts -------------------------------------------------------------
+    // Live triangles. After updates some slots may be free (is_free); build()
+    // and compact() leave none, so slots 0..triangle_count()-1 are all live.
+    int32_t triangle_count() const { return static_cast<int32_t>(tris_.size() - free_.size()); }
+    int32_t triangle_slots() const { return static_cast<int32_t>(tris_.size()); }
+    bool is_free(int32_t t) const { return tris_[t].v[0] == kNone; }
+    // Renumbers the live triangles into 0..triangle_count()-1, keeping their order.
+    void compact();
+    int32_t vertex_slots() const { return static_cast<int32_t>(q_.size()); }
+    // Vertices in the triangulation (not hidden).
+    int64_t vertex_count() const;
+
+    // Topology -----------------------------------------------------------
+    int32_t vertex(int32_t t, int k) const { return tris_[t].v[k]; }
+    int32_t neighbour(int32_t t, int k) const { return tris_[t].n[k]; }
+    // Input index of a vertex slot.
+    int32_t id(int32_t v) const { return id_[v]; }
+    bool in_triangulation(int32_t v) const { return vertex_tri_[v] >= 0; }
+    // Removed by remove() (as opposed to hidden by its neighbours).
+    bool is_removed(int32_t v) const { return vertex_tri_[v] == kRemoved; }
+    // Input indices of the hidden points (empty power cell), ascending.
+    std::vector<int32_t> hidden_ids() const;
+    // Triangles around v, counter-clockwise seen from outside.
+    std::vector<int32_t> star(int32_t v) const;
+
+    // Geometry -----------------------------------------------------------
+    const Vec3 &lifted(int32_t v) const { return q_[v]; }
+    Vec3 direction(int32_t v) const { return geom::normalized(q_[v]); }
+    double weight(int32_t v) const { return 2.0 * (1.0 - 1.0 / geom::norm(q_[v])); }
+    // The power vertex of triangle t: unit outward normal of its hull facet.
+    Vec3 orthocentre(int32_t t) const;
+    // Where the dual arc of edge k of t crosses the primal arc (unit vector).
+    Vec3 edge_orthocentre(int32_t t, int k) const;
+    // The power cell of v: its corners (orthocentres) counter-clockwise.
+    std::vector<Vec3> power_cell(int32_t v) const;
+
+    // Exact tests ----------------------------------------------------------
+    // Edge k of t is locally regular (the hull is convex across it).
+    bool is_locally_regular(int32_t t, int k) const;
+    // Vertex slot v's lifted point lies beyond t's facet (perturbed, exact).
+    bool beyond(int32_t t, int32_t v) const { return visible(t, v); }
+    // A triangle whose cone holds direction p (walk from `start`).
+    int32_t locate(const Vec3 &p, int32_t start = 0) const {
+        int zero_edges[3], n_zero;
+        return locate(p, start, zero_edges, n_zero);
+    }
+
+    // Updates (after build) ------------------------------------------------
+    // Each keeps the triangulation the exact regular triangulation of the
+    // points it holds. Points hidden earlier are not reconsidered when a
+    // vertex is removed or moved.
+
+    // Inserts a point (unit direction, weight < 2) with input index `id`;
+    // returns its vertex slot. The slot is hidden (in_triangulation false)
+    // when its power cell is empty; vertices it buries become hidden and are
+    // appended to *buried when given. Throws UM_ERR_DUPLICATE_POINTS.
+    int32_t insert(const Vec3 &direction, double weight, int32_t id,
+                   std::vector<int32_t> *buried = nullptr);
+    // Removes vertex v (its slot becomes hidden); its star is re-triangulated
+    // by ears that are facets of the hull of the remaining points.
+    void remove(int32_t v);
+    // Moves v to a new direction keeping its weight / sets its weight, then
+    // restores regularity. Returns the vertices that became hidden (v itself
+    // when its power cell became empty).
+    std::vector<int32_t> move(int32_t v, const Vec3 &direction);
+    std::vector<int32_t> set_weight(int32_t v, double weight);
+    // Flips edge k of t when the two triangles form a quad that is convex
+    // seen from the centre; returns false (and changes nothing) otherwise.
+    bool flip(int32_t t, int k);
+
+private:
+    enum class InsertResult { inserted, hidden, duplicate };
+
+    void init_virtual_octahedron();
+    void insert_all(Context &ctx);
+    // Inserts the vertex in slot v; `hint` is a triangle to start the walk
+    // from, updated to a triangle near v. On duplicate, *other is the
+    // coinciding vertex.
+    InsertResult insert_slot(int32_t v, int32_t &hint, int32_t *other);
+    int32_t locate(const Vec3 &p, int32_t start, int zero_edges[3], int &n_zero) const;
+    int32_t locate_brute_force(const Vec3 &p) const;
+    int32_t find_visible_start(int32_t v, int32_t t, const int zero_edges[3], int n_zero,
+                               int32_t *coincident);
+    void fill_cavity(int32_t v, int32_t start);
+    void collect_horizon();
+    void stitch_new_triangles(int32_t v);
+    bool visible(int32_t t, int32_t v) const;
+    int64_t priority(int32_t v) const;
+    int local_index(int32_t t, int32_t v) const;
+    // The neighbour of `outer` across its edge from -> to becomes t.
+    void set_neighbour(int32_t outer, int32_t from, int32_t to, int32_t t);
+    int32_t new_triangle_slot();
+    void free_triangle_slot(int32_t t);
+    bool flippable(int32_t t, int k) const;
+    void remove_degree_three(int32_t v);
+    bool ear_is_hull_facet(const std::vector<int32_t> &link, size_t i) const;
+    int32_t reinsert(int32_t v, std::vector<int32_t> *buried);
+    std::vector<int32_t> replace_point(int32_t v, const Vec3 &lifted);
+    void compact_triangles(int32_t vertex_shift);
+    void compact_after_build();
+
+    std::vector<Vec3> q_;             // lifted point per vertex slot
+    std::vector<int32_t> id_;         // input index; < 0 for the virtual octahedron
+    std::vector<int32_t> vertex_tri_; // a triangle incident to the vertex; kNone hidden, kRemoved
+    // One record per triangle so that a visit touches one cache line.
+    struct Tri {
+        int32_t v[3];  // vertices; v[0] == kNone for a free slot
+        int32_t n[3];  // neighbours across the edges opposite v[k]
+    };
+    std::vector<Tri> tris_;
+    std::vector<uint8_t> mark_;       // per-triangle scratch of the insertion
+    std::vector<int32_t> free_;       // free triangle slots
+
+    struct HorizonEdge {
+        int32_t a, b;     // directed as in the cavity triangle
+        int32_t outside;  // triangle across the edge, not in the cavity
+    };
+    std::vector<int32_t> cavity_, touched_, new_tris_;
+    std::vector<int32_t> cavity_vertices_;  // filled only when an insertion buries vertices
+    std::vector<HorizonEdge> horizon_;
+    mutable uint32_t walk_counter_ = 0;  // rotates the walk's first edge
+};
+
+template <class DirectionFn>
+void Triangulation::build(Context &ctx, int64_t n, DirectionFn direction, const double *weights) {
+    std::vector<int32_t> order = brio_order(ctx, n, direction);
+    constexpr int kVirtual = 6;
+    q_.assign(static_cast<size_t>(n) + kVirtual, Vec3{});
+    id_.assign(q_.size(), kNone);
+    vertex_tri_.assign(q_.size(), kNone);
+    ctx.parallel_for(n, 8192, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            int32_t src = order[i];
+            double s = weights ? lifted_scale(weights[src]) : 1.0;
+            q_[kVirtual + i] = s * direction(src);
+            id_[kVirtual + i] = src;
+        }
+    });
+    std::vector<int32_t>().swap(order);
+    insert_all(ctx);
+}
+
+}  // namespace um::tri

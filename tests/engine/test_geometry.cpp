@@ -1,0 +1,182 @@
+// Engine tests: exact predicates, great-arc primitives, the Hilbert order.
+#include <cmath>
+#include <cstdarg>
+#include <cstddef>
+#include <csetjmp>
+#include <random>
+#include <set>
+#include <cstring>
+
+#include "geom/predicates.hpp"
+#include "geom/sphere.hpp"
+#include "support/point_sets.hpp"
+#include "tri/spatial_order.hpp"
+
+// cmocka last: it defines a fail() macro.
+extern "C" {
+#include <cmocka.h>
+}
+
+using namespace um;
+using geom::Vec3;
+
+namespace {
+
+void orient3d_signs_on_exact_configurations(void **) {
+    const double a[3] = {0, 0, 1}, b[3] = {1, 0, 1}, c[3] = {0, 1, 1};
+    double d[3] = {0.25, 0.25, 1};
+    assert_int_equal(geom::orient3d(a, b, c, d), 0);  // coplanar
+    d[2] = std::nextafter(1.0, 2.0);                   // one ulp above the plane
+    assert_int_equal(geom::orient3d(a, b, c, d), 1);
+    d[2] = std::nextafter(1.0, 0.0);  // one ulp below
+    assert_int_equal(geom::orient3d(a, b, c, d), -1);
+    // Far from the origin with a tiny offset: the filter must not decide wrongly.
+    const double big = 1e15;
+    const double A[3] = {big, big, 1}, B[3] = {big + 1, big, 1}, C[3] = {big, big + 1, 1};
+    double D[3] = {big + 0.5, big + 0.5, 1};
+    assert_int_equal(geom::orient3d(A, B, C, D), 0);
+    D[2] = 1 + 0x1p-52;
+    assert_int_equal(geom::orient3d(A, B, C, D), 1);
+}
+
+// The filtered predicate agrees with the exact evaluation on nearly
+// degenerate input (points on a plane through rounding).
+void filter_agrees_with_exact(void **) {
+    std::mt19937_64 rng(1);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int decided_by_exact = 0;
+    for (int i = 0; i < 200000; ++i) {
+        double p[4][3];
+        double nx = u(rng), ny = u(rng), off = u(rng);
+        for (auto &q : p) {
+            q[0] = u(rng), q[1] = u(rng);
+            q[2] = off + nx * q[0] + ny * q[1];  // on a plane up to rounding
+        }
+        int s = geom::orient3d(p[0], p[1], p[2], p[3]);
+        int e = geom::orient3d_exact(p[0], p[1], p[2], p[3]);
+        assert_int_equal(s, e);
+        decided_by_exact += e == 0;
+    }
+    (void)decided_by_exact;
+}
+
+void orient_origin_is_exact(void **) {
+    const double a[3] = {1, 0, 0}, b[3] = {0, 1, 0};
+    double c[3] = {0.5, 0.5, 0};
+    assert_int_equal(geom::orient_origin(a, b, c), 0);
+    c[2] = 1e-300;
+    assert_int_equal(geom::orient_origin(a, b, c), 1);
+    c[2] = -1e-300;
+    assert_int_equal(geom::orient_origin(a, b, c), -1);
+}
+
+// The tie rule: never 0, antisymmetric under a swap of the facet's vertices,
+// and a point is beyond a facet exactly when the facet is not beyond it in
+// the reversed test (consistency of the perturbation).
+void perturbed_orientation_breaks_ties_consistently(void **) {
+    auto pts = test::latitude_circles({30}, 8);  // 8 cocircular points + poles
+    const double *p[6];
+    for (int i = 0; i < 6; ++i) p[i] = pts[2 + i].data();
+    for (int i = 0; i < 4; ++i) {
+        int s = geom::orient3d_perturbed(p[0], p[1], p[2], p[3], 0, 1, 2, 3);
+        assert_true(s == 1 || s == -1);
+        int swapped = geom::orient3d_perturbed(p[1], p[0], p[2], p[3], 1, 0, 2, 3);
+        assert_int_equal(swapped, -s);
+        int rotated = geom::orient3d_perturbed(p[1], p[2], p[0], p[3], 1, 2, 0, 3);
+        assert_int_equal(rotated, s);
+    }
+    // Exactly coplanar integer points: the highest-priority point decides.
+    const double a[3] = {0, 0, 1}, b[3] = {1, 0, 1}, c[3] = {0, 1, 1}, d[3] = {1, 1, 1};
+    int s1 = geom::orient3d_perturbed(a, b, c, d, 1, 2, 3, 0);  // d first: pushed out => beyond
+    assert_int_equal(s1, 1);
+    int s2 = geom::orient3d_perturbed(a, b, c, d, 0, 1, 2, 3);
+    assert_true(s2 == 1 || s2 == -1);
+}
+
+void arc_length_and_areas(void **) {
+    Vec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+    assert_true(std::fabs(geom::arc_length(x, y) - M_PI / 2) < 1e-15);
+    assert_true(std::fabs(geom::arc_length(x, -1.0 * x) - M_PI) < 1e-15);
+    Vec3 near = geom::normalized({1, 1e-12, 0});
+    assert_true(std::fabs(geom::arc_length(x, near) - 1e-12) < 1e-24);
+    assert_true(std::fabs(geom::signed_triangle_area(x, y, z) - M_PI / 2) < 1e-15);
+    assert_true(std::fabs(geom::signed_triangle_area(x, z, y) + M_PI / 2) < 1e-15);
+}
+
+void lonlat_round_trip_and_poles(void **) {
+    Vec3 n1 = geom::unit_from_lonlat_deg(10, 90), n2 = geom::unit_from_lonlat_deg(-170, 90);
+    assert_true(n1.x == n2.x && n1.y == n2.y && n1.z == n2.z);
+    double lon, lat;
+    geom::lonlat_deg_from_unit(geom::unit_from_lonlat_deg(-179.5, -45.25), lon, lat);
+    assert_true(std::fabs(lon + 179.5) < 1e-12 && std::fabs(lat + 45.25) < 1e-12);
+    geom::lonlat_deg_from_unit(geom::unit_from_lonlat_deg(180, 0), lon, lat);
+    assert_true(std::fabs(lon - 180) < 1e-12);
+}
+
+void arc_intersections(void **) {
+    Vec3 c;
+    auto ll = geom::unit_from_lonlat_deg;
+    // Crossing at the origin of lon/lat.
+    assert_true(geom::arc_intersection(ll(-1, 0), ll(1, 0), ll(0, -1), ll(0, 1), c));
+    assert_true(std::fabs(c.x - 1) < 1e-15);
+    // Disjoint arcs.
+    assert_false(geom::arc_intersection(ll(-1, 0), ll(1, 0), ll(5, -1), ll(5, 1), c));
+    // Antipodal crossing point is not on either arc.
+    assert_false(geom::arc_intersection(ll(179, 0), ll(178, 0), ll(0, -1), ll(0, 1), c));
+    // Across the dateline: the short arc from 179.5 to -179.5 crosses the meridian 180.
+    assert_true(geom::arc_intersection(ll(179.5, 0.5), ll(-179.5, -0.5), ll(180, -1), ll(180, 1), c));
+    double lon, lat;
+    geom::lonlat_deg_from_unit(c, lon, lat);
+    assert_true(std::fabs(std::fabs(lon) - 180) < 1e-9 && std::fabs(lat) < 1e-9);
+    // Touching at an end point (T junction) counts within the tolerance.
+    assert_true(geom::arc_intersection(ll(-1, 0), ll(1, 0), ll(0, 0), ll(0, 1), c));
+    // Overlapping collinear arcs.
+    assert_true(geom::arc_intersection(ll(0, 0), ll(2, 0), ll(1, 0), ll(3, 0), c));
+}
+
+// Consecutive cells along the Hilbert curve of one cube face are neighbours.
+void hilbert_order_is_continuous(void **) {
+    const int n = 64;  // sample a 64 x 64 grid of face (+x) cell centres
+    std::vector<std::pair<uint64_t, std::pair<int, int>>> cells;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            double u = -1 + (2.0 * i + 1) / n, v = -1 + (2.0 * j + 1) / n;
+            cells.push_back({tri::hilbert_key({1, u, v}), {i, j}});
+        }
+    std::sort(cells.begin(), cells.end());
+    for (size_t k = 1; k < cells.size(); ++k) {
+        auto [i0, j0] = cells[k - 1].second;
+        auto [i1, j1] = cells[k].second;
+        assert_int_equal(std::abs(i1 - i0) + std::abs(j1 - j0), 1);
+    }
+}
+
+void brio_order_is_a_permutation_and_deterministic(void **) {
+    auto pts = test::random_points(100000, 3);
+    Context one, two;
+    one.set_threads(1);
+    two.set_threads(2);
+    auto a = tri::brio_order(one, 100000, [&](int64_t i) { return pts[i]; });
+    auto b = tri::brio_order(two, 100000, [&](int64_t i) { return pts[i]; });
+    assert_true(a == b);
+    std::vector<int32_t> sorted = a;
+    std::sort(sorted.begin(), sorted.end());
+    for (int32_t i = 0; i < 100000; ++i) assert_int_equal(sorted[i], i);
+}
+
+}  // namespace
+
+int main() {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(orient3d_signs_on_exact_configurations),
+        cmocka_unit_test(filter_agrees_with_exact),
+        cmocka_unit_test(orient_origin_is_exact),
+        cmocka_unit_test(perturbed_orientation_breaks_ties_consistently),
+        cmocka_unit_test(arc_length_and_areas),
+        cmocka_unit_test(lonlat_round_trip_and_poles),
+        cmocka_unit_test(arc_intersections),
+        cmocka_unit_test(hilbert_order_is_continuous),
+        cmocka_unit_test(brio_order_is_a_permutation_and_deterministic),
+    };
+    return cmocka_run_group_tests_name("geometry", tests, nullptr, nullptr);
+}

@@ -1,0 +1,326 @@
+// Engine tests of the Laguerre triangulation on the hard inputs.
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstddef>
+#include <csetjmp>
+#include <random>
+#include <set>
+#include <cstring>
+
+#include "core/error.hpp"
+#include "support/point_sets.hpp"
+#include "tri/triangulation.hpp"
+#include "tri/validate.hpp"
+
+// cmocka last: it defines a fail() macro.
+extern "C" {
+#include <cmocka.h>
+}
+
+using namespace um;
+using geom::Vec3;
+
+namespace {
+
+tri::Triangulation build(const std::vector<Vec3> &pts, const std::vector<double> *weights = nullptr,
+                         int threads = 1) {
+    Context ctx;
+    ctx.set_threads(threads);
+    tri::Triangulation t;
+    t.build(ctx, static_cast<int64_t>(pts.size()), [&](int64_t i) { return pts[i]; },
+            weights ? weights->data() : nullptr);
+    return t;
+}
+
+void expect_valid(const tri::Triangulation &t) {
+    std::string problem = tri::check_triangulation(t);
+    if (!problem.empty()) fail_msg("%s", problem.c_str());
+}
+
+// Every input is a vertex and the counts are those of a triangulated sphere.
+void expect_complete(const tri::Triangulation &t, size_t n) {
+    expect_valid(t);
+    assert_int_equal(t.vertex_count(), static_cast<int64_t>(n));
+    assert_int_equal(t.triangle_count(), 2 * static_cast<int64_t>(n) - 4);
+}
+
+std::set<std::array<int32_t, 3>> triangle_set(const tri::Triangulation &t) {
+    std::set<std::array<int32_t, 3>> out;
+    for (int32_t f = 0; f < t.triangle_count(); ++f) {
+        std::array<int32_t, 3> ids = {t.id(t.vertex(f, 0)), t.id(t.vertex(f, 1)),
+                                      t.id(t.vertex(f, 2))};
+        std::rotate(ids.begin(), std::min_element(ids.begin(), ids.end()), ids.end());
+        out.insert(ids);
+    }
+    return out;
+}
+
+void random_points_small_and_large(void **) {
+    // The smallest spheres: a tetrahedron and an octahedron.
+    std::vector<Vec3> tetra = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+    for (auto &p : tetra) p = geom::normalized(p);
+    expect_complete(build(tetra), 4);
+    std::vector<Vec3> octa = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    expect_complete(build(octa), 6);  // every quadruple around the equators is cocircular
+    for (int64_t n : {100, 1000, 100000}) {
+        auto pts = test::random_points(n, 7 + n);
+        expect_complete(build(pts), pts.size());
+    }
+}
+
+void a_million_random_points(void **) {
+    auto pts = test::random_points(1000000, 11);
+    expect_complete(build(pts, nullptr, 2), pts.size());
+}
+
+void icosahedral_grids_to_level_8(void **) {
+    for (int level : {0, 1, 2, 5, 8}) {
+        auto pts = test::icosahedral_points(level);
+        assert_int_equal(pts.size(), 10 * (size_t(1) << (2 * level)) + 2);
+        expect_complete(build(pts), pts.size());
+    }
+}
+
+void cocircular_latitude_circles_and_poles(void **) {
+    auto pts = test::latitude_circles({-60, -30, 0, 30, 60}, 360);
+    expect_complete(build(pts), pts.size());
+    // Two points only besides the poles: the smallest octahedron-like case.
+    auto few = test::latitude_circles({0}, 4);
+    expect_complete(build(few), few.size());
+}
+
+void points_on_three_great_circles(void **) {
+    auto pts = test::great_circles(1000);
+    expect_complete(build(pts), pts.size());
+}
+
+void antipodal_pairs(void **) {
+    auto half = test::random_points(500, 3);
+    std::vector<Vec3> pts = half;
+    for (auto p : half) pts.push_back(-1.0 * p);
+    expect_complete(build(pts), pts.size());
+}
+
+void near_duplicates_are_distinct_vertices(void **) {
+    auto pts = test::random_points(2000, 5);
+    for (int i = 0; i < 200; ++i) {  // the next double up in x, renormalised or not
+        Vec3 p = pts[i];
+        p.x = std::nextafter(p.x, 2.0);
+        pts.push_back(p);
+    }
+    tri::Triangulation t = build(pts);
+    expect_valid(t);
+    // A point one ulp away may be buried by rounding (it lies inside the hull
+    // by less than an ulp): it is then reported hidden, never lost.
+    assert_int_equal(t.vertex_count() + static_cast<int64_t>(t.hidden_ids().size()),
+                     static_cast<int64_t>(pts.size()));
+}
+
+void exact_duplicates_are_named(void **) {
+    auto pts = test::random_points(1000, 9);
+    pts[700] = pts[123];
+    try {
+        build(pts);
+        fail_msg("duplicates accepted");
+    } catch (const Error &e) {
+        assert_int_equal(e.status(), UM_ERR_DUPLICATE_POINTS);
+        assert_non_null(strstr(e.what(), "123"));
+        assert_non_null(strstr(e.what(), "700"));
+    }
+}
+
+void one_hemisphere_or_great_circle_is_rejected(void **) {
+    auto pts = test::random_points(1000, 13);
+    for (auto &p : pts) p.z = std::fabs(p.z) + 1e-3, p = geom::normalized(p);
+    try {
+        build(pts);
+        fail_msg("hemisphere accepted");
+    } catch (const Error &e) {
+        assert_int_equal(e.status(), UM_ERR_DEGENERATE_INPUT);
+    }
+    auto ring = test::latitude_circles({0}, 100);
+    ring.erase(ring.begin(), ring.begin() + 2);  // drop the poles: one great circle
+    try {
+        build(ring);
+        fail_msg("great circle accepted");
+    } catch (const Error &e) {
+        assert_int_equal(e.status(), UM_ERR_DEGENERATE_INPUT);
+    }
+}
+
+void weights_hide_points(void **) {
+    auto pts = test::random_points(20000, 17);
+    std::vector<double> w(pts.size());
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-2e-3, 2e-3);  // ~ spacing^2 scale
+    for (auto &x : w) x = u(rng);
+    for (size_t i = 0; i < 50; ++i) w[i * 7] = -0.5;  // far too light: buried
+    tri::Triangulation t = build(pts, &w);
+    expect_valid(t);
+    auto hidden = t.hidden_ids();
+    for (size_t i = 0; i < 50; ++i)
+        assert_true(std::binary_search(hidden.begin(), hidden.end(), int32_t(i * 7)));
+    assert_int_equal(t.vertex_count() + static_cast<int64_t>(hidden.size()),
+                     static_cast<int64_t>(pts.size()));
+}
+
+void same_result_for_any_thread_count(void **) {
+    auto pts = test::random_points(200000, 19);
+    auto one = build(pts, nullptr, 1), two = build(pts, nullptr, 2), four = build(pts, nullptr, 4);
+    assert_int_equal(one.triangle_count(), two.triangle_count());
+    for (int32_t f = 0; f < one.triangle_count(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            assert_int_equal(one.id(one.vertex(f, k)), two.id(two.vertex(f, k)));
+            assert_int_equal(one.id(one.vertex(f, k)), four.id(four.vertex(f, k)));
+        }
+}
+
+void insertion_order_does_not_change_the_triangles(void **) {
+    // Same points, permuted ids: the symbolic perturbation follows the ids,
+    // so compare a non-degenerate input (no ties) across orders.
+    auto pts = test::random_points(5000, 23);
+    auto a = triangle_set(build(pts));
+    std::vector<Vec3> rev(pts.rbegin(), pts.rend());
+    auto b_tri = build(rev);
+    std::set<std::array<int32_t, 3>> b;
+    const int32_t n = static_cast<int32_t>(pts.size());
+    for (auto f : triangle_set(b_tri)) {
+        std::array<int32_t, 3> ids = {n - 1 - f[0], n - 1 - f[1], n - 1 - f[2]};
+        std::rotate(ids.begin(), std::min_element(ids.begin(), ids.end()), ids.end());
+        b.insert(ids);
+    }
+    assert_true(a == b);
+}
+
+void power_cells_and_orthocentres(void **) {
+    auto pts = test::random_points(3000, 29);
+    tri::Triangulation t = build(pts);
+    double total = 0;
+    for (int32_t v = 0; v < t.vertex_slots(); ++v) {
+        auto cell = t.power_cell(v);
+        Vec3 x = t.direction(v);
+        // Fan area around the generator; with zero weights every generator lies in its cell.
+        for (size_t i = 0; i < cell.size(); ++i) {
+            double a = geom::signed_triangle_area(x, cell[i], cell[(i + 1) % cell.size()]);
+            assert_true(a > 0);  // counter-clockwise and convex around x
+            total += a;
+        }
+    }
+    assert_true(std::fabs(total - 4 * M_PI) < 1e-9);
+    // Orthocentres are equidistant from the triangle's vertices when weights are 0,
+    // and edge orthocentres are midpoints.
+    for (int32_t f = 0; f < t.triangle_count(); f += 7) {
+        Vec3 c = t.orthocentre(f);
+        double d0 = geom::arc_length(c, t.direction(t.vertex(f, 0)));
+        for (int k = 1; k < 3; ++k)
+            assert_true(std::fabs(geom::arc_length(c, t.direction(t.vertex(f, k))) - d0) < 1e-12);
+        Vec3 m = t.edge_orthocentre(f, 0);
+        double l1 = geom::arc_length(m, t.direction(t.vertex(f, 1)));
+        double l2 = geom::arc_length(m, t.direction(t.vertex(f, 2)));
+        assert_true(std::fabs(l1 - l2) < 1e-12);
+    }
+}
+
+void weighted_edge_orthocentre_is_on_the_bisector(void **) {
+    auto pts = test::random_points(2000, 31);
+    std::vector<double> w(pts.size());
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+    for (auto &x : w) x = u(rng);
+    tri::Triangulation t = build(pts, &w);
+    for (int32_t f = 0; f < t.triangle_count(); ++f) {
+        for (int k = 0; k < 3; ++k) {
+            Vec3 p = t.edge_orthocentre(f, k);
+            const Vec3 &qi = t.lifted(t.vertex(f, (k + 1) % 3)), &qj = t.lifted(t.vertex(f, (k + 2) % 3));
+            assert_true(std::fabs(geom::dot(p, qi - qj)) < 1e-14);  // on the bisector plane
+            // and on the primal arc: coplanar with the two generators
+            assert_true(std::fabs(geom::dot(p, geom::cross(qi, qj))) < 1e-14);
+        }
+        // The orthocentre lies on all three bisector planes.
+        Vec3 c = t.orthocentre(f);
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 &qi = t.lifted(t.vertex(f, k)), &qj = t.lifted(t.vertex(f, (k + 1) % 3));
+            assert_true(std::fabs(geom::dot(c, qi - qj)) < 1e-14);
+        }
+    }
+}
+
+void insert_remove_move_and_reweight(void **) {
+    auto pts = test::random_points(3000, 37);
+    tri::Triangulation t = build(pts);
+    std::mt19937_64 rng(41);
+    // Insert more points.
+    auto extra = test::random_points(500, 43);
+    for (size_t i = 0; i < extra.size(); ++i) t.insert(extra[i], 0.0, int32_t(pts.size() + i));
+    expect_valid(t);
+    assert_int_equal(t.vertex_count(), 3500);
+    // Remove every fifth vertex.
+    for (int32_t v = 0; v < t.vertex_slots(); v += 5) t.remove(v);
+    expect_valid(t);
+    assert_int_equal(t.vertex_count(), 3500 - 700);
+    // Move vertices by small random amounts.
+    std::normal_distribution<double> g(0, 0.01);
+    for (int32_t v = 1; v < t.vertex_slots(); v += 3) {
+        if (!t.in_triangulation(v)) continue;
+        Vec3 d = t.direction(v);
+        t.move(v, geom::normalized(d + Vec3{g(rng), g(rng), g(rng)}));
+    }
+    expect_valid(t);
+    // Reweight: small changes keep everything; a large negative weight buries.
+    for (int32_t v = 2; v < t.vertex_slots(); v += 7)
+        if (t.in_triangulation(v)) t.set_weight(v, 1e-4);
+    expect_valid(t);
+    int32_t victim = 3;
+    while (!t.in_triangulation(victim)) ++victim;
+    auto buried = t.set_weight(victim, -0.5);
+    assert_int_equal(buried.size(), 1);
+    assert_int_equal(buried[0], victim);
+    assert_false(t.in_triangulation(victim));
+    expect_valid(t);
+    // A heavy vertex buries neighbours, and says which.
+    int32_t heavy = 4;
+    while (!t.in_triangulation(heavy)) ++heavy;
+    auto around = t.set_weight(heavy, 0.5);
+    assert_true(!around.empty());
+    for (int32_t u : around) assert_false(t.in_triangulation(u));
+    expect_valid(t);
+}
+
+void flips_keep_a_valid_sphere(void **) {
+    auto pts = test::random_points(500, 47);
+    tri::Triangulation t = build(pts);
+    int flipped = 0;
+    for (int32_t f = 0; f < t.triangle_count(); f += 3)
+        if (t.flip(f, 0)) ++flipped;
+    assert_true(flipped > 0);
+    // Flipped edges are no longer regular: the sphere stays valid, regularity goes.
+    int irregular = 0;
+    for (int32_t f = 0; f < t.triangle_count(); ++f)
+        for (int k = 0; k < 3; ++k) irregular += !t.is_locally_regular(f, k);
+    assert_true(irregular > 0);
+}
+
+}  // namespace
+
+int main() {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(random_points_small_and_large),
+        cmocka_unit_test(a_million_random_points),
+        cmocka_unit_test(icosahedral_grids_to_level_8),
+        cmocka_unit_test(cocircular_latitude_circles_and_poles),
+        cmocka_unit_test(points_on_three_great_circles),
+        cmocka_unit_test(antipodal_pairs),
+        cmocka_unit_test(near_duplicates_are_distinct_vertices),
+        cmocka_unit_test(exact_duplicates_are_named),
+        cmocka_unit_test(one_hemisphere_or_great_circle_is_rejected),
+        cmocka_unit_test(weights_hide_points),
+        cmocka_unit_test(same_result_for_any_thread_count),
+        cmocka_unit_test(insertion_order_does_not_change_the_triangles),
+        cmocka_unit_test(power_cells_and_orthocentres),
+        cmocka_unit_test(weighted_edge_orthocentre_is_on_the_bisector),
+        cmocka_unit_test(insert_remove_move_and_reweight),
+        cmocka_unit_test(flips_keep_a_valid_sphere),
+    };
+    return cmocka_run_group_tests_name("triangulation", tests, nullptr, nullptr);
+}
