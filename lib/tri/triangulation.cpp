@@ -212,6 +212,12 @@ int32_t Triangulation::locate(const Vec3 &p, int32_t t, int zero_edges[3],
     return t;
 }
 
+int32_t Triangulation::live_triangle_near(int32_t t) const {
+    if (t < 0 || t >= static_cast<int32_t>(tris_.size())) t = 0;
+    while (tris_[t].v[0] == kNone) t = t + 1 == static_cast<int32_t>(tris_.size()) ? 0 : t + 1;
+    return t;
+}
+
 int32_t Triangulation::locate_brute_force(const Vec3 &p) const {
     for (int32_t t = 0; t < static_cast<int32_t>(tris_.size()); ++t) {
         if (tris_[t].v[0] == kNone) continue;
@@ -367,9 +373,8 @@ int32_t Triangulation::insert(const Vec3 &direction, double weight, int32_t id,
 }
 
 // (Re)inserts the point already stored in slot v.
-int32_t Triangulation::reinsert(int32_t v, std::vector<int32_t> *buried) {
-    int32_t hint = 0;
-    while (tris_[hint].v[0] == kNone) ++hint;
+int32_t Triangulation::reinsert(int32_t v, std::vector<int32_t> *buried, int32_t hint) {
+    hint = live_triangle_near(hint);
     int32_t other = kNone;
     InsertResult r = insert_slot(v, hint, &other);
     if (r == InsertResult::duplicate) {
@@ -433,10 +438,10 @@ bool Triangulation::ear_is_hull_facet(const std::vector<int32_t> &link, size_t i
     return true;
 }
 
-void Triangulation::remove(int32_t v) {
+int32_t Triangulation::remove(int32_t v) {
     if (vertex_tri_[v] < 0) {
         vertex_tri_[v] = kRemoved;
-        return;
+        return live_triangle_near(0);
     }
     // Clip ears by flipping the spoke (v, link[i]) until v has degree 3.
     for (;;) {
@@ -457,10 +462,10 @@ void Triangulation::remove(int32_t v) {
         }
         if (!clipped) fail(UM_ERR_INTERNAL, "vertex removal found no ear to clip");
     }
-    remove_degree_three(v);
+    return remove_degree_three(v);
 }
 
-void Triangulation::remove_degree_three(int32_t v) {
+int32_t Triangulation::remove_degree_three(int32_t v) {
     std::vector<int32_t> st = star(v);
     int32_t t1 = st[0], t2 = st[1], t3 = st[2];
     int j1 = local_index(t1, v), j2 = local_index(t2, v), j3 = local_index(t3, v);
@@ -473,6 +478,7 @@ void Triangulation::remove_degree_three(int32_t v) {
     free_triangle_slot(t3);
     vertex_tri_[a] = vertex_tri_[b] = vertex_tri_[c] = t1;
     vertex_tri_[v] = kRemoved;
+    return t1;
 }
 
 // Removes v, stores its new lifted point and inserts it again: insertion is
@@ -482,13 +488,13 @@ std::vector<int32_t> Triangulation::replace_point(int32_t v, const Vec3 &lifted)
     std::vector<int32_t> buried;
     const Vec3 old = q_[v];
     const bool was_in = vertex_tri_[v] >= 0;
-    if (was_in) remove(v);
+    int32_t hint = was_in ? remove(v) : 0;
     q_[v] = lifted;
     try {
-        reinsert(v, &buried);
+        reinsert(v, &buried, hint);
     } catch (...) {
         q_[v] = old;
-        if (was_in) reinsert(v, nullptr);
+        if (was_in) reinsert(v, nullptr, hint);
         throw;
     }
     if (vertex_tri_[v] < 0) buried.push_back(v);

@@ -83,10 +83,11 @@ public:
     bool is_locally_regular(int32_t t, int k) const;
     // Vertex slot v's lifted point lies beyond t's facet (perturbed, exact).
     bool beyond(int32_t t, int32_t v) const { return visible(t, v); }
-    // A triangle whose cone holds direction p (walk from `start`).
+    // A triangle whose cone holds direction p (walk from `start`, or from
+    // the first live triangle when `start` is free or out of range).
     int32_t locate(const Vec3 &p, int32_t start = 0) const {
         int zero_edges[3], n_zero;
-        return locate(p, start, zero_edges, n_zero);
+        return locate(p, live_triangle_near(start), zero_edges, n_zero);
     }
 
     // Updates (after build) ------------------------------------------------
@@ -102,7 +103,8 @@ public:
                    std::vector<int32_t> *buried = nullptr);
     // Removes vertex v (its slot becomes hidden); its star is re-triangulated
     // by ears that are facets of the hull of the remaining points.
-    void remove(int32_t v);
+    // Returns a live triangle where v was (a hint for later walks).
+    int32_t remove(int32_t v);
     // Moves v to a new direction keeping its weight / sets its weight, then
     // restores regularity. Returns the vertices that became hidden (v itself
     // when its power cell became empty).
@@ -123,6 +125,7 @@ private:
     InsertResult insert_slot(int32_t v, int32_t &hint, int32_t *other);
     int32_t locate(const Vec3 &p, int32_t start, int zero_edges[3], int &n_zero) const;
     int32_t locate_brute_force(const Vec3 &p) const;
+    int32_t live_triangle_near(int32_t t) const;
     int32_t find_visible_start(int32_t v, int32_t t, const int zero_edges[3], int n_zero,
                                int32_t *coincident);
     void fill_cavity(int32_t v, int32_t start);
@@ -136,9 +139,9 @@ private:
     int32_t new_triangle_slot();
     void free_triangle_slot(int32_t t);
     bool flippable(int32_t t, int k) const;
-    void remove_degree_three(int32_t v);
+    int32_t remove_degree_three(int32_t v);
     bool ear_is_hull_facet(const std::vector<int32_t> &link, size_t i) const;
-    int32_t reinsert(int32_t v, std::vector<int32_t> *buried);
+    int32_t reinsert(int32_t v, std::vector<int32_t> *buried, int32_t hint = 0);
     std::vector<int32_t> replace_point(int32_t v, const Vec3 &lifted);
     void compact_triangles(int32_t vertex_shift);
     void compact_after_build();
