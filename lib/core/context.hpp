@@ -6,6 +6,11 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#ifdef UNIMESH_PLAIN_THREADS
+#include <algorithm>
+#include <thread>
+#include <vector>
+#endif
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -25,11 +30,15 @@ public:
     // Runs fn inside this context's arena (serially when threads() == 1).
     template <class Fn>
     void run(Fn &&fn) {
+#ifdef UNIMESH_PLAIN_THREADS
+        fn();
+#else
         if (threads_ == 1) {
             fn();
         } else {
             arena_->execute(fn);
         }
+#endif
     }
 
     // Calls fn(begin, end) over chunks of [0, n) in parallel in this context's
@@ -42,13 +51,33 @@ public:
             fn(int64_t(0), n);
             return;
         }
+#ifdef UNIMESH_PLAIN_THREADS
+        // ThreadSanitizer builds: Debian's libtbb is not instrumented, so TSan
+        // cannot see its synchronisation and reports false races. Plain
+        // threads, created and joined per call, give TSan the happens-before
+        // edges and still run the same bodies concurrently.
+        plain_threads_for(n, fn);
+#else
         arena_->execute([&] {
             oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<int64_t>(0, n, grain),
                                       [&](const oneapi::tbb::blocked_range<int64_t> &r) {
                                           fn(r.begin(), r.end());
                                       });
         });
+#endif
     }
+
+#ifdef UNIMESH_PLAIN_THREADS
+    template <class Fn>
+    void plain_threads_for(int64_t n, Fn &fn) {
+        const int64_t parts = std::min<int64_t>(threads_, n);
+        std::vector<std::thread> pool;
+        for (int64_t p = 1; p < parts; ++p)
+            pool.emplace_back([&, p] { fn(n * p / parts, n * (p + 1) / parts); });
+        fn(int64_t(0), n / parts);
+        for (auto &t : pool) t.join();
+    }
+#endif
 
     // Callbacks -----------------------------------------------------------
     void set_progress(um_progress_fn fn, void *user) { progress_fn_ = fn, progress_user_ = user; }
