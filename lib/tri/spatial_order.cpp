@@ -47,13 +47,35 @@ constexpr HilbertTable make_hilbert_table() {
 }
 constexpr HilbertTable kHilbert = make_hilbert_table();
 
+// Two levels per lookup: [state][x bits 1..0, y bits 1..0] -> 4-bit digit and
+// next state, composed from the one-level table.
+struct HilbertTable2 {
+    uint8_t digit[4][16];
+    uint8_t next[4][16];
+};
+
+constexpr HilbertTable2 make_hilbert_table2() {
+    HilbertTable2 t{};
+    for (int s = 0; s < 4; ++s)
+        for (int xy = 0; xy < 16; ++xy) {
+            int x = xy >> 2, y = xy & 3;
+            int q1 = ((x >> 1) << 1) | (y >> 1), q0 = ((x & 1) << 1) | (y & 1);
+            int s1 = kHilbert.next[s][q1];
+            t.digit[s][xy] = static_cast<uint8_t>(kHilbert.digit[s][q1] * 4 + kHilbert.digit[s1][q0]);
+            t.next[s][xy] = kHilbert.next[s1][q0];
+        }
+    return t;
+}
+constexpr HilbertTable2 kHilbert2 = make_hilbert_table2();
+static_assert(kBitsPerAxis % 2 == 0, "two levels per step");
+
 uint64_t hilbert_2d(uint32_t x, uint32_t y) {
     uint64_t d = 0;
     int state = 0;
-    for (int level = kBitsPerAxis - 1; level >= 0; --level) {
-        int q = static_cast<int>(((x >> level) & 1) << 1 | ((y >> level) & 1));
-        d = (d << 2) | kHilbert.digit[state][q];
-        state = kHilbert.next[state][q];
+    for (int level = kBitsPerAxis - 2; level >= 0; level -= 2) {
+        int xy = static_cast<int>(((x >> level) & 3) << 2 | ((y >> level) & 3));
+        d = (d << 4) | kHilbert2.digit[state][xy];
+        state = kHilbert2.next[state][xy];
     }
     return d;
 }
@@ -75,10 +97,13 @@ uint64_t hilbert_key(const geom::Vec3 &p) {
     else if (ay >= az) face = p.y > 0 ? 1 : 4, m = ay, u = p.z, v = p.x;
     else face = p.z > 0 ? 2 : 5, m = az, u = p.x, v = p.y;
     if (m == 0) return 0;
-    constexpr double scale = double(1u << kBitsPerAxis);
-    auto cell = [&](double t) {  // t in [-1, 1] -> [0, 2^bits - 1]
-        double c = std::floor((t / m + 1.0) * 0.5 * scale);
-        return static_cast<uint32_t>(std::clamp(c, 0.0, scale - 1));
+    // t in [-1, 1] -> cell in [0, 2^bits - 1].
+    constexpr double half_cells = 0.5 * double(1u << kBitsPerAxis);
+    constexpr uint32_t last = (1u << kBitsPerAxis) - 1;
+    const double scale = half_cells / m;
+    auto cell = [&](double t) {
+        double c = t * scale + half_cells;
+        return c <= 0 ? 0u : std::min(static_cast<uint32_t>(c), last);
     };
     return (static_cast<uint64_t>(face) << (2 * kBitsPerAxis)) | hilbert_2d(cell(u), cell(v));
 }
