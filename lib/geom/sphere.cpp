@@ -6,8 +6,8 @@ namespace um::geom {
 
 namespace {
 constexpr double kDegree = M_PI / 180.0;
+}  // namespace
 
-// Distance (radians) from unit point p to the minor arc (a, b).
 double distance_to_arc(Vec3 p, Vec3 a, Vec3 b) {
     Vec3 n = cross(a, b);
     double nn = norm(n);
@@ -23,7 +23,6 @@ double distance_to_arc(Vec3 p, Vec3 a, Vec3 b) {
     }
     return std::min(arc_length(p, a), arc_length(p, b));
 }
-}  // namespace
 
 Vec3 unit_from_lonlat_deg(double lon_deg, double lat_deg) {
     if (lat_deg == 90.0) return {0, 0, 1};

@@ -33,6 +33,9 @@ void lonlat_deg_from_unit(Vec3 u, double &lon_deg, double &lat_deg);
 // and near-antipodal separations (atan2 of |a x b| and a . b).
 double arc_length(Vec3 a, Vec3 b);
 
+// Distance (radians) from unit point p to the minor arc (a, b).
+double distance_to_arc(Vec3 p, Vec3 a, Vec3 b);
+
 // Signed area (steradians) of the geodesic triangle (a, b, c) of unit
 // vectors: positive when counter-clockwise seen from outside. Uses the
 // Eriksson/van Oosterom formula tan(E/2) = det / (1 + a.b + b.c + c.a).

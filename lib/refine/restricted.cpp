@@ -1,0 +1,54 @@
+#include "refine/restricted.hpp"
+
+#include <algorithm>
+
+namespace um::refine {
+
+bool restricted_crossing(const tri::Triangulation &tri, int32_t t, int k,
+                         const geom::ArcTree &gamma, RestrictedEdge *out) {
+    const int32_t u = tri.neighbour(t, k);
+    const Vec3 c0 = tri.orthocentre(t), c1 = tri.orthocentre(u);
+    const Vec3 xi = tri.direction(tri.vertex(t, (k + 1) % 3));
+    const Vec3 xj = tri.direction(tri.vertex(t, (k + 2) % 3));
+    bool found = false;
+    gamma.query(geom::arc_box(c0, c1), [&](int32_t a) {
+        Vec3 x;
+        const auto &arc = gamma.arc(a);
+        if (!geom::arc_intersection(c0, c1, arc.a, arc.b, x)) return;
+        double r = std::max(geom::arc_length(x, xi), geom::arc_length(x, xj));
+        // Larger ball first; the lower arc index on a tie keeps it deterministic.
+        if (!found || r > out->radius || (r == out->radius && a < out->arc)) {
+            *out = {t, k, a, x, r};
+            found = true;
+        }
+    });
+    return found;
+}
+
+std::vector<RestrictedEdge> restricted_edges(Context &ctx, const tri::Triangulation &tri,
+                                             const geom::ArcTree &gamma) {
+    const int64_t n = tri.triangle_slots();
+    constexpr int64_t kChunk = 4096;
+    const int64_t chunks = (n + kChunk - 1) / kChunk;
+    std::vector<std::vector<RestrictedEdge>> found(static_cast<size_t>(chunks));
+    // Fixed chunks, concatenated in order: the result does not depend on how
+    // the loop is scheduled.
+    ctx.parallel_for(chunks, 1, [&](int64_t b, int64_t e) {
+        for (int64_t c = b; c < e; ++c) {
+            for (int64_t t = c * kChunk; t < std::min(n, (c + 1) * kChunk); ++t) {
+                const int32_t ti = static_cast<int32_t>(t);
+                if (tri.is_free(ti)) continue;
+                for (int k = 0; k < 3; ++k) {
+                    if (tri.neighbour(ti, k) < ti) continue;  // each edge once
+                    RestrictedEdge r;
+                    if (restricted_crossing(tri, ti, k, gamma, &r)) found[c].push_back(r);
+                }
+            }
+        }
+    });
+    std::vector<RestrictedEdge> out;
+    for (auto &f : found) out.insert(out.end(), f.begin(), f.end());
+    return out;
+}
+
+}  // namespace um::refine
