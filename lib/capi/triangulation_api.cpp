@@ -23,7 +23,7 @@ namespace {
 // Largest n whose 2n - 4 triangles and 3 indices each stay within int32.
 constexpr int64_t kMaxPoints = int64_t(1) << 28;
 // Peak bytes per point of construction (see the memory note in triangulation.hpp).
-constexpr int64_t kBytesPerPoint = 128;
+constexpr int64_t kBytesPerPoint = 120;
 
 um::Context *state_or_null(const um_triangulation *t) {
     return um::capi::is_live(t, HandleKind::triangulation) ? t->context.get() : nullptr;
@@ -93,6 +93,20 @@ void check_base(int32_t base) {
     if (base != 0 && base != 1) fail(UM_ERR_INVALID_ARGUMENT, "base = ", base, " is not 0 or 1");
 }
 
+// Fills out[3f + k] = index(f, k) + base for every triangle f and corner k.
+template <class IndexFn>
+void copy_per_corner(const um_triangulation *t, int32_t base, int32_t *out, int64_t capacity,
+                     const char *what, IndexFn index) {
+    check_base(base);
+    const int32_t n = t->tri.triangle_count();
+    check_capacity(capacity, 3 * int64_t(n), what);
+    require_pointer(out, "out");
+    t->context->parallel_for(n, 16384, [&](int64_t b, int64_t e) {
+        for (int64_t f = b; f < e; ++f)
+            for (int k = 0; k < 3; ++k) out[3 * f + k] = index(static_cast<int32_t>(f), k) + base;
+    });
+}
+
 }  // namespace
 
 extern "C" {
@@ -114,7 +128,15 @@ UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const doubl
     ctx->state->parallel_for(n, 8192, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) xyz[i] = um::geom::unit_from_lonlat_deg(lon_deg[i], lat_deg[i]);
     });
-    return create(ctx, n, [&](int64_t i) { return xyz[i]; }, weights, out);
+    // The unit vectors are freed before the triangulation's own storage grows.
+    auto handle = std::make_unique<um_triangulation>();
+    handle->context = ctx->state;
+    handle->tri.prepare(*ctx->state, n, [&](int64_t i) { return xyz[i]; }, weights);
+    std::vector<Vec3>().swap(xyz);
+    handle->tri.finish_build(*ctx->state);
+    um::capi::register_handle(handle.get(), HandleKind::triangulation);
+    *out = handle.release();
+    return UM_OK;
     UM_API_END(context_state_or_null(ctx))
 }
 
@@ -155,12 +177,9 @@ UM_API um_status um_triangulation_copy_triangles(const um_triangulation *t, int3
                                                  int32_t *out, int64_t capacity) {
     UM_API_BEGIN
     require_handle(t, HandleKind::triangulation, "t");
-    check_base(base);
     const auto &tri = t->tri;
-    check_capacity(capacity, 3 * int64_t(tri.triangle_count()), "the triangles");
-    require_pointer(out, "out");
-    for (int32_t f = 0; f < tri.triangle_count(); ++f)
-        for (int k = 0; k < 3; ++k) out[3 * f + k] = tri.id(tri.vertex(f, k)) + base;
+    copy_per_corner(t, base, out, capacity, "the triangles",
+                    [&](int32_t f, int k) { return tri.id(tri.vertex(f, k)); });
     return UM_OK;
     UM_API_END(state_or_null(t))
 }
@@ -169,12 +188,9 @@ UM_API um_status um_triangulation_copy_neighbours(const um_triangulation *t, int
                                                   int32_t *out, int64_t capacity) {
     UM_API_BEGIN
     require_handle(t, HandleKind::triangulation, "t");
-    check_base(base);
     const auto &tri = t->tri;
-    check_capacity(capacity, 3 * int64_t(tri.triangle_count()), "the neighbours");
-    require_pointer(out, "out");
-    for (int32_t f = 0; f < tri.triangle_count(); ++f)
-        for (int k = 0; k < 3; ++k) out[3 * f + k] = tri.neighbour(f, k) + base;
+    copy_per_corner(t, base, out, capacity, "the neighbours",
+                    [&](int32_t f, int k) { return tri.neighbour(f, k); });
     return UM_OK;
     UM_API_END(state_or_null(t))
 }

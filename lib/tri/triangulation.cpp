@@ -59,14 +59,7 @@ void Triangulation::insert_all(Context &ctx) {
     const int64_t report_every = std::max<int64_t>(n_real / 20, 65536);
     for (int32_t v = kVirtual; v < static_cast<int32_t>(q_.size()); ++v) {
         int32_t other = kNone;
-        if (insert_slot(v, hint, &other) == InsertResult::duplicate) {
-            double lon, lat;
-            geom::lonlat_deg_from_unit(direction(v), lon, lat);
-            int32_t i = std::min(id_[v], id_[other]), j = std::max(id_[v], id_[other]);
-            fail(UM_ERR_DUPLICATE_POINTS, "points ", i, " and ", j,
-                 " are at the same location (lon ", lon, ", lat ", lat,
-                 " degrees); remove one of them");
-        }
+        if (insert_slot(v, hint, &other) == InsertResult::duplicate) fail_on_duplicates();
         if ((v - kVirtual + 1) % report_every == 0)
             ctx.progress("triangulate", double(v - kVirtual + 1) / double(n_real));
     }
@@ -77,6 +70,43 @@ void Triangulation::insert_all(Context &ctx) {
                  "hemisphere or on one great circle, or too few are visible): a spherical "
                  "triangulation needs points all around the sphere");
     compact_after_build();
+}
+
+// Points stored so far that share a direction, reported as the two smallest
+// input indices of the group with the smallest index: the same message
+// whatever the insertion order or thread count.
+void Triangulation::fail_on_duplicates() const {
+    std::vector<int32_t> slots;
+    for (int32_t v = 0; v < static_cast<int32_t>(q_.size()); ++v)
+        if (id_[v] >= 0) slots.push_back(v);
+    auto dir = [&](int32_t v) { return geom::normalized(q_[v]); };
+    std::sort(slots.begin(), slots.end(), [&](int32_t a, int32_t b) {
+        Vec3 x = dir(a), y = dir(b);
+        if (x.x != y.x) return x.x < y.x;
+        if (x.y != y.y) return x.y < y.y;
+        if (x.z != y.z) return x.z < y.z;
+        return id_[a] < id_[b];
+    });
+    int32_t best_i = -1, best_j = -1, best_v = -1;
+    for (size_t k = 1; k < slots.size(); ++k) {
+        Vec3 x = dir(slots[k - 1]), y = dir(slots[k]);
+        if (x.x != y.x || x.y != y.y || x.z != y.z) continue;
+        // The group's first member is its smallest index (sorted by id last).
+        size_t g = k - 1;
+        while (g > 0) {
+            Vec3 z = dir(slots[g - 1]);
+            if (z.x != x.x || z.y != x.y || z.z != x.z) break;
+            --g;
+        }
+        int32_t i = id_[slots[g]], j = id_[slots[g + 1]];
+        if (best_i < 0 || i < best_i) best_i = i, best_j = j, best_v = slots[g];
+    }
+    if (best_i < 0)  // coinciding directions that are not bit-identical vectors
+        fail(UM_ERR_DUPLICATE_POINTS, "two points are at exactly the same location");
+    double lon, lat;
+    geom::lonlat_deg_from_unit(dir(best_v), lon, lat);
+    fail(UM_ERR_DUPLICATE_POINTS, "points ", best_i, " and ", best_j,
+         " are at the same location (lon ", lon, ", lat ", lat, " degrees); remove one of them");
 }
 
 // Renumbers live triangles into 0..live-1 in order, and vertices v into
@@ -109,8 +139,9 @@ void Triangulation::compact() {
 
 // Drops the virtual octahedron and the free triangle slots.
 void Triangulation::compact_after_build() {
+    // No shrink_to_fit: it would copy every triangle at the moment memory
+    // peaks; the spare capacity was reserved but never touched.
     compact_triangles(kVirtual);
-    tris_.shrink_to_fit();
     q_.erase(q_.begin(), q_.begin() + kVirtual);
     id_.erase(id_.begin(), id_.begin() + kVirtual);
     vertex_tri_.erase(vertex_tri_.begin(), vertex_tri_.begin() + kVirtual);

@@ -41,6 +41,14 @@ public:
     // points that do not surround the centre, memory cap.
     template <class DirectionFn>
     void build(Context &ctx, int64_t n, DirectionFn direction, const double *weights);
+    // build() in two steps, so that a caller can free the input it made for
+    // `direction` in between: prepare() copies the points in insertion order
+    // (BRIO rounds along a Hilbert curve), finish_build() triangulates them.
+    // Insertion is serial and in that fixed order, so the triangles and their
+    // numbering are the same for any thread count.
+    template <class DirectionFn>
+    void prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights);
+    void finish_build(Context &ctx) { insert_all(ctx); }
 
     // Counts -------------------------------------------------------------
     // Live triangles. After updates some slots may be free (is_free); build()
@@ -145,6 +153,7 @@ private:
     std::vector<int32_t> replace_point(int32_t v, const Vec3 &lifted);
     void compact_triangles(int32_t vertex_shift);
     void compact_after_build();
+    [[noreturn]] void fail_on_duplicates() const;
 
     std::vector<Vec3> q_;             // lifted point per vertex slot
     std::vector<int32_t> id_;         // input index; < 0 for the virtual octahedron
@@ -169,7 +178,7 @@ private:
 };
 
 template <class DirectionFn>
-void Triangulation::build(Context &ctx, int64_t n, DirectionFn direction, const double *weights) {
+void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights) {
     std::vector<int32_t> order = brio_order(ctx, n, direction);
     constexpr int kVirtual = 6;
     q_.assign(static_cast<size_t>(n) + kVirtual, Vec3{});
@@ -183,8 +192,12 @@ void Triangulation::build(Context &ctx, int64_t n, DirectionFn direction, const 
             id_[kVirtual + i] = src;
         }
     });
-    std::vector<int32_t>().swap(order);
-    insert_all(ctx);
+}
+
+template <class DirectionFn>
+void Triangulation::build(Context &ctx, int64_t n, DirectionFn direction, const double *weights) {
+    prepare(ctx, n, direction, weights);
+    finish_build(ctx);
 }
 
 }  // namespace um::tri
