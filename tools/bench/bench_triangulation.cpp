@@ -1,0 +1,827 @@
+// bench_triangulation: times the construction of the Delaunay triangulation of
+// points on the unit sphere by unimesh (through its public C API) against two
+// references in the same run:
+//   - CGAL's Delaunay_triangulation_on_sphere_2 (Epick kernel, points inserted
+//     as one range so CGAL shuffles and spatially sorts them itself);
+//   - Qhull's 3-D convex hull ("qhull Qt", libqhull_r C API).
+//
+// Every single measurement (one method, one thread count, one run) happens in a
+// child process made by fork(), so that the peak memory of one method cannot
+// pollute another's. The child reads getrusage(RUSAGE_SELF).ru_maxrss once its
+// input is ready (baseline) and again after the construction; it sends the time
+// and the two values back through a pipe. The parent only generates the points
+// and never starts threads, so fork() is safe.
+//
+// Usage: bench_triangulation [--quick] [--cases LIST] [--repeat R]
+//                            [--timeout S] [--qhull-limit S]
+// See README.md in this folder.
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <functional>
+#include <map>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include <malloc.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <CGAL/Delaunay_triangulation_on_sphere_2.h>
+#include <CGAL/Delaunay_triangulation_on_sphere_traits_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/version.h>
+
+extern "C" {
+#include <libqhull_r/qhull_ra.h>
+}
+
+#include "unimesh.h"
+
+namespace {
+
+constexpr uint64_t kSeed = 0x756e696d657368ULL;  // fixed seed of the random cases
+constexpr double kPi = 3.14159265358979323846;
+
+// ------------------------------------------------------------------ inputs
+
+// A small self-contained generator (xoshiro256** seeded through splitmix64) so
+// the random cases are the same on every platform and standard library.
+class Rng {
+public:
+    explicit Rng(uint64_t seed) {
+        for (auto &word : s_) {
+            seed += 0x9e3779b97f4a7c15ULL;
+            uint64_t z = seed;
+            z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+            z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+            word = z ^ (z >> 31);
+        }
+    }
+    uint64_t next() {
+        const uint64_t result = rotl(s_[1] * 5, 7) * 9;
+        const uint64_t t = s_[1] << 17;
+        s_[2] ^= s_[0];
+        s_[3] ^= s_[1];
+        s_[1] ^= s_[2];
+        s_[0] ^= s_[3];
+        s_[2] ^= t;
+        s_[3] = rotl(s_[3], 45);
+        return result;
+    }
+    // Uniform in the open interval (0, 1).
+    double uniform_open() { return (double(next() >> 11) + 0.5) * 0x1.0p-53; }
+    // Standard normal deviate (Marsaglia's polar method, spare value cached).
+    double normal() {
+        if (has_spare_) {
+            has_spare_ = false;
+            return spare_;
+        }
+        double u, v, s;
+        do {
+            u = 2.0 * uniform_open() - 1.0;
+            v = 2.0 * uniform_open() - 1.0;
+            s = u * u + v * v;
+        } while (s >= 1.0 || s == 0.0);
+        const double f = std::sqrt(-2.0 * std::log(s) / s);
+        spare_ = v * f;
+        has_spare_ = true;
+        return u * f;
+    }
+
+private:
+    static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+    uint64_t s_[4];
+    double spare_ = 0.0;
+    bool has_spare_ = false;
+};
+
+struct PointSet {
+    std::vector<double> xyz;  // 3 per point, unit vectors
+    std::vector<double> lon;  // degrees
+    std::vector<double> lat;  // degrees
+    int64_t size() const { return int64_t(xyz.size() / 3); }
+};
+
+void normalise(double *p) {
+    const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    p[0] /= r;
+    p[1] /= r;
+    p[2] /= r;
+}
+
+// Uniformly random points: normalised vectors of three independent normal deviates.
+std::vector<double> random_points(int64_t n, uint64_t seed) {
+    Rng rng(seed);
+    std::vector<double> xyz(size_t(3 * n));
+    for (int64_t i = 0; i < n; ++i) {
+        double *p = &xyz[size_t(3 * i)];
+        double r2;
+        do {
+            p[0] = rng.normal();
+            p[1] = rng.normal();
+            p[2] = rng.normal();
+            r2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+        } while (r2 < 1e-20);
+        normalise(p);
+    }
+    return xyz;
+}
+
+using Tri = std::array<int32_t, 3>;
+
+double det3(const double *a, const double *b, const double *c) {
+    return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+           a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+// The icosahedral grid of a level: the icosahedron, then `level` times every
+// triangle split into four by its edge midpoints pushed out to the sphere. Each
+// edge gets one midpoint shared by its two triangles, so the result is a proper
+// mesh. Fails (returns false, with a message) if a count is not as it must be.
+bool icosahedral_points(int level, std::vector<double> &xyz, std::string &error) {
+    const double phi = (1.0 + std::sqrt(5.0)) / 2.0;
+    xyz.clear();
+    // The 12 vertices: cyclic permutations of (0, +-1, +-phi).
+    for (int perm = 0; perm < 3; ++perm)
+        for (int s1 = -1; s1 <= 1; s1 += 2)
+            for (int s2 = -1; s2 <= 1; s2 += 2) {
+                double v[3];
+                v[perm] = 0.0;
+                v[(perm + 1) % 3] = s1;
+                v[(perm + 2) % 3] = s2 * phi;
+                normalise(v);
+                xyz.insert(xyz.end(), v, v + 3);
+            }
+    // The 20 faces: triples of mutually adjacent vertices (adjacent = at the
+    // edge length, the smallest distance), ordered counter-clockwise seen from outside.
+    auto d2 = [&](int a, int b) {
+        double s = 0;
+        for (int k = 0; k < 3; ++k) s += (xyz[3 * a + k] - xyz[3 * b + k]) * (xyz[3 * a + k] - xyz[3 * b + k]);
+        return s;
+    };
+    double min_d2 = 1e300;
+    for (int a = 0; a < 12; ++a)
+        for (int b = a + 1; b < 12; ++b) min_d2 = std::min(min_d2, d2(a, b));
+    auto adjacent = [&](int a, int b) { return d2(a, b) < min_d2 * 1.01; };
+    std::vector<Tri> tris;
+    for (int a = 0; a < 12; ++a)
+        for (int b = a + 1; b < 12; ++b)
+            for (int c = b + 1; c < 12; ++c)
+                if (adjacent(a, b) && adjacent(b, c) && adjacent(a, c)) {
+                    if (det3(&xyz[3 * a], &xyz[3 * b], &xyz[3 * c]) > 0)
+                        tris.push_back({a, b, c});
+                    else
+                        tris.push_back({a, c, b});
+                }
+    if (tris.size() != 20) {
+        error = "icosahedron has " + std::to_string(tris.size()) + " faces, not 20";
+        return false;
+    }
+
+    for (int l = 1; l <= level; ++l) {
+        std::unordered_map<uint64_t, int32_t> midpoint;
+        midpoint.reserve(tris.size() * 3 / 2);
+        xyz.reserve(xyz.size() + 3 * (tris.size() * 3 / 2));
+        auto mid = [&](int32_t a, int32_t b) -> int32_t {
+            const uint64_t key = (uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b));
+            auto found = midpoint.find(key);
+            if (found != midpoint.end()) return found->second;
+            const int32_t index = int32_t(xyz.size() / 3);
+            double m[3];
+            for (int k = 0; k < 3; ++k) m[k] = xyz[size_t(3 * a + k)] + xyz[size_t(3 * b + k)];
+            normalise(m);
+            xyz.insert(xyz.end(), m, m + 3);
+            midpoint.emplace(key, index);
+            return index;
+        };
+        std::vector<Tri> finer;
+        finer.reserve(tris.size() * 4);
+        for (const Tri &t : tris) {
+            const int32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+            finer.push_back({t[0], ab, ca});
+            finer.push_back({t[1], bc, ab});
+            finer.push_back({t[2], ca, bc});
+            finer.push_back({ab, bc, ca});
+        }
+        // Every edge of a closed triangle mesh is shared by exactly two triangles.
+        if (midpoint.size() * 2 != tris.size() * 3) {
+            error = "level " + std::to_string(l) + ": " + std::to_string(midpoint.size()) +
+                    " edges for " + std::to_string(tris.size()) + " triangles (not a closed mesh)";
+            return false;
+        }
+        tris.swap(finer);
+    }
+    const int64_t expected = 10 * (int64_t(1) << (2 * level)) + 2;
+    const int64_t n = int64_t(xyz.size() / 3);
+    if (n != expected) {
+        error = "level " + std::to_string(level) + " grid has " + std::to_string(n) +
+                " points, expected 10*4^L+2 = " + std::to_string(expected);
+        return false;
+    }
+    if (int64_t(tris.size()) != 2 * n - 4) {
+        error = "level " + std::to_string(level) + " grid has " + std::to_string(tris.size()) +
+                " triangles, expected 2V-4 = " + std::to_string(2 * n - 4);
+        return false;
+    }
+    return true;
+}
+
+void fill_lonlat(PointSet &ps) {
+    const int64_t n = ps.size();
+    ps.lon.resize(size_t(n));
+    ps.lat.resize(size_t(n));
+    for (int64_t i = 0; i < n; ++i) {
+        const double *p = &ps.xyz[size_t(3 * i)];
+        ps.lon[size_t(i)] = std::atan2(p[1], p[0]) * (180.0 / kPi);
+        ps.lat[size_t(i)] = std::atan2(p[2], std::hypot(p[0], p[1])) * (180.0 / kPi);
+    }
+}
+
+// ------------------------------------------------------------------ cases
+
+struct CaseSpec {
+    std::string name;
+    bool random = true;
+    int64_t n = 0;   // points
+    int level = 0;   // icosahedral level
+};
+
+bool parse_case(const std::string &text, CaseSpec &spec) {
+    spec.name = text;
+    char *end = nullptr;
+    if (text.rfind("random-", 0) == 0) {
+        const char *num = text.c_str() + 7;
+        const double v = std::strtod(num, &end);
+        if (end == num || *end != '\0' || !(v >= 4) || v > 2e8 || v != std::floor(v)) return false;
+        spec.random = true;
+        spec.n = int64_t(v);
+        return true;
+    }
+    if (text.rfind("ico-", 0) == 0) {
+        const char *num = text.c_str() + 4;
+        const long v = std::strtol(num, &end, 10);
+        if (end == num || *end != '\0' || v < 0 || v > 11) return false;
+        spec.random = false;
+        spec.level = int(v);
+        spec.n = 10 * (int64_t(1) << (2 * v)) + 2;
+        return true;
+    }
+    return false;
+}
+
+// ------------------------------------------------------------ measurement
+
+// What a child sends back through the pipe (plain data, fixed size).
+struct ChildResult {
+    int32_t ok = 0;
+    double seconds = 0.0;
+    int64_t rss_base_kb = 0;  // ru_maxrss when the input was ready
+    int64_t rss_peak_kb = 0;  // ru_maxrss after the construction
+    int64_t n_vertices = 0;
+    int64_t n_triangles = 0;
+    int64_t n_hidden = 0;
+    char message[480] = {0};
+};
+
+int64_t maxrss_kb() {
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return int64_t(ru.ru_maxrss);  // kilobytes on Linux
+}
+
+double now_seconds() {
+    using clock = std::chrono::steady_clock;
+    return std::chrono::duration<double>(clock::now().time_since_epoch()).count();
+}
+
+void set_message(ChildResult &r, const std::string &text) {
+    std::snprintf(r.message, sizeof r.message, "%s", text.c_str());
+}
+
+enum class Outcome { ok, failed, timed_out };
+
+// Runs `work` in a child process; gives up (SIGKILL to that child) after timeout_s.
+Outcome run_in_child(const std::function<ChildResult()> &work, double timeout_s, ChildResult &result) {
+    int fds[2];
+    if (pipe(fds) != 0) {
+        set_message(result, std::string("pipe: ") + std::strerror(errno));
+        return Outcome::failed;
+    }
+    std::fflush(stdout);
+    std::fflush(stderr);
+    const pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        set_message(result, std::string("fork: ") + std::strerror(errno));
+        return Outcome::failed;
+    }
+    if (pid == 0) {  // child
+        close(fds[0]);
+        ChildResult r;
+        try {
+            r = work();
+        } catch (const std::exception &e) {
+            r.ok = 0;
+            set_message(r, std::string("exception: ") + e.what());
+        } catch (...) {
+            r.ok = 0;
+            set_message(r, "unknown exception");
+        }
+        const char *p = reinterpret_cast<const char *>(&r);
+        size_t left = sizeof r;
+        while (left > 0) {
+            const ssize_t w = write(fds[1], p, left);
+            if (w < 0 && errno == EINTR) continue;
+            if (w <= 0) break;
+            p += w;
+            left -= size_t(w);
+        }
+        close(fds[1]);
+        _exit(0);
+    }
+    close(fds[1]);
+    char *dst = reinterpret_cast<char *>(&result);
+    size_t got = 0;
+    const double deadline = now_seconds() + timeout_s;
+    bool timed_out = false;
+    while (got < sizeof result) {
+        const double left = deadline - now_seconds();
+        if (left <= 0) {
+            timed_out = true;
+            break;
+        }
+        struct pollfd pfd = {fds[0], POLLIN, 0};
+        const int rc = poll(&pfd, 1, int(std::min(left, 60.0) * 1000) + 1);
+        if (rc < 0 && errno == EINTR) continue;
+        if (rc < 0) break;
+        if (rc == 0) continue;
+        const ssize_t r = read(fds[0], dst + got, sizeof result - got);
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) break;  // EOF: the child died before reporting
+        got += size_t(r);
+    }
+    close(fds[0]);
+    if (timed_out) kill(pid, SIGKILL);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (timed_out) return Outcome::timed_out;
+    if (got != sizeof result) {
+        result = ChildResult();
+        if (WIFSIGNALED(status))
+            set_message(result, "child killed by signal " + std::to_string(WTERMSIG(status)) + " (" +
+                                    strsignal(WTERMSIG(status)) + ")");
+        else
+            set_message(result, "child exited with status " + std::to_string(WEXITSTATUS(status)) +
+                                    " without reporting");
+        return Outcome::failed;
+    }
+    return result.ok ? Outcome::ok : Outcome::failed;
+}
+
+// --- the methods; each body runs inside a child process ---
+
+ChildResult measure_unimesh(const PointSet &ps, int threads, bool from_lonlat) {
+    ChildResult r;
+    um_context *ctx = nullptr;
+    if (um_context_create(&ctx) != UM_OK) {
+        set_message(r, "um_context_create failed");
+        return r;
+    }
+    if (um_context_set_threads(ctx, threads) != UM_OK) {
+        set_message(r, std::string("um_context_set_threads: ") + um_context_last_error(ctx));
+        um_context_destroy(ctx);
+        return r;
+    }
+    const int64_t n = ps.size();
+    um_triangulation *tri = nullptr;
+    r.rss_base_kb = maxrss_kb();
+    const double t0 = now_seconds();
+    const um_status st =
+        from_lonlat ? um_triangulation_create(ctx, n, ps.lon.data(), ps.lat.data(), nullptr, &tri)
+                    : um_triangulation_create_xyz(ctx, n, ps.xyz.data(), nullptr, &tri);
+    const double t1 = now_seconds();
+    r.rss_peak_kb = maxrss_kb();
+    r.seconds = t1 - t0;
+    if (st != UM_OK) {
+        set_message(r, "status " + std::to_string(st) + ": " + um_context_last_error(ctx));
+    } else if (um_triangulation_counts(tri, &r.n_vertices, &r.n_triangles, &r.n_hidden) != UM_OK) {
+        set_message(r, std::string("um_triangulation_counts: ") + um_context_last_error(ctx));
+    } else {
+        r.ok = 1;
+    }
+    um_triangulation_destroy(tri);
+    um_context_destroy(ctx);
+    return r;
+}
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using SphereTraits = CGAL::Delaunay_triangulation_on_sphere_traits_2<Kernel>;
+using SphereDT = CGAL::Delaunay_triangulation_on_sphere_2<SphereTraits>;
+
+ChildResult measure_cgal(const PointSet &ps) {
+    ChildResult r;
+    const int64_t n = ps.size();
+    // CGAL's input format; made before the baseline, like unimesh's input arrays.
+    std::vector<Kernel::Point_3> points;
+    points.reserve(size_t(n));
+    for (int64_t i = 0; i < n; ++i)
+        points.emplace_back(ps.xyz[size_t(3 * i)], ps.xyz[size_t(3 * i + 1)], ps.xyz[size_t(3 * i + 2)]);
+    const SphereTraits traits(Kernel::Point_3(0, 0, 0), 1.0);
+    r.rss_base_kb = maxrss_kb();
+    const double t0 = now_seconds();
+    {
+        SphereDT dt(traits);
+        dt.insert(points.begin(), points.end());  // shuffles and spatially sorts itself
+        const double t1 = now_seconds();
+        r.rss_peak_kb = maxrss_kb();
+        r.seconds = t1 - t0;
+        r.n_vertices = int64_t(dt.number_of_vertices());
+        r.n_triangles = int64_t(dt.number_of_solid_faces());
+        // Points CGAL dropped (not on the sphere within its tolerance, or too close
+        // to another point) are reported as hidden.
+        r.n_hidden = n - r.n_vertices;
+        if (dt.dimension() != 2)
+            set_message(r, "triangulation has dimension " + std::to_string(dt.dimension()));
+        else
+            r.ok = 1;
+    }
+    return r;
+}
+
+ChildResult measure_qhull(const PointSet &ps) {
+    ChildResult r;
+    const int64_t n = ps.size();
+    if (n > INT32_MAX) {
+        set_message(r, "too many points for qhull");
+        return r;
+    }
+    qhT qh_storage;
+    qhT *qh = &qh_storage;
+    qh_zero(qh, stderr);
+    char command[] = "qhull Qt";
+    // The child owns a copy-on-write copy of the points; qhull does not change them.
+    coordT *coords = const_cast<coordT *>(ps.xyz.data());
+    r.rss_base_kb = maxrss_kb();
+    const double t0 = now_seconds();
+    const int exitcode = qh_new_qhull(qh, 3, int(n), coords, False, command, nullptr, stderr);
+    const double t1 = now_seconds();
+    r.rss_peak_kb = maxrss_kb();
+    r.seconds = t1 - t0;
+    if (exitcode != 0) {
+        set_message(r, "qh_new_qhull exit code " + std::to_string(exitcode));
+    } else {
+        int64_t facets = 0, vertices = 0;
+        for (facetT *f = qh->facet_list; f && f->next; f = f->next)
+            if (!f->visible) ++facets;
+        for (vertexT *v = qh->vertex_list; v && v->next; v = v->next) ++vertices;
+        r.n_triangles = facets;
+        r.n_vertices = vertices;
+        r.n_hidden = n - vertices;  // interior or coplanar points, not hull vertices
+        r.ok = 1;
+    }
+    qh_freeqhull(qh, !qh_ALL);
+    int curlong = 0, totlong = 0;
+    qh_memfreeshort(qh, &curlong, &totlong);
+    return r;
+}
+
+// ------------------------------------------------------------------ driver
+
+struct Row {
+    std::string case_name;
+    std::string method;
+    int threads = 1;
+    int64_t n = 0;
+    int runs = 0;
+    bool ok = false;
+    bool skipped = false;
+    double seconds = 0.0;  // best of the runs
+    int64_t peak_kb = 0;   // largest increase of the child's max RSS over the runs
+    int64_t n_vertices = 0, n_triangles = 0, n_hidden = 0;
+    std::string note;
+};
+
+struct Options {
+    bool quick = false;
+    std::vector<std::string> cases;
+    int repeat = 0;  // 0: 3, or 1 for the largest cases (>= 3e6 points)
+    double timeout = 1800.0;
+    double qhull_limit = 180.0;  // seconds; Qhull above 1e6 points is skipped beyond this
+};
+
+void usage(FILE *f) {
+    std::fprintf(f,
+                 "usage: bench_triangulation [--quick] [--cases LIST] [--repeat R]\n"
+                 "                           [--timeout S] [--qhull-limit S]\n"
+                 "  --quick          only random-1e5 and ico-6 (smoke test)\n"
+                 "  --cases LIST     comma-separated cases: random-<points> (e.g. random-1e6)\n"
+                 "                   and ico-<level> (0..11); default\n"
+                 "                   random-1e5,random-1e6,random-4e6,ico-9\n"
+                 "  --repeat R       runs per measurement, best time kept (default 3; 1 for\n"
+                 "                   cases of 3e6 points or more)\n"
+                 "  --timeout S      give up a single run after S seconds (default 1800)\n"
+                 "  --qhull-limit S  above 1e6 points, skip Qhull when it would take, or\n"
+                 "                   takes, more than S seconds (default 180)\n");
+}
+
+void print_row(const Row &row) {
+    if (!row.ok) {
+        std::printf("%-12s %-15s %3d %9" PRId64 "  %s: %s\n", row.case_name.c_str(), row.method.c_str(),
+                    row.threads, row.n, row.skipped ? "SKIPPED" : "FAILED", row.note.c_str());
+        return;
+    }
+    const double mb = double(row.peak_kb) / 1024.0;
+    const double bytes_per_point = double(row.peak_kb) * 1024.0 / double(row.n);
+    std::printf("%-12s %-15s %3d %9" PRId64 " %9.4f %8.3f %9.1f %8.1f %9" PRId64 " %9" PRId64
+                " %6" PRId64 " %4d%s%s\n",
+                row.case_name.c_str(), row.method.c_str(), row.threads, row.n, row.seconds,
+                double(row.n) / row.seconds / 1e6, mb, bytes_per_point, row.n_vertices, row.n_triangles,
+                row.n_hidden, row.runs, row.note.empty() ? "" : "  ", row.note.c_str());
+}
+
+Row measure(const CaseSpec &spec, const std::string &method, int threads, int runs, double timeout,
+            const std::function<ChildResult()> &work) {
+    Row row;
+    row.case_name = spec.name;
+    row.method = method;
+    row.threads = threads;
+    row.n = spec.n;
+    for (int k = 0; k < runs; ++k) {
+        malloc_trim(0);  // give freed memory back, so the child starts from a lean heap
+        ChildResult r;
+        const Outcome outcome = run_in_child(work, timeout, r);
+        if (outcome != Outcome::ok) {
+            row.ok = false;
+            row.skipped = outcome == Outcome::timed_out;
+            row.note = outcome == Outcome::timed_out
+                           ? "did not finish within " + std::to_string(int(timeout)) + " s"
+                           : std::string(r.message);
+            row.runs = k + 1;
+            return row;
+        }
+        const int64_t delta = r.rss_peak_kb - r.rss_base_kb;
+        if (k == 0 || r.seconds < row.seconds) row.seconds = r.seconds;
+        if (k == 0 || delta > row.peak_kb) row.peak_kb = delta;
+        if (k > 0 && (r.n_triangles != row.n_triangles || r.n_vertices != row.n_vertices))
+            row.note = "counts differ between runs";
+        row.n_vertices = r.n_vertices;
+        row.n_triangles = r.n_triangles;
+        row.n_hidden = r.n_hidden;
+        row.runs = k + 1;
+    }
+    row.ok = true;
+    return row;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+    Options opt;
+    std::string cases_arg;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&](const char *name) -> const char * {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "bench_triangulation: %s needs a value\n", name);
+                usage(stderr);
+                std::exit(2);
+            }
+            return argv[++i];
+        };
+        auto positive = [&](const char *name, const char *text) {
+            char *end = nullptr;
+            const double v = std::strtod(text, &end);
+            if (end == text || *end != '\0' || !(v > 0)) {
+                std::fprintf(stderr, "bench_triangulation: %s '%s' is not a positive number\n", name, text);
+                std::exit(2);
+            }
+            return v;
+        };
+        if (a == "--quick") {
+            opt.quick = true;
+        } else if (a == "--cases") {
+            cases_arg = value("--cases");
+        } else if (a == "--repeat") {
+            const double v = positive("--repeat", value("--repeat"));
+            if (v != std::floor(v) || v > 1000) {
+                std::fprintf(stderr, "bench_triangulation: --repeat must be an integer in 1..1000\n");
+                return 2;
+            }
+            opt.repeat = int(v);
+        } else if (a == "--timeout") {
+            opt.timeout = positive("--timeout", value("--timeout"));
+        } else if (a == "--qhull-limit") {
+            opt.qhull_limit = positive("--qhull-limit", value("--qhull-limit"));
+        } else if (a == "-h" || a == "--help") {
+            usage(stdout);
+            return 0;
+        } else {
+            std::fprintf(stderr, "bench_triangulation: unknown argument '%s'\n", a.c_str());
+            usage(stderr);
+            return 2;
+        }
+    }
+    if (!cases_arg.empty()) {
+        size_t start = 0;
+        while (start <= cases_arg.size()) {
+            const size_t comma = cases_arg.find(',', start);
+            const std::string item =
+                cases_arg.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+            if (!item.empty()) opt.cases.push_back(item);
+            if (comma == std::string::npos) break;
+            start = comma + 1;
+        }
+    } else if (opt.quick) {
+        opt.cases = {"random-1e5", "ico-6"};
+    } else {
+        opt.cases = {"random-1e5", "random-1e6", "random-4e6", "ico-9"};
+    }
+    std::vector<CaseSpec> specs;
+    for (const std::string &c : opt.cases) {
+        CaseSpec spec;
+        if (!parse_case(c, spec)) {
+            std::fprintf(stderr, "bench_triangulation: bad case '%s' (random-<points> or ico-<level>)\n",
+                         c.c_str());
+            return 2;
+        }
+        specs.push_back(spec);
+    }
+    if (specs.empty()) {
+        std::fprintf(stderr, "bench_triangulation: no cases\n");
+        return 2;
+    }
+
+    const int unimesh_threads[] = {1, 2};
+    const int lonlat_threads = 2;
+
+    std::printf("# bench_triangulation: Delaunay triangulation of points on the unit sphere\n");
+    std::printf("# unimesh %s (header %s) | CGAL %s Delaunay_triangulation_on_sphere_2, Epick | "
+                "Qhull %s \"qhull Qt\"\n",
+                um_version_string(), UM_VERSION_STRING, CGAL_VERSION_STR, qh_version);
+    std::printf("# hardware threads: %u | random points: normalised 3-D normal deviates, seed 0x%" PRIx64
+                " | icosahedral grid: 10*4^L+2 points\n",
+                std::thread::hardware_concurrency(), kSeed);
+    std::printf("# every run in its own fork()ed child; seconds = best of 'runs' (construction only);\n"
+                "# peak_MB = increase of the child's max RSS from when its input was ready to the end of\n"
+                "# the construction (largest over the runs); B/pt = that in bytes per input point.\n");
+    std::printf("# methods: unimesh-xyz = um_triangulation_create_xyz; unimesh-lonlat = um_triangulation_create\n"
+                "# (lon/lat in degrees); cgal-dtos2 and qhull-Qt are single threaded.\n");
+    std::printf("# %-10s %-15s %3s %9s %9s %8s %9s %8s %9s %9s %6s %4s\n", "case", "method", "thr", "points",
+                "seconds", "Mpts/s", "peak_MB", "B/pt", "vertices", "triangles", "hidden", "runs");
+    std::fflush(stdout);
+
+    bool any_failure = false;
+    std::vector<Row> all_rows;
+    // For the Qhull skip rule: the largest case Qhull finished (points, seconds).
+    int64_t qhull_done_n = 0;
+    double qhull_done_s = 0.0;
+
+    for (const CaseSpec &spec : specs) {
+        PointSet ps;
+        const double g0 = now_seconds();
+        if (spec.random) {
+            ps.xyz = random_points(spec.n, kSeed);
+        } else {
+            std::string error;
+            if (!icosahedral_points(spec.level, ps.xyz, error)) {
+                std::printf("%-12s FAILED to build the grid: %s\n", spec.name.c_str(), error.c_str());
+                any_failure = true;
+                continue;
+            }
+        }
+        fill_lonlat(ps);
+        const double g1 = now_seconds();
+        if (!spec.random)
+            std::printf("# %s: icosahedral grid level %d, %" PRId64 " points = 10*4^%d+2 (verified), "
+                        "%" PRId64 " triangles, made in %.2f s\n",
+                        spec.name.c_str(), spec.level, ps.size(), spec.level, 2 * ps.size() - 4, g1 - g0);
+        const int runs = opt.repeat > 0 ? opt.repeat : (spec.n >= 3000000 ? 1 : 3);
+
+        std::vector<Row> rows;
+        auto add = [&](Row row) {
+            print_row(row);
+            std::fflush(stdout);
+            if (!row.ok && !row.skipped) any_failure = true;
+            rows.push_back(row);
+            all_rows.push_back(row);
+        };
+
+        for (int t : unimesh_threads)
+            add(measure(spec, "unimesh-xyz", t, runs, opt.timeout,
+                        [&ps, t] { return measure_unimesh(ps, t, false); }));
+        add(measure(spec, "unimesh-lonlat", lonlat_threads, runs, opt.timeout,
+                    [&ps, lonlat_threads] { return measure_unimesh(ps, lonlat_threads, true); }));
+        add(measure(spec, "cgal-dtos2", 1, runs, opt.timeout, [&ps] { return measure_cgal(ps); }));
+
+        // Qhull: above 1e6 points only when it finishes within the limit; the time is
+        // predicted from the largest case it already did (n log n), else bounded by a timeout.
+        if (spec.n <= 1000000) {
+            Row row = measure(spec, "qhull-Qt", 1, runs, opt.timeout, [&ps] { return measure_qhull(ps); });
+            if (row.ok && spec.n > qhull_done_n) {
+                qhull_done_n = spec.n;
+                qhull_done_s = row.seconds;
+            }
+            add(row);
+        } else {
+            double predicted = -1.0;
+            if (qhull_done_n > 0)
+                predicted = qhull_done_s * (double(spec.n) / double(qhull_done_n)) *
+                            (std::log(double(spec.n)) / std::log(double(qhull_done_n)));
+            if (predicted > opt.qhull_limit) {
+                Row row;
+                row.case_name = spec.name;
+                row.method = "qhull-Qt";
+                row.n = spec.n;
+                row.skipped = true;
+                char buf[200];
+                std::snprintf(buf, sizeof buf,
+                              "Qhull skipped above 1e6 points: predicted %.0f s > limit %.0f s (--qhull-limit)",
+                              predicted, opt.qhull_limit);
+                row.note = buf;
+                add(row);
+            } else {
+                const double limit = std::min(opt.qhull_limit, opt.timeout);
+                Row row = measure(spec, "qhull-Qt", 1, runs, limit, [&ps] { return measure_qhull(ps); });
+                if (row.skipped)
+                    row.note = "Qhull skipped above 1e6 points: too slow, did not finish within " +
+                               std::to_string(int(limit)) + " s (--qhull-limit)";
+                add(row);
+            }
+        }
+
+        // Consistency of the triangle counts: every point is a vertex, so each
+        // method must give 2V-4 triangles, and unimesh must agree with CGAL.
+        const Row *cgal = nullptr;
+        for (const Row &r : rows)
+            if (r.ok && r.method == "cgal-dtos2") cgal = &r;
+        std::string line;
+        bool mismatch = false;
+        const int64_t expected = 2 * spec.n - 4;
+        for (const Row &r : rows) {
+            if (!r.ok) continue;
+            line += " " + r.method + (r.method.rfind("unimesh", 0) == 0 ? "/" + std::to_string(r.threads) + "T" : "") +
+                    "=" + std::to_string(r.n_triangles);
+            if (r.method.rfind("unimesh", 0) == 0) {
+                if (cgal && r.n_triangles != cgal->n_triangles) mismatch = true;
+                if (r.n_triangles != expected || r.n_vertices != spec.n) mismatch = true;
+            }
+        }
+        if (cgal && (cgal->n_triangles != expected || cgal->n_vertices != spec.n))
+            line += " (CGAL kept " + std::to_string(cgal->n_vertices) + " of " + std::to_string(spec.n) + " points)";
+        if (!cgal) line += " (no CGAL count to compare with)";
+        if (mismatch) {
+            std::printf("MISMATCH %s: triangle counts differ (2V-4 = %" PRId64 "):%s\n", spec.name.c_str(),
+                        expected, line.c_str());
+            any_failure = true;
+        } else {
+            std::printf("# check %s: triangles OK, unimesh = CGAL = 2V-4 = %" PRId64 ":%s\n", spec.name.c_str(),
+                        expected, line.c_str());
+        }
+        std::fflush(stdout);
+    }
+
+    // Summary: throughput ratios unimesh / CGAL (= CGAL seconds / unimesh seconds).
+    std::printf("\n# summary: throughput ratio unimesh / CGAL (CGAL time / unimesh time; > 1: unimesh faster);\n"
+                "# the last column is unimesh (2 threads) / Qhull\n");
+    std::printf("# %-10s %9s %14s %14s %18s %14s\n", "case", "points", "xyz 1T/CGAL", "xyz 2T/CGAL",
+                "lonlat 2T/CGAL", "xyz 2T/Qhull");
+    for (const CaseSpec &spec : specs) {
+        auto find = [&](const std::string &method, int threads) -> const Row * {
+            for (const Row &r : all_rows)
+                if (r.case_name == spec.name && r.method == method && r.threads == threads && r.ok) return &r;
+            return nullptr;
+        };
+        auto ratio = [](const Row *ref, const Row *um) {
+            char buf[32];
+            if (ref && um && um->seconds > 0)
+                std::snprintf(buf, sizeof buf, "%.2f", ref->seconds / um->seconds);
+            else
+                std::snprintf(buf, sizeof buf, "n/a");
+            return std::string(buf);
+        };
+        const Row *cgal = find("cgal-dtos2", 1);
+        const Row *qhull = find("qhull-Qt", 1);
+        std::printf("  %-10s %9" PRId64 " %14s %14s %18s %14s\n", spec.name.c_str(), spec.n,
+                    ratio(cgal, find("unimesh-xyz", 1)).c_str(), ratio(cgal, find("unimesh-xyz", 2)).c_str(),
+                    ratio(cgal, find("unimesh-lonlat", lonlat_threads)).c_str(),
+                    ratio(qhull, find("unimesh-xyz", 2)).c_str());
+    }
+    std::printf("%s\n", any_failure ? "# RESULT: FAILURES (see FAILED / MISMATCH lines above)" : "# RESULT: all runs OK");
+    return any_failure ? 1 : 0;
+}
