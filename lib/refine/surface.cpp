@@ -1,0 +1,117 @@
+#include "refine/surface.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <tuple>
+
+#include "core/error.hpp"
+
+namespace um::refine {
+
+using geom::Vec3;
+
+namespace {
+
+// A queued bad triangle: its vertices identify it (slots are reused).
+struct Candidate {
+    double priority;  // r / h: largest first
+    int32_t t;
+    int32_t v0, v1, v2;
+    bool operator<(const Candidate &o) const {
+        return std::tie(priority, o.v0, o.v1, o.v2) < std::tie(o.priority, v0, v1, v2);
+    }
+};
+
+bool still_there(const tri::Triangulation &tri, const Candidate &c) {
+    return !tri.is_free(c.t) && tri.vertex(c.t, 0) == c.v0 && tri.vertex(c.t, 1) == c.v1 &&
+           tri.vertex(c.t, 2) == c.v2;
+}
+
+// The point at arc distance d from m towards c along their great circle.
+Vec3 towards(const Vec3 &m, const Vec3 &c, double d) {
+    Vec3 t = c - geom::dot(c, m) * m;  // tangent at m pointing to c
+    double tl = geom::norm(t);
+    if (tl == 0) return m;
+    t = (1.0 / tl) * t;
+    return geom::normalized(std::cos(d) * m + std::sin(d) * t);
+}
+
+}  // namespace
+
+void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, double *shortest) {
+    Vec3 a = tri.direction(tri.vertex(t, 0)), b = tri.direction(tri.vertex(t, 1)),
+         c = tri.direction(tri.vertex(t, 2));
+    *radius = geom::arc_length(tri.orthocentre(t), a);
+    *shortest = std::min({geom::arc_length(a, b), geom::arc_length(b, c), geom::arc_length(c, a)});
+}
+
+tri::Triangulation icosahedron(Context &ctx) {
+    const double p = (1.0 + std::sqrt(5.0)) / 2.0;
+    const Vec3 v[12] = {{-1, p, 0}, {1, p, 0},  {-1, -p, 0}, {1, -p, 0}, {0, -1, p},  {0, 1, p},
+                        {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1},  {-p, 0, -1}, {-p, 0, 1}};
+    tri::Triangulation tri;
+    tri.build(ctx, 12, [&](int64_t i) { return geom::normalized(v[i]); }, nullptr);
+    return tri;
+}
+
+SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
+                            const SurfaceOptions &options, int32_t next_id) {
+    SurfaceStats stats;
+    std::priority_queue<Candidate> queue;
+    auto consider = [&](int32_t t) {
+        double r, e;
+        triangle_size(tri, t, &r, &e);
+        double ht = h(tri.orthocentre(t));
+        if (!(ht > 0) || !std::isfinite(ht))
+            fail(UM_ERR_NUMERICAL, "the spacing is ", ht, " (not a positive length) at a "
+                 "triangle's circumcentre");
+        bool too_big = std::sqrt(3.0) * r >= options.alpha * ht;
+        bool badly_shaped = r / e >= options.rho;
+        if (too_big || badly_shaped)
+            queue.push({r / ht, t, tri.vertex(t, 0), tri.vertex(t, 1), tri.vertex(t, 2)});
+    };
+    for (int32_t t = 0; t < tri.triangle_slots(); ++t)
+        if (!tri.is_free(t)) consider(t);
+
+    int64_t steps = 0;
+    while (!queue.empty()) {
+        Candidate c = queue.top();
+        queue.pop();
+        if (!still_there(tri, c)) continue;
+        if (++steps % 65536 == 0) ctx.progress("refine surface", 0.0);
+        // The shortest edge (a, b) and its bisector towards the circumcentre.
+        int k_short = 0;
+        double e_short = 1e300;
+        for (int k = 0; k < 3; ++k) {
+            double e = geom::arc_length(tri.direction(tri.vertex(c.t, (k + 1) % 3)),
+                                        tri.direction(tri.vertex(c.t, (k + 2) % 3)));
+            if (e < e_short) e_short = e, k_short = k;
+        }
+        Vec3 a = tri.direction(tri.vertex(c.t, (k_short + 1) % 3));
+        Vec3 b = tri.direction(tri.vertex(c.t, (k_short + 2) % 3));
+        Vec3 m = geom::normalized(a + b);
+        Vec3 centre = tri.orthocentre(c.t);
+        double d_centre = geom::arc_length(m, centre);
+        double half = 0.5 * e_short;
+        double off = e_short * std::sqrt(options.rho * options.rho - 0.25);
+        double target = h(m);
+        // Spherical right triangle: cos(target) = cos(half) cos(d).
+        double d_front = target > half ? std::acos(std::min(1.0, std::cos(target) / std::cos(half)))
+                                       : 0.0;
+        double d = std::min({d_centre, off, d_front});
+        if (d <= 1e-3 * e_short) d = d_centre;
+        Vec3 p = towards(m, centre, d);
+        std::vector<int32_t> buried;
+        int32_t v = tri.insert(p, 0.0, next_id++, &buried);
+        if (!tri.in_triangulation(v)) {
+            ++stats.rejected;
+            continue;
+        }
+        ++stats.inserted;
+        for (int32_t t : tri.star(v)) consider(t);  // only the new fan changed
+    }
+    return stats;
+}
+
+}  // namespace um::refine

@@ -1,0 +1,42 @@
+// Surface refinement (paper section 5.2): from the icosahedron, insert
+// frontal off-centre points until every triangle is small enough
+// (sqrt(3) r < alpha h at its circumcentre) and well shaped (r / e_min < rho).
+// The new point of a bad triangle lies on the bisector of its shortest edge,
+// at the least of: the circumcentre, the off-centre that makes the new
+// triangle's radius-edge ratio rho, and the apex of a triangle whose new
+// edges have the target length h (the "frontal" point). Deterministic: bad
+// triangles are refined in order of decreasing r / h, ties by vertex ids.
+#pragma once
+
+#include <functional>
+
+#include "core/context.hpp"
+#include "geom/sphere.hpp"
+#include "tri/triangulation.hpp"
+
+namespace um::refine {
+
+struct SurfaceOptions {
+    double alpha = 4.0 / 3.0;  // size bound: sqrt(3) r < alpha h
+    double rho = 1.05;         // shape bound: r / e_min < rho
+};
+
+// Target edge length in radians at a unit point (the spacing h / R).
+using SpacingRadians = std::function<double(const geom::Vec3 &)>;
+
+struct SurfaceStats {
+    int64_t inserted = 0;
+    int64_t rejected = 0;  // candidates hidden or too close (left as they were)
+};
+
+// Refines `tri` in place; new points get ids from next_id upwards.
+SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
+                            const SurfaceOptions &options, int32_t next_id);
+
+// A triangulation of the 12 vertices of the icosahedron, ids 0..11.
+tri::Triangulation icosahedron(Context &ctx);
+
+// Circumradius (radians) and shortest edge of triangle t (unweighted view).
+void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, double *shortest);
+
+}  // namespace um::refine

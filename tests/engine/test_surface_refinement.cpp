@@ -1,0 +1,114 @@
+// Engine tests: surface refinement from the icosahedron (paper section 5.2).
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstddef>
+#include <csetjmp>
+#include <vector>
+
+#include "core/error.hpp"
+#include "refine/surface.hpp"
+#include "tri/validate.hpp"
+
+// cmocka last: it defines a fail() macro.
+extern "C" {
+#include <cmocka.h>
+}
+
+using namespace um;
+using geom::Vec3;
+
+namespace {
+
+constexpr double kRadiusKm = 6371.22;
+
+struct Summary {
+    int64_t vertices = 0;
+    double edge_min = 1e300, edge_median = 0, edge_max = 0;  // in units of h
+};
+
+// Refines with spacing h_km(x) and checks the paper's two criteria on every
+// triangle; returns edge-length statistics relative to h at edge midpoints.
+Summary refine_and_check(const std::function<double(const Vec3 &)> &h_km) {
+    Context ctx;
+    tri::Triangulation tri = refine::icosahedron(ctx);
+    refine::SurfaceOptions opt;
+    auto h = [&](const Vec3 &x) { return h_km(x) / kRadiusKm; };
+    refine::refine_surface(ctx, tri, h, opt, 12);
+    tri.compact();
+    std::string problem = tri::check_triangulation(tri);
+    if (!problem.empty()) fail_msg("%s", problem.c_str());
+    std::vector<double> edges;
+    for (int32_t t = 0; t < tri.triangle_count(); ++t) {
+        double r, e;
+        refine::triangle_size(tri, t, &r, &e);
+        assert_true(std::sqrt(3.0) * r < opt.alpha * h(tri.orthocentre(t)));
+        assert_true(r / e < opt.rho);
+        for (int k = 0; k < 3; ++k) {
+            if (tri.neighbour(t, k) < t) continue;
+            Vec3 a = tri.direction(tri.vertex(t, (k + 1) % 3)), b = tri.direction(tri.vertex(t, (k + 2) % 3));
+            edges.push_back(geom::arc_length(a, b) / h(geom::normalized(a + b)));
+        }
+    }
+    std::sort(edges.begin(), edges.end());
+    return {tri.vertex_count(), edges.front(), edges[edges.size() / 2], edges.back()};
+}
+
+void uniform_240_and_120_km(void **) {
+    for (double hkm : {240.0, 120.0}) {
+        Summary s = refine_and_check([&](const Vec3 &) { return hkm; });
+        // An ideal mesh of equilateral triangles of side h has 4 pi R^2 / (sqrt(3)/2 h^2) vertices.
+        double ideal = 4 * M_PI * kRadiusKm * kRadiusKm / (std::sqrt(3.0) / 2 * hkm * hkm);
+        assert_true(s.vertices > 0.85 * ideal && s.vertices < 1.15 * ideal);
+        assert_true(std::fabs(s.edge_median - 1.0) < 0.05);
+        assert_true(s.edge_min > 0.5);
+        // sqrt(3) r < alpha h and r / e_min < rho bound every edge by 2 r < 2 alpha h / sqrt(3).
+        assert_true(s.edge_max < 2.0 * (4.0 / 3.0) / std::sqrt(3.0));
+    }
+}
+
+void latitude_dependent_spacing(void **) {
+    // 100 km at the equator to 400 km at the poles.
+    Summary s = refine_and_check([](const Vec3 &x) { return 100.0 + 300.0 * x.z * x.z; });
+    assert_true(std::fabs(s.edge_median - 1.0) < 0.1);
+}
+
+void deterministic(void **) {
+    auto run = [](int threads) {
+        Context ctx;
+        ctx.set_threads(threads);
+        tri::Triangulation tri = refine::icosahedron(ctx);
+        refine::refine_surface(ctx, tri, [](const Vec3 &) { return 300.0 / kRadiusKm; }, {}, 12);
+        tri.compact();
+        std::vector<double> out;
+        for (int32_t v = 0; v < tri.vertex_slots(); ++v) {
+            Vec3 d = tri.direction(v);
+            out.insert(out.end(), {d.x, d.y, d.z});
+        }
+        return out;
+    };
+    assert_true(run(1) == run(2));
+}
+
+void bad_spacing_is_an_error(void **) {
+    Context ctx;
+    tri::Triangulation tri = refine::icosahedron(ctx);
+    try {
+        refine::refine_surface(ctx, tri, [](const Vec3 &) { return std::nan(""); }, {}, 12);
+        fail_msg("NaN spacing accepted");
+    } catch (const Error &e) {
+        assert_int_equal(e.status(), UM_ERR_NUMERICAL);
+    }
+}
+
+}  // namespace
+
+int main() {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(uniform_240_and_120_km),
+        cmocka_unit_test(latitude_dependent_spacing),
+        cmocka_unit_test(deterministic),
+        cmocka_unit_test(bad_spacing_is_an_error),
+    };
+    return cmocka_run_group_tests_name("surface_refinement", tests, nullptr, nullptr);
+}
