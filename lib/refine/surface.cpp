@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "core/error.hpp"
+#include "refine/restricted.hpp"
 
 namespace um::refine {
 
@@ -35,6 +36,22 @@ Vec3 towards(const Vec3 &m, const Vec3 &c, double d) {
     if (tl == 0) return m;
     t = (1.0 / tl) * t;
     return geom::normalized(std::cos(d) * m + std::sin(d) * t);
+}
+
+// A restricted edge near p whose surface ball holds p: such an edge has a
+// triangle whose circumcircle holds p, so the triangle containing p and its
+// neighbours are searched (p's cavity in a well-shaped mesh).
+bool encroached_edge(const tri::Triangulation &tri, const Vec3 &p, int32_t hint,
+                     const geom::ArcTree &gamma, RestrictedEdge *out) {
+    int32_t t0 = tri.locate(p, hint);
+    int32_t near[4] = {t0, tri.neighbour(t0, 0), tri.neighbour(t0, 1), tri.neighbour(t0, 2)};
+    for (int32_t t : near)
+        for (int k = 0; k < 3; ++k) {
+            RestrictedEdge e;
+            if (restricted_crossing(tri, t, k, gamma, &e) && geom::arc_length(p, e.centre) < e.radius)
+                return *out = e, true;
+        }
+    return false;
 }
 
 }  // namespace
@@ -102,11 +119,24 @@ SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const Spacing
         double d = std::min({d_centre, off, d_front});
         if (d <= 1e-3 * e_short) d = d_centre;
         Vec3 p = towards(m, centre, d);
+        int32_t arc = -1;
+        RestrictedEdge enc;
+        if (options.gamma && encroached_edge(tri, p, c.t, *options.gamma, &enc)) {
+            if (enc.radius < options.filter * h(enc.centre)) {
+                ++stats.rejected;  // left as it is: refining would over-refine Gamma
+                continue;
+            }
+            p = enc.centre, arc = enc.arc;
+        }
         std::vector<int32_t> buried;
         int32_t v = tri.insert(p, 0.0, next_id++, &buried);
         if (!tri.in_triangulation(v)) {
             ++stats.rejected;
             continue;
+        }
+        if (options.on_gamma) {
+            options.on_gamma->resize(static_cast<size_t>(tri.vertex_slots()), -1);
+            (*options.on_gamma)[v] = arc;
         }
         ++stats.inserted;
         for (int32_t t : tri.star(v)) consider(t);  // only the new fan changed

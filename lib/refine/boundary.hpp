@@ -1,0 +1,46 @@
+// Boundary refinement (paper section 5.1): insert points on Gamma, at the
+// centres of the surface balls of bad restricted edges, until every
+// restricted edge e is short enough (l_e < alpha h) and close enough to
+// Gamma (eps(e) < beta h, eps = distance from the edge midpoint to the ball
+// centre). A candidate that would make an edge shorter than filter * h is
+// not inserted: features of Gamma smaller than the local spacing are
+// filtered out instead of followed.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/context.hpp"
+#include "geom/arc_tree.hpp"
+#include "refine/restricted.hpp"
+#include "refine/surface.hpp"
+#include "tri/triangulation.hpp"
+
+namespace um::refine {
+
+struct BoundaryOptions {
+    double alpha = 4.0 / 3.0;  // restricted edges shorter than alpha h
+    double beta = 0.2;         // Hausdorff bound eps < beta h
+    double filter = 0.5;       // no new edge shorter than filter h
+};
+
+struct BoundaryStats {
+    int64_t inserted = 0;
+    int64_t filtered = 0;  // bad restricted edges left because refining them would over-refine
+    int passes = 0;
+};
+
+// Refines `tri` in place. on_gamma (indexed by vertex slot, grown as points
+// are added) receives the Gamma arc each inserted vertex lies on, -1 for
+// the others. New points get ids from next_id upwards (updated).
+BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
+                              const geom::ArcTree &gamma, const BoundaryOptions &options,
+                              int32_t &next_id, std::vector<int32_t> &on_gamma);
+
+// The length and Hausdorff distance of a restricted edge, and h at its midpoint.
+struct EdgeMeasure {
+    double length, eps, h;
+};
+EdgeMeasure measure(const tri::Triangulation &tri, const RestrictedEdge &e, const SpacingRadians &h);
+
+}  // namespace um::refine

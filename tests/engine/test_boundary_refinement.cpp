@@ -1,0 +1,109 @@
+// Engine tests: boundary refinement along Gamma (paper section 5.1), then
+// surface refinement that does not encroach Gamma.
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstddef>
+#include <csetjmp>
+#include <vector>
+
+#include "refine/boundary.hpp"
+#include "refine/restricted.hpp"
+#include "refine/surface.hpp"
+#include "tri/validate.hpp"
+
+// cmocka last: it defines a fail() macro.
+extern "C" {
+#include <cmocka.h>
+}
+
+using namespace um;
+using geom::Vec3;
+
+namespace {
+
+constexpr double kRadiusKm = 6371.22;
+
+// A closed "coastline": the circle of latitude 30 degrees with a wiggle of
+// amplitude `wiggle_deg` and `waves` periods, sampled every `step_deg`.
+std::vector<geom::ArcTree::Arc> wavy_ring(double wiggle_deg, int waves, double step_deg) {
+    std::vector<Vec3> pts;
+    for (double lon = 0; lon < 360 - 1e-9; lon += step_deg)
+        pts.push_back(geom::unit_from_lonlat_deg(
+            lon, 30 + wiggle_deg * std::sin(waves * lon * M_PI / 180)));
+    std::vector<geom::ArcTree::Arc> arcs;
+    for (size_t i = 0; i < pts.size(); ++i) arcs.push_back({pts[i], pts[(i + 1) % pts.size()]});
+    return arcs;
+}
+
+struct Mesh {
+    tri::Triangulation tri;
+    std::vector<int32_t> on_gamma;
+};
+
+Mesh build(const geom::ArcTree &gamma, double hkm) {
+    Context ctx;
+    Mesh m{refine::icosahedron(ctx), {}};
+    auto h = [&](const Vec3 &) { return hkm / kRadiusKm; };
+    int32_t next_id = 12;
+    refine::refine_boundary(ctx, m.tri, h, gamma, {}, next_id, m.on_gamma);
+    refine::SurfaceOptions so;
+    so.gamma = &gamma;
+    so.on_gamma = &m.on_gamma;
+    refine::refine_surface(ctx, m.tri, h, so, next_id);
+    m.on_gamma.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
+    std::string problem = tri::check_triangulation(m.tri);
+    if (!problem.empty()) fail_msg("%s", problem.c_str());
+    return m;
+}
+
+void smooth_coast_is_followed(void **) {
+    geom::ArcTree gamma(wavy_ring(0.0, 1, 0.25));  // a plain small circle, fine samples
+    const double hkm = 240;
+    Mesh m = build(gamma, hkm);
+    Context ctx;
+    auto edges = refine::restricted_edges(ctx, m.tri, gamma);
+    auto h = [&](const Vec3 &) { return hkm / kRadiusKm; };
+    // The restricted edges form the ring: about circumference / h of them,
+    // each short and close to Gamma.
+    double circumference = 2 * M_PI * kRadiusKm * std::cos(30 * M_PI / 180);
+    assert_true(edges.size() > 0.7 * circumference / hkm && edges.size() < 1.6 * circumference / hkm);
+    for (auto &e : edges) {
+        refine::EdgeMeasure em = refine::measure(m.tri, e, h);
+        assert_true(em.length < 4.0 / 3.0 * em.h);
+        assert_true(em.eps < 0.2 * em.h);
+    }
+    // Vertices inserted on Gamma lie on it.
+    int on = 0;
+    for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
+        if (!m.tri.in_triangulation(v) || m.on_gamma[v] < 0) continue;
+        auto &arc = gamma.arc(m.on_gamma[v]);
+        assert_true(geom::distance_to_arc(m.tri.direction(v), arc.a, arc.b) < 1e-12);
+        ++on;
+    }
+    assert_true(on > 0.7 * circumference / hkm);
+}
+
+void features_below_the_spacing_are_filtered(void **) {
+    // Wiggles of 0.3 degrees (~33 km) every 2 degrees: far below h = 240 km.
+    geom::ArcTree gamma(wavy_ring(0.3, 180, 0.05));
+    const double hkm = 240;
+    Mesh m = build(gamma, hkm);
+    // No edge anywhere shorter than h / 2: the wiggles were not followed.
+    double shortest = 1e300;
+    for (int32_t t = 0; t < m.tri.triangle_count(); ++t)
+        for (int k = 0; k < 3; ++k)
+            shortest = std::min(shortest, geom::arc_length(m.tri.direction(m.tri.vertex(t, (k + 1) % 3)),
+                                                           m.tri.direction(m.tri.vertex(t, (k + 2) % 3))));
+    assert_true(shortest * kRadiusKm > 0.5 * hkm);
+}
+
+}  // namespace
+
+int main() {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(smooth_coast_is_followed),
+        cmocka_unit_test(features_below_the_spacing_are_filtered),
+    };
+    return cmocka_run_group_tests_name("boundary_refinement", tests, nullptr, nullptr);
+}
