@@ -71,7 +71,7 @@ void tree_queries_match_brute_force(void **) {
 void nearest_matches_brute_force(void **) {
     auto arcs = sample_arcs(3000, 0.05, 11);
     geom::ArcTree tree(arcs);
-    for (auto &p : test::random_points(500, 13)) {
+    for (auto &p : test::random_points(300, 13)) {
         double d = 0;
         int32_t i = tree.nearest(p, &d);
         double best = 1e300;
@@ -100,13 +100,17 @@ void restricted_edges_match_brute_force(void **) {
     assert_true(edges.size() > 100);
     std::set<std::pair<int32_t, int>> got;
     for (auto &e : edges) got.insert({e.triangle, e.edge});
+    // Brute force over every arc (a box test first only to keep it quick).
+    std::vector<geom::Box> boxes;
+    for (auto &arc : arcs) boxes.push_back(geom::arc_box(arc.a, arc.b));
     std::set<std::pair<int32_t, int>> want;
     for (int32_t f = 0; f < t.triangle_count(); ++f)
         for (int k = 0; k < 3; ++k) {
             if (t.neighbour(f, k) < f) continue;
             Vec3 c0 = t.orthocentre(f), c1 = t.orthocentre(t.neighbour(f, k)), x;
-            for (auto &arc : arcs)
-                if (geom::arc_intersection(c0, c1, arc.a, arc.b, x)) {
+            geom::Box dual = geom::arc_box(c0, c1);
+            for (size_t i = 0; i < arcs.size(); ++i)
+                if (boxes[i].overlaps(dual) && geom::arc_intersection(c0, c1, arcs[i].a, arcs[i].b, x)) {
                     want.insert({f, k});
                     break;
                 }
