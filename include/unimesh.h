@@ -290,6 +290,177 @@ UM_API um_status um_triangulation_copy_hidden(const um_triangulation *t, int32_t
  * UM_OK when all hold, UM_ERR_INTERNAL with the first violation otherwise. */
 UM_API um_status um_triangulation_check(const um_triangulation *t);
 
+/* ---------------------------------------------- features (polyarc networks) */
+
+/* Polyarc networks Gamma: coastlines, lake shores, rivers and watersheds as
+ * polylines ("parts") of longitude/latitude points, in degrees. Each segment
+ * is the short great-circle arc between consecutive points, plus the arc from
+ * the last point back to the first for a closed part; lines crossing the
+ * antimeridian need no special treatment.
+ *
+ * Adding checks and cleans each part:
+ *   - rejected: NaN/Inf coordinates (UM_ERR_NONFINITE_INPUT), |lat| > 90
+ *     (UM_ERR_COORDINATE_RANGE), parts with fewer than 2 distinct points
+ *     (UM_ERR_TOO_FEW_POINTS), exactly antipodal consecutive points, whose arc
+ *     is undefined (UM_ERR_DEGENERATE_INPUT), kinds other than UM_FEATURE_*,
+ *     closed flags other than 0/1 and inconsistent offsets
+ *     (UM_ERR_INVALID_ARGUMENT);
+ *   - cleaned: consecutive duplicate points are dropped (the first is kept);
+ *     a closed part given with its first point repeated at the end stores
+ *     that point once. Points are the same when their latitudes are equal and
+ *     their longitudes differ by a multiple of 360 (or both are one pole);
+ *   - kept as given: self-intersecting, self-touching and overlapping lines
+ *     (restricted meshing filters them out where they are smaller than the
+ *     spacing), longitudes outside [-180, 180].
+ * A failing call adds nothing; its message names the argument, the part and
+ * the index (for files: the feature and coordinate, as a JSON path). */
+typedef struct um_features um_features;
+
+/* Feature kinds: pinned values. */
+enum {
+    UM_FEATURE_COASTLINE = 1,
+    UM_FEATURE_LAKE = 2,
+    UM_FEATURE_RIVER = 3,
+    UM_FEATURE_WATERSHED = 4,
+    UM_FEATURE_OTHER = 5
+};
+
+UM_API um_status um_features_create(um_context *ctx, um_features **out);
+UM_API void um_features_destroy(um_features *f); /* NULL-safe */
+
+/* Appends n_parts parts. Part p is points part_offsets[p] .. part_offsets[p+1]-1
+ * of lon_deg/lat_deg (part_offsets has n_parts + 1 entries, starting at 0 and
+ * ending at n_points). closed[p] is 0 or 1; kind[p] a UM_FEATURE_* value;
+ * part_id[p] any int32 the caller wants back (NULL: the part's index in the
+ * network, 0-based, counting earlier calls). */
+UM_API um_status um_features_add(um_features *f, int64_t n_points, const double *lon_deg,
+                                 const double *lat_deg, int64_t n_parts,
+                                 const int64_t *part_offsets /* n_parts + 1, from 0 */,
+                                 const int32_t *closed /* n_parts, 0/1 */,
+                                 const int32_t *kind /* n_parts, UM_FEATURE_* */,
+                                 const int32_t *part_id /* n_parts, NULL = index */);
+
+/* Appends the lines of a GeoJSON file: a FeatureCollection, a Feature or a
+ * bare geometry; LineString and MultiLineString give open or closed parts,
+ * each ring of a Polygon or MultiPolygon a closed part, GeometryCollections
+ * their members (Point and MultiPoint are rejected). Per feature:
+ *   kind    the string property kind_property (NULL = "kind"): "coastline",
+ *           "lake", "river", "watershed" or "other" (case-insensitive); a
+ *           missing or other value takes default_kind (0 = such a feature is
+ *           an error, UM_ERR_INPUT);
+ *   closed  always for polygon rings; else the boolean property "closed" when
+ *           present; else whether the first and last positions are the same;
+ *   part_id the feature's numeric "id" member, else its index in the file.
+ * Unreadable files give UM_ERR_IO; malformed or truncated JSON and wrong
+ * structure (missing "coordinates", non-numbers, positions with fewer than 2
+ * numbers) UM_ERR_FILE_FORMAT, with the byte position or the JSON path of the
+ * place. All-or-nothing: on any error no part of the file is added. */
+UM_API um_status um_features_read_geojson(um_features *f, const char *path,
+                                          const char *kind_property /* NULL = "kind" */,
+                                          int32_t default_kind /* 0 = error on unknown */);
+
+/* Stored counts (after cleaning); each out-pointer may be NULL. */
+UM_API um_status um_features_counts(const um_features *f, int64_t *n_parts, int64_t *n_points,
+                                    int64_t *n_segments);
+/* The stored points as given (degrees, n_points of each); either array may be
+ * NULL (not both); capacity is the elements available in each. */
+UM_API um_status um_features_copy_points(const um_features *f, double *lon_deg, double *lat_deg,
+                                         int64_t capacity);
+/* The stored parts: part_offsets (n_parts + 1, from 0, into the stored
+ * points), closed (0/1), kind (UM_FEATURE_*) and part_id (n_parts each). Any
+ * array may be NULL (not all); capacity is the elements available in each and
+ * must be at least n_parts + 1 when part_offsets is given, n_parts otherwise. */
+UM_API um_status um_features_copy_parts(const um_features *f, int64_t *part_offsets,
+                                        int32_t *closed, int32_t *kind, int32_t *part_id,
+                                        int64_t capacity);
+
+/* ------------------------------------------------------------------ spacing */
+
+/* The mesh spacing h(x): the target edge length, in km, at each point of the
+ * sphere. A spacing is created from a context in one of the forms below and
+ * then refined in place by um_spacing_limit_gradient and um_spacing_clamp;
+ * a failing call leaves it as it was. Distances (for gradients) are measured
+ * on a sphere of radius 6371.22 km (the UM_OPT_SPHERE_RADIUS default).
+ *
+ * Errors common to all: a NULL required pointer (UM_ERR_NULL_ARGUMENT), a
+ * context or spacing that is not live (UM_ERR_INVALID_HANDLE), NaN/Inf values
+ * (UM_ERR_NONFINITE_INPUT), h <= 0 or values outside their domain
+ * (UM_ERR_INVALID_ARGUMENT), latitudes outside [-90, 90]
+ * (UM_ERR_COORDINATE_RANGE); the message names the argument, index and
+ * value. On error *out is set to NULL. */
+typedef struct um_spacing um_spacing;
+
+/* A user spacing: h in km at a longitude/latitude in degrees (longitudes
+ * in (-180, 180] when the library asks at mesh points; um_spacing_evaluate
+ * passes the caller's values unchanged). Called from worker threads,
+ * concurrently: it must be thread-safe. A result that is NaN, Inf or <= 0 is
+ * reported as an error by the call that evaluated it, naming the point. */
+typedef double (*um_spacing_fn)(void *user_data, double lon_deg, double lat_deg);
+
+/* h = km everywhere (km finite and > 0). */
+UM_API um_status um_spacing_create_constant(um_context *ctx, double km, um_spacing **out);
+
+/* A rectilinear lon/lat grid of cell widths in km (the cellWidth(lat, lon)
+ * convention of the MPAS mesh tools), read by bilinear interpolation.
+ * lon_deg (n_lon >= 2) and lat_deg (n_lat >= 2) are strictly increasing, not
+ * necessarily uniform; |lat| <= 90; the longitudes span at most 360 degrees,
+ * in any convention (-180..180, 0..360, ...). The grid is periodic in
+ * longitude when it goes round the sphere (the gap from the last longitude to
+ * the first + 360 is no wider than the widest step: a last column repeating
+ * the first has gap 0); a regional grid takes the value of the nearer edge
+ * column outside it. Beyond the first/last latitude (towards the poles) the
+ * row's value is used. cell_width_km has n_lat rows of n_lon values (lon
+ * fastest), each finite and > 0. The arrays are copied. */
+UM_API um_status um_spacing_create_grid(um_context *ctx, int64_t n_lon, const double *lon_deg,
+                                        int64_t n_lat, const double *lat_deg,
+                                        const double *cell_width_km /* n_lat * n_lon */,
+                                        um_spacing **out);
+
+/* The same grid from an MPAS-tools spacing file: netCDF with 1-D lon and lat
+ * (degrees) and cellWidth(lat, lon) (km). A units attribute, when present,
+ * must be km for cellWidth and not radians for lon/lat; cells holding the fill
+ * value are missing data. UM_ERR_IO when the file cannot be opened;
+ * UM_ERR_FILE_FORMAT when it is not netCDF, is truncated, lacks a variable or
+ * holds values a grid rejects (the message names the file and the variable). */
+UM_API um_status um_spacing_create_from_file(um_context *ctx, const char *path, um_spacing **out);
+
+/* h from a user function (fn must not be NULL; user_data is passed back). */
+UM_API um_status um_spacing_create_callback(um_context *ctx, um_spacing_fn fn, void *user_data,
+                                            um_spacing **out);
+
+/* The named spacings of E3SM, with the formulas of MPAS-Tools'
+ * mesh_definition_tools:
+ *   "QU<km>"        quasi-uniform, e.g. "QU240";
+ *   "EC<a>to<b>"    EC_CellWidthVsLat with cellWidthMidLat the larger and
+ *                   cellWidthEq the smaller of a and b, other parameters at
+ *                   their defaults (cellWidthPole 35), e.g. "EC60to30";
+ *   "RRS<a>to<b>"   RRS_CellWidthVsLat with cellWidthEq the larger and
+ *                   cellWidthPole the smaller, e.g. "RRS18to6".
+ * Prefixes are case-insensitive; numbers are decimal km > 0. Any other name
+ * is UM_ERR_INVALID_ARGUMENT. */
+UM_API um_status um_spacing_create_preset(um_context *ctx, const char *name, um_spacing **out);
+
+UM_API void um_spacing_destroy(um_spacing *s); /* NULL-safe */
+
+/* Limits the gradient of a grid spacing (from um_spacing_create_grid or
+ * _from_file, also after a clamp) to |grad h| <= g, g in km per km (finite,
+ * > 0): every grid value becomes min over grid nodes j of (h_j + g * d), with
+ * d the geodesic path length along grid neighbours (8 per node, across the
+ * longitude wrap when periodic), so neighbouring values differ by at most
+ * g times their distance. Other kinds: UM_ERR_INVALID_ARGUMENT. */
+UM_API um_status um_spacing_limit_gradient(um_spacing *s, double g);
+
+/* h = min(max(h, km_min), km_max); 0 < km_min <= km_max, both finite. */
+UM_API um_status um_spacing_clamp(um_spacing *s, double km_min, double km_max);
+
+/* km_out[i] = h at (lon_deg[i], lat_deg[i]), i < n (n >= 0; the arrays may be
+ * NULL when n = 0). Runs in parallel in the context's threads; the values are
+ * the same for any thread count. A callback value that is NaN/Inf
+ * (UM_ERR_NONFINITE_INPUT) or <= 0 (UM_ERR_INVALID_ARGUMENT) is an error that
+ * names the first such point; km_out is then written but not meaningful. */
+UM_API um_status um_spacing_evaluate(const um_spacing *s, int64_t n, const double *lon_deg,
+                                     const double *lat_deg, double *km_out);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

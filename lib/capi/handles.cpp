@@ -42,6 +42,8 @@ const char *kind_name(HandleKind kind) {
         case HandleKind::context: return "um_context";
         case HandleKind::options: return "um_options";
         case HandleKind::triangulation: return "um_triangulation";
+        case HandleKind::spacing: return "um_spacing";
+        case HandleKind::features: return "um_features";
     }
     return "handle";
 }

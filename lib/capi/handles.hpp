@@ -6,7 +6,8 @@
 
 namespace um::capi {
 
-enum class HandleKind { context = 1, options = 2, triangulation = 3 };
+enum class HandleKind { context = 1, options = 2, triangulation = 3, spacing = 4,
+                        features = 5 };
 
 void register_handle(const void *handle, HandleKind kind);
 // Returns false when the handle was not live (so destroy is idempotent).

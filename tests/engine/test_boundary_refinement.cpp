@@ -8,7 +8,9 @@
 #include <vector>
 
 #include "refine/boundary.hpp"
+#include "features/network.hpp"
 #include "refine/restricted.hpp"
+#include "refine/sides.hpp"
 #include "refine/surface.hpp"
 #include "tri/validate.hpp"
 
@@ -98,12 +100,62 @@ void features_below_the_spacing_are_filtered(void **) {
     assert_true(shortest * kRadiusKm > 0.5 * hkm);
 }
 
+// A network of one closed coastline part: the circle of latitude `lat`.
+features::Network ring_network(double lat, int n) {
+    std::vector<double> lon, la;
+    for (int i = 0; i < n; ++i) lon.push_back(360.0 * i / n - 180), la.push_back(lat);
+    int64_t offsets[2] = {0, n};
+    int32_t closed = 1, kind = UM_FEATURE_COASTLINE;
+    features::PartsInput in;
+    in.n_points = n, in.lon_deg = lon.data(), in.lat_deg = la.data();
+    in.n_parts = 1, in.part_offsets = offsets, in.closed = &closed, in.kind = &kind;
+    features::Network net;
+    net.add(in);
+    return net;
+}
+
+void land_and_ocean_sides(void **) {
+    features::Network net = ring_network(30, 1440);
+    std::vector<geom::ArcTree::Arc> arcs;
+    for (int64_t s = 0; s < net.segment_count(); ++s) arcs.push_back({net.segment_a(s), net.segment_b(s)});
+    geom::ArcTree gamma(arcs);
+    Mesh m = build(gamma, 300);
+    // The cap north of 30 degrees is the smaller region: land.
+    assert_true(refine::is_land(net, geom::unit_from_lonlat_deg(10, 60)));
+    assert_false(refine::is_land(net, geom::unit_from_lonlat_deg(10, 0)));
+    auto sides = refine::triangle_sides(m.tri, net);
+    int land = 0, ocean = 0;
+    for (int32_t t = 0; t < m.tri.triangle_slots(); ++t) {
+        if (m.tri.is_free(t)) continue;
+        double lon, lat;
+        geom::lonlat_deg_from_unit(m.tri.orthocentre(t), lon, lat);
+        if (lat > 33) assert_int_equal(int(sides[t]), int(refine::Side::land)), ++land;
+        if (lat < 27) assert_int_equal(int(sides[t]), int(refine::Side::ocean)), ++ocean;
+    }
+    assert_true(land > 100 && ocean > 1000);
+    auto vsides = refine::vertex_sides(m.tri, sides, m.on_gamma, net);
+    int coastal = 0;
+    for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
+        if (!m.tri.in_triangulation(v)) continue;
+        double lon, lat;
+        geom::lonlat_deg_from_unit(m.tri.direction(v), lon, lat);
+        if (vsides[v] == refine::Side::coastal) {
+            ++coastal;
+            assert_true(std::fabs(lat - 30) < 3);
+        } else {
+            assert_int_equal(int(vsides[v]), int(lat > 30 ? refine::Side::land : refine::Side::ocean));
+        }
+    }
+    assert_true(coastal > 50);
+}
+
 }  // namespace
 
 int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(smooth_coast_is_followed),
         cmocka_unit_test(features_below_the_spacing_are_filtered),
+        cmocka_unit_test(land_and_ocean_sides),
     };
     return cmocka_run_group_tests_name("boundary_refinement", tests, nullptr, nullptr);
 }

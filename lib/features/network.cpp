@@ -1,0 +1,258 @@
+#include "features/network.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace um::features {
+
+namespace {
+
+constexpr const char *kKindNames[] = {"coastline", "lake", "river", "watershed", "other"};
+
+bool equal_ascii_nocase(std::string_view a, std::string_view b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i) {
+        char x = a[i], y = b[i];
+        if (x >= 'A' && x <= 'Z') x = static_cast<char>(x - 'A' + 'a');
+        if (y >= 'A' && y <= 'Z') y = static_cast<char>(y - 'A' + 'a');
+        if (x != y) return false;
+    }
+    return true;
+}
+
+bool equal(const Vec3 &a, const Vec3 &b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+// A multiple of 360 degrees (lon - lon' for the same meridian). fmod is exact.
+bool whole_turns(double degrees) { return std::fmod(degrees, 360.0) == 0.0; }
+
+// Exactly opposite points: the minor arc between them is not defined. Checked
+// on the unit vectors (poles, exact negatives, or a cross product that rounds
+// to zero) and on the degrees (lat' = -lat, lon' = lon + 180 + k 360), which
+// catches (0, 0) / (180, 0) although sin(pi) rounds to 1.2e-16.
+bool antipodal(double lon1, double lat1, const Vec3 &u1, double lon2, double lat2,
+               const Vec3 &u2) {
+    if (u1.x == -u2.x && u1.y == -u2.y && u1.z == -u2.z) return true;
+    if (lat1 == -lat2 && whole_turns(lon1 - lon2 - 180.0)) return true;
+    Vec3 n = geom::cross(u1, u2);
+    return n.x == 0 && n.y == 0 && n.z == 0 && geom::dot(u1, u2) < 0;
+}
+
+// The default locator: positions within the batch.
+std::string default_place(int64_t part, int64_t point, int coordinate) {
+    std::string s = concat("part ", part);
+    if (point >= 0) s += concat(", point ", point);
+    if (coordinate == 0) s += " longitude";
+    if (coordinate == 1) s += " latitude";
+    return s;
+}
+
+// One batch, checked and cleaned, before it joins the network.
+struct Staged {
+    std::vector<Vec3> points;
+    std::vector<double> lon, lat;
+    std::vector<Part> parts;
+    std::vector<double> length;
+    std::vector<int32_t> segment_part;
+};
+
+class BatchChecker {
+public:
+    BatchChecker(const PartsInput &in, const Locator &where, int64_t first_part)
+        : in_(in), where_(where), first_part_(first_part) {}
+
+    void check_counts(int64_t points_before, int64_t parts_before) const {
+        if (in_.n_points < 0)
+            fail(UM_ERR_INVALID_ARGUMENT, "n_points = ", in_.n_points, " is negative");
+        if (in_.n_parts < 0)
+            fail(UM_ERR_INVALID_ARGUMENT, "n_parts = ", in_.n_parts, " is negative");
+        if (in_.n_points > Network::kMaxPoints - points_before)
+            fail(UM_ERR_LIMIT, "n_points = ", in_.n_points,
+                 " would bring the network to more than ", Network::kMaxPoints, " points");
+        if (in_.n_parts > Network::kMaxParts - parts_before)
+            fail(UM_ERR_LIMIT, "n_parts = ", in_.n_parts, " would bring the network to more than ",
+                 Network::kMaxParts, " parts");
+    }
+
+    void check_layout() const {
+        if (!in_.part_offsets) fail(UM_ERR_NULL_ARGUMENT, "part_offsets is NULL");
+        if (in_.n_points > 0 && !in_.lon_deg)
+            fail(UM_ERR_NULL_ARGUMENT, "lon_deg is NULL but n_points = ", in_.n_points);
+        if (in_.n_points > 0 && !in_.lat_deg)
+            fail(UM_ERR_NULL_ARGUMENT, "lat_deg is NULL but n_points = ", in_.n_points);
+        if (in_.n_parts > 0 && !in_.closed)
+            fail(UM_ERR_NULL_ARGUMENT, "closed is NULL but n_parts = ", in_.n_parts);
+        if (in_.n_parts > 0 && !in_.kind)
+            fail(UM_ERR_NULL_ARGUMENT, "kind is NULL but n_parts = ", in_.n_parts);
+        const int64_t *off = in_.part_offsets;
+        if (off[0] != 0) fail(UM_ERR_INVALID_ARGUMENT, "part_offsets[0] = ", off[0], " is not 0");
+        for (int64_t p = 0; p < in_.n_parts; ++p)
+            if (off[p + 1] < off[p] || off[p + 1] > in_.n_points)
+                fail(UM_ERR_INVALID_ARGUMENT, "part_offsets[", p + 1, "] = ", off[p + 1],
+                     off[p + 1] < off[p] ? " is below part_offsets[" : " exceeds n_points = ",
+                     off[p + 1] < off[p] ? concat(p, "] = ", off[p]) : to_text(in_.n_points));
+        if (off[in_.n_parts] != in_.n_points)
+            fail(UM_ERR_INVALID_ARGUMENT, "part_offsets[n_parts = ", in_.n_parts, "] = ",
+                 off[in_.n_parts], " is not n_points = ", in_.n_points);
+        for (int64_t p = 0; p < in_.n_parts; ++p) {
+            if (in_.closed[p] != 0 && in_.closed[p] != 1)
+                fail(UM_ERR_INVALID_ARGUMENT, "closed[", p, "] = ", in_.closed[p],
+                     " is not 0 or 1");
+            if (!is_kind(in_.kind[p]))
+                fail(UM_ERR_INVALID_ARGUMENT, "kind[", p, "] = ", in_.kind[p],
+                     " is not a feature kind (UM_FEATURE_COASTLINE = 1 to UM_FEATURE_OTHER = 5)");
+        }
+    }
+
+    // Checks and cleans part p into `out`.
+    void add_part(int64_t p, Staged &out) const {
+        const int64_t first = in_.part_offsets[p], n = in_.part_offsets[p + 1] - first;
+        const double *lon = in_.lon_deg + first, *lat = in_.lat_deg + first;
+        for (int64_t i = 0; i < n; ++i) {
+            if (!std::isfinite(lon[i]))
+                fail(UM_ERR_NONFINITE_INPUT, place(p, i, 0), " = ", lon[i], " is not finite");
+            if (!std::isfinite(lat[i]))
+                fail(UM_ERR_NONFINITE_INPUT, place(p, i, 1), " = ", lat[i], " is not finite");
+            if (std::fabs(lat[i]) > 90.0)
+                fail(UM_ERR_COORDINATE_RANGE, place(p, i, 1), " = ", lat[i],
+                     " is outside [-90, 90] degrees");
+        }
+        // Drop consecutive duplicates; remember which input point each kept one was.
+        const size_t start = out.points.size();
+        std::vector<int64_t> source;
+        source.reserve(static_cast<size_t>(n));
+        for (int64_t i = 0; i < n; ++i) {
+            Vec3 u = geom::unit_from_lonlat_deg(lon[i], lat[i]);
+            if (!source.empty() &&
+                same_point(lon[i], lat[i], u, out.lon.back(), out.lat.back(), out.points.back()))
+                continue;
+            out.points.push_back(u), out.lon.push_back(lon[i]), out.lat.push_back(lat[i]);
+            source.push_back(i);
+        }
+        const bool closed = in_.closed[p] == 1;
+        if (closed && source.size() >= 2 &&
+            same_point(out.lon.back(), out.lat.back(), out.points.back(), out.lon[start],
+                       out.lat[start], out.points[start])) {
+            out.points.pop_back(), out.lon.pop_back(), out.lat.pop_back(), source.pop_back();
+        }
+        const int64_t kept = static_cast<int64_t>(source.size());
+        if (kept < 2)
+            fail(UM_ERR_TOO_FEW_POINTS, place(p, -1, -1), " has ", kept,
+                 " distinct point", kept == 1 ? "" : "s", " (", n,
+                 " given); a line needs at least 2");
+        for (int64_t k = 1; k < kept; ++k) {
+            size_t a = start + k - 1, b = start + k;
+            if (antipodal(out.lon[a], out.lat[a], out.points[a], out.lon[b], out.lat[b],
+                          out.points[b]))
+                fail(UM_ERR_DEGENERATE_INPUT, place(p, source[k], -1), " = (", out.lon[b], ", ",
+                     out.lat[b], ") is antipodal to the point before it (point ",
+                     source[k - 1], " of the part): the great-circle arc between them is undefined");
+        }
+        if (closed && antipodal(out.lon.back(), out.lat.back(), out.points.back(),
+                                out.lon[start], out.lat[start], out.points[start]))
+            fail(UM_ERR_DEGENERATE_INPUT, place(p, -1, -1), " is closed but its last point ",
+                 source.back(), " is antipodal to its first point ", source.front(),
+                 ": the closing great-circle arc is undefined");
+
+        Part part;
+        part.first_point = static_cast<int64_t>(start);  // relative to the batch for now
+        part.n_points = kept;
+        part.first_segment = static_cast<int64_t>(out.segment_part.size());
+        part.n_segments = closed ? kept : kept - 1;
+        part.closed = closed;
+        part.kind = static_cast<Kind>(in_.kind[p]);
+        part.id = in_.part_id ? in_.part_id[p] : static_cast<int32_t>(first_part_ + p);
+        double length = 0;
+        for (int64_t k = 0; k < part.n_segments; ++k) {
+            size_t a = start + k, b = start + (k + 1 == kept ? 0 : k + 1);
+            length += geom::arc_length(out.points[a], out.points[b]);
+        }
+        const int32_t index = static_cast<int32_t>(first_part_ + p);
+        out.segment_part.insert(out.segment_part.end(), static_cast<size_t>(part.n_segments),
+                                index);
+        out.parts.push_back(part);
+        out.length.push_back(length);
+    }
+
+private:
+    std::string place(int64_t part, int64_t point, int coordinate) const {
+        return where_ ? where_(part, point, coordinate) : default_place(part, point, coordinate);
+    }
+
+    const PartsInput &in_;
+    const Locator &where_;
+    int64_t first_part_;
+};
+
+template <class T>
+void append(std::vector<T> &to, const std::vector<T> &from) {
+    to.insert(to.end(), from.begin(), from.end());
+}
+
+}  // namespace
+
+bool is_kind(int32_t value) {
+    return value >= static_cast<int32_t>(Kind::coastline) && value <= static_cast<int32_t>(Kind::other);
+}
+
+const char *kind_name(Kind kind) {
+    int32_t k = static_cast<int32_t>(kind);
+    return is_kind(k) ? kKindNames[k - 1] : "unknown";
+}
+
+bool kind_from_name(std::string_view name, Kind &kind) {
+    for (int32_t k = 1; k <= 5; ++k)
+        if (equal_ascii_nocase(name, kKindNames[k - 1])) {
+            kind = static_cast<Kind>(k);
+            return true;
+        }
+    return false;
+}
+
+bool same_point(double lon1, double lat1, const Vec3 &u1, double lon2, double lat2,
+                const Vec3 &u2) {
+    return equal(u1, u2) || (lat1 == lat2 && whole_turns(lon1 - lon2));
+}
+
+void Network::add(const PartsInput &in, const Locator &where) {
+    BatchChecker checker(in, where, part_count());
+    checker.check_counts(point_count(), part_count());
+    checker.check_layout();
+
+    Staged staged;
+    staged.points.reserve(static_cast<size_t>(in.n_points));
+    staged.lon.reserve(static_cast<size_t>(in.n_points));
+    staged.lat.reserve(static_cast<size_t>(in.n_points));
+    staged.parts.reserve(static_cast<size_t>(in.n_parts));
+    staged.length.reserve(static_cast<size_t>(in.n_parts));
+    staged.segment_part.reserve(static_cast<size_t>(in.n_points));
+    for (int64_t p = 0; p < in.n_parts; ++p) checker.add_part(p, staged);
+
+    // Commit: reserve everything first (the only step that can throw, and
+    // reserve leaves a vector as it was when it throws), then append.
+    points_.reserve(points_.size() + staged.points.size());
+    lon_deg_.reserve(lon_deg_.size() + staged.lon.size());
+    lat_deg_.reserve(lat_deg_.size() + staged.lat.size());
+    parts_.reserve(parts_.size() + staged.parts.size());
+    part_length_.reserve(part_length_.size() + staged.length.size());
+    segment_part_.reserve(segment_part_.size() + staged.segment_part.size());
+
+    const int64_t point_base = point_count(), segment_base = segment_count();
+    for (Part &part : staged.parts) {
+        part.first_point += point_base;
+        part.first_segment += segment_base;
+    }
+    append(points_, staged.points);
+    append(lon_deg_, staged.lon);
+    append(lat_deg_, staged.lat);
+    append(parts_, staged.parts);
+    append(part_length_, staged.length);
+    append(segment_part_, staged.segment_part);
+    for (double length : staged.length) total_length_ += length;
+}
+
+double Network::segment_length(int64_t s) const {
+    return geom::arc_length(segment_a(s), segment_b(s));
+}
+
+}  // namespace um::features

@@ -1,0 +1,73 @@
+// Spacing on a rectilinear lon/lat grid: the cellWidth(lat, lon) convention
+// of the MPAS mesh tools (cell widths in km, lon and lat in degrees, each
+// axis strictly increasing but not necessarily uniform), read by bilinear
+// interpolation in lon/lat.
+//
+// Longitude. The grid is periodic when it goes round the sphere: when the
+// wrap gap lon[0] + 360 - lon[last] is no wider than its widest step. That
+// covers -180..180 and 0..360 with a repeated last column (gap 0: the two
+// columns are one meridian), cell-centred -179.5..179.5 (gap = one step), and
+// any longitude convention, since a query longitude is first brought into
+// [lon[0], lon[0] + 360). A regional grid (wider gap) takes the value of the
+// nearer edge column outside its range.
+// Latitude. Beyond the first/last row (near the poles when the grid stops
+// short of them) the row is used: h is clamped, not extrapolated.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "hfun/spacing.hpp"
+
+namespace um::hfun {
+
+// The names of the three arrays in messages (C API arguments or the
+// variables of a spacing file).
+struct GridNames {
+    const char *lon = "lon_deg";
+    const char *lat = "lat_deg";
+    const char *cells = "cell_width_km";
+};
+
+class GridSpacing final : public Spacing {
+public:
+    // cells has lat.size() rows of lon.size() values (lon fastest). Throws
+    // um::Error naming the array, index and value: UM_ERR_INVALID_ARGUMENT
+    // for fewer than 2 values on an axis, a cell count that does not match,
+    // coordinates not strictly increasing, cells <= 0;
+    // UM_ERR_NONFINITE_INPUT for NaN/Inf; UM_ERR_COORDINATE_RANGE for
+    // |lat| > 90 or longitudes spanning more than 360 degrees.
+    GridSpacing(std::vector<double> lon_deg, std::vector<double> lat_deg,
+                std::vector<double> cells_km, const GridNames &names = {});
+
+    double at(const Where &where) const override;
+    double km_at_node(int64_t lat_index, int64_t lon_index) const {
+        return cells_[static_cast<size_t>(lat_index * n_lon() + lon_index)];
+    }
+    std::string describe() const override;
+    SpacingPtr gradient_limited(double g, double radius_km) const override;
+
+    int64_t n_lon() const { return static_cast<int64_t>(lon_.size()); }
+    int64_t n_lat() const { return static_cast<int64_t>(lat_.size()); }
+    const std::vector<double> &lon_deg() const { return lon_; }
+    const std::vector<double> &lat_deg() const { return lat_; }
+    const std::vector<double> &cells_km() const { return cells_; }
+    bool periodic() const { return periodic_; }
+
+private:
+    // Interpolation along one axis: value = (1 - t) v[i0] + t v[i1].
+    struct Span {
+        int64_t i0, i1;
+        double t;
+    };
+    Span lon_span(double lon_deg) const;
+    Span lat_span(double lat_deg) const;
+    // Replaces the cells with the largest values <= them whose differences
+    // between grid neighbours obey |h_i - h_j| <= g * distance(i, j).
+    void limit_gradient_in_place(double g, double radius_km);
+
+    std::vector<double> lon_, lat_, cells_;
+    bool periodic_ = false;
+};
+
+}  // namespace um::hfun

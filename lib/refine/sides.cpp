@@ -1,0 +1,116 @@
+#include "refine/sides.hpp"
+
+#include <cmath>
+
+namespace um::refine {
+
+using geom::Vec3;
+
+namespace {
+bool is_closed_coastline(const features::Part &p) {
+    return p.closed && p.kind == features::Kind::coastline;
+}
+
+// Number of coastline arcs the minor arc (a, b) crosses.
+int crossings(const geom::ArcTree &coast, const Vec3 &a, const Vec3 &b) {
+    int n = 0;
+    coast.query(geom::arc_box(a, b), [&](int32_t i) {
+        Vec3 x;
+        const auto &arc = coast.arc(i);
+        if (geom::arc_intersection(a, b, arc.a, arc.b, x, 0.0)) ++n;
+    });
+    return n;
+}
+}  // namespace
+
+bool is_land(const features::Network &net, const Vec3 &x) {
+    bool land = false;
+    for (int64_t p = 0; p < net.part_count(); ++p) {
+        const features::Part &part = net.part(p);
+        if (!is_closed_coastline(part)) continue;
+        const int64_t s0 = part.first_segment, s1 = s0 + part.n_segments;
+        // The fan of signed triangles from any apex sums, modulo 4 pi, to the
+        // area of the region on the ring's left: in (0, 2 pi) the left region
+        // is the smaller one.
+        double sum = 0;
+        const Vec3 apex = net.segment_a(s0);
+        for (int64_t s = s0; s < s1; ++s)
+            sum += geom::signed_triangle_area(apex, net.segment_a(s), net.segment_b(s));
+        const bool left_is_smaller = sum > 0 && sum < 2 * M_PI;
+        // x is on the left when the arc from x to a point just left of the
+        // first segment crosses the ring an even number of times.
+        const Vec3 a = net.segment_a(s0), b = net.segment_b(s0);
+        const Vec3 mid = geom::normalized(a + b);
+        const Vec3 left = geom::normalized(geom::cross(a, b));  // the pole of a -> b: its left
+        const double offset = 1e-3 * geom::arc_length(a, b);
+        const Vec3 r = geom::normalized(std::cos(offset) * mid + std::sin(offset) * left);
+        int n = 0;
+        for (int64_t s = s0; s < s1; ++s) {
+            Vec3 c;
+            if (geom::arc_intersection(x, r, net.segment_a(s), net.segment_b(s), c, 0.0)) ++n;
+        }
+        const bool x_left = n % 2 == 0;
+        if (x_left == left_is_smaller) land = !land;
+    }
+    return land;
+}
+
+geom::ArcTree closed_coastline_arcs(const features::Network &net, std::vector<int64_t> *segments) {
+    std::vector<geom::ArcTree::Arc> arcs;
+    for (int64_t s = 0; s < net.segment_count(); ++s)
+        if (is_closed_coastline(net.part(net.segment_part(s)))) {
+            arcs.push_back({net.segment_a(s), net.segment_b(s)});
+            if (segments) segments->push_back(s);
+        }
+    return geom::ArcTree(std::move(arcs));
+}
+
+std::vector<Side> triangle_sides(const tri::Triangulation &tri, const features::Network &net) {
+    std::vector<Side> side(static_cast<size_t>(tri.triangle_slots()), Side::ocean);
+    geom::ArcTree coast = closed_coastline_arcs(net, nullptr);
+    if (coast.size() == 0) return side;
+    std::vector<uint8_t> seen(side.size(), 0);
+    std::vector<int32_t> stack;
+    // Each connected piece of the dual graph (one, on a sphere) from an anchor.
+    for (int32_t start = 0; start < tri.triangle_slots(); ++start) {
+        if (tri.is_free(start) || seen[start]) continue;
+        side[start] = is_land(net, tri.orthocentre(start)) ? Side::land : Side::ocean;
+        seen[start] = 1;
+        stack.push_back(start);
+        while (!stack.empty()) {
+            int32_t t = stack.back();
+            stack.pop_back();
+            const Vec3 ct = tri.orthocentre(t);
+            for (int k = 0; k < 3; ++k) {
+                int32_t u = tri.neighbour(t, k);
+                if (seen[u]) continue;
+                bool flip = crossings(coast, ct, tri.orthocentre(u)) % 2 == 1;
+                side[u] = flip ? (side[t] == Side::land ? Side::ocean : Side::land) : side[t];
+                seen[u] = 1;
+                stack.push_back(u);
+            }
+        }
+    }
+    return side;
+}
+
+std::vector<Side> vertex_sides(const tri::Triangulation &tri, const std::vector<Side> &triangles,
+                               const std::vector<int32_t> &on_gamma_segment,
+                               const features::Network &net) {
+    std::vector<Side> side(static_cast<size_t>(tri.vertex_slots()), Side::ocean);
+    for (int32_t v = 0; v < tri.vertex_slots(); ++v) {
+        if (!tri.in_triangulation(v)) continue;
+        int32_t s = v < static_cast<int32_t>(on_gamma_segment.size()) ? on_gamma_segment[v] : -1;
+        if (s >= 0 && is_closed_coastline(net.part(net.segment_part(s)))) {
+            side[v] = Side::coastal;
+            continue;
+        }
+        std::vector<int32_t> star = tri.star(v);
+        side[v] = triangles[star[0]];
+        for (int32_t t : star)
+            if (triangles[t] != side[v]) side[v] = Side::coastal;
+    }
+    return side;
+}
+
+}  // namespace um::refine

@@ -1,0 +1,37 @@
+// Ocean or land: which side of the closed coastlines each triangle (its
+// orthocentre, an MPAS vertex) and each generator (an MPAS cell) lies on.
+// A point is land when it lies inside an odd number of closed coastline
+// rings, the inside of a ring being the smaller of the two regions it
+// bounds. One anchor point is classified directly; every other triangle by
+// walking the dual graph and flipping at each crossing of its dual arc with a
+// coastline, so the classification is consistent with Tri|Gamma itself.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "features/network.hpp"
+#include "geom/arc_tree.hpp"
+#include "tri/triangulation.hpp"
+
+namespace um::refine {
+
+enum class Side : int8_t { ocean = 0, land = 1, coastal = 2 };
+
+// Whether x is land: inside an odd number of the closed coastline parts.
+bool is_land(const features::Network &net, const geom::Vec3 &x);
+
+// The closed coastline segments of net as arcs, and their segment indices.
+geom::ArcTree closed_coastline_arcs(const features::Network &net, std::vector<int64_t> *segments);
+
+// Per triangle slot: ocean or land (free slots: ocean).
+std::vector<Side> triangle_sides(const tri::Triangulation &tri, const features::Network &net);
+
+// Per vertex slot: coastal when on_gamma marks it on a closed coastline,
+// else the side of its incident triangles (the first one, which all share
+// unless a coastline passes between them: then coastal too).
+std::vector<Side> vertex_sides(const tri::Triangulation &tri, const std::vector<Side> &triangles,
+                               const std::vector<int32_t> &on_gamma_segment,
+                               const features::Network &net);
+
+}  // namespace um::refine
