@@ -461,6 +461,64 @@ UM_API um_status um_spacing_clamp(um_spacing *s, double km_min, double km_max);
 UM_API um_status um_spacing_evaluate(const um_spacing *s, int64_t n, const double *lon_deg,
                                      const double *lat_deg, double *km_out);
 
+/* --------------------------------------------------------------------- mesh */
+
+/* The restricted triangulation of the sphere (paper section 5): starting from
+ * the icosahedron, boundary refinement puts vertices on the features (Gamma)
+ * until every restricted edge (an edge whose dual power edge crosses Gamma) is
+ * shorter than alpha*h and closer to Gamma than beta*h, leaving out features
+ * smaller than the local spacing (no new edge below h/2); surface refinement
+ * then adds frontal off-centre points until every triangle has
+ * sqrt(3)*circumradius < alpha*h and radius-edge ratio < rho, never inside the
+ * surface ball of a restricted edge. alpha, beta, rho and the sphere radius
+ * come from the options (UM_OPT_REFINE_*, UM_OPT_SPHERE_RADIUS).
+ *
+ * Mesh vertices are numbered 0..n_vertices-1 (+ base in the copies);
+ * triangles are counter-clockwise seen from outside. Deterministic: the same
+ * inputs and options give the same mesh for any thread count. */
+typedef struct um_mesh um_mesh;
+
+/* Sides of the closed coastlines (parts of kind UM_FEATURE_COASTLINE that are
+ * closed): land is inside an odd number of them, the inside of a ring being
+ * the smaller region it bounds. */
+enum {
+    UM_SIDE_OCEAN = 0,
+    UM_SIDE_LAND = 1,
+    UM_SIDE_COASTAL = 2 /* vertices only: on a coastline, or between sides */
+};
+
+/* features and options may be NULL (no Gamma; default options). The spacing
+ * is read where the refinement needs it; a value that is not finite and > 0
+ * there fails the call, naming the point. */
+UM_API um_status um_mesh_refine(um_context *ctx, const um_spacing *spacing,
+                                const um_features *features, const um_options *options,
+                                um_mesh **out);
+UM_API void um_mesh_destroy(um_mesh *m); /* NULL-safe */
+
+/* n_restricted_edges: edges of Tri|Gamma; n_filtered: bad restricted edges
+ * left unrefined because their feature is smaller than the spacing. */
+UM_API um_status um_mesh_counts(const um_mesh *m, int64_t *n_vertices, int64_t *n_triangles,
+                                int64_t *n_restricted_edges, int64_t *n_filtered);
+/* Vertex positions in degrees (lon in (-180, 180]); capacity >= n_vertices. */
+UM_API um_status um_mesh_copy_vertices(const um_mesh *m, double *lon_deg, double *lat_deg,
+                                       int64_t capacity);
+/* 3 vertex indices (+ base) per triangle; capacity >= 3 * n_triangles. */
+UM_API um_status um_mesh_copy_triangles(const um_mesh *m, int32_t base, int32_t *out,
+                                        int64_t capacity);
+/* Per vertex: the features part (+ base) it was placed on, or -1 (whatever
+ * the base) when it is not on Gamma; capacity >= n_vertices. */
+UM_API um_status um_mesh_copy_vertex_parts(const um_mesh *m, int32_t base, int32_t *out,
+                                           int64_t capacity);
+/* Per restricted edge: its two vertices (+ base) and the part (+ base) whose
+ * segment its dual edge crosses; capacity >= n_restricted_edges. */
+UM_API um_status um_mesh_copy_restricted_edges(const um_mesh *m, int32_t base,
+                                               int32_t *vertices /* 2 per edge */,
+                                               int32_t *parts, int64_t capacity);
+/* UM_SIDE_* per vertex (capacity >= n_vertices) and per triangle (of its
+ * orthocentre; capacity >= n_triangles). */
+UM_API um_status um_mesh_copy_vertex_sides(const um_mesh *m, int32_t *out, int64_t capacity);
+UM_API um_status um_mesh_copy_triangle_sides(const um_mesh *m, int32_t *out, int64_t capacity);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

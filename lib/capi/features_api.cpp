@@ -4,13 +4,10 @@
 #include <string>
 
 #include "capi/api.hpp"
+#include "capi/objects.hpp"
 #include "features/network.hpp"
 #include "io/geojson.hpp"
 
-struct um_features {
-    um::ContextPtr context;
-    um::features::Network network;
-};
 
 using um::fail;
 using um::capi::HandleKind;

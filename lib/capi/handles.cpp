@@ -44,6 +44,7 @@ const char *kind_name(HandleKind kind) {
         case HandleKind::triangulation: return "um_triangulation";
         case HandleKind::spacing: return "um_spacing";
         case HandleKind::features: return "um_features";
+        case HandleKind::mesh: return "um_mesh";
     }
     return "handle";
 }

@@ -7,7 +7,7 @@
 namespace um::capi {
 
 enum class HandleKind { context = 1, options = 2, triangulation = 3, spacing = 4,
-                        features = 5 };
+                        features = 5, mesh = 6 };
 
 void register_handle(const void *handle, HandleKind kind);
 // Returns false when the handle was not live (so destroy is idempotent).

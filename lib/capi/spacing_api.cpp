@@ -7,15 +7,12 @@
 #include <vector>
 
 #include "capi/api.hpp"
+#include "capi/objects.hpp"
 #include "hfun/grid.hpp"
 #include "hfun/presets.hpp"
 #include "hfun/spacing.hpp"
 #include "io/spacing_file.hpp"
 
-struct um_spacing {
-    um::ContextPtr context;
-    um::hfun::SpacingPtr spacing;
-};
 
 using um::fail;
 using um::capi::HandleKind;

@@ -4,13 +4,10 @@
 #include <vector>
 
 #include "capi/api.hpp"
+#include "capi/objects.hpp"
 #include "tri/triangulation.hpp"
 #include "tri/validate.hpp"
 
-struct um_triangulation {
-    um::ContextPtr context;
-    um::tri::Triangulation tri;
-};
 
 using um::fail;
 using um::capi::HandleKind;

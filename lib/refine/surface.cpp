@@ -38,6 +38,15 @@ Vec3 towards(const Vec3 &m, const Vec3 &c, double d) {
     return geom::normalized(std::cos(d) * m + std::sin(d) * t);
 }
 
+double nearest_neighbour(const tri::Triangulation &tri, int32_t v) {
+    double d = 1e300;
+    const Vec3 x = tri.direction(v);
+    for (int32_t t : tri.star(v))
+        for (int k = 0; k < 3; ++k)
+            if (tri.vertex(t, k) != v) d = std::min(d, geom::arc_length(x, tri.direction(tri.vertex(t, k))));
+    return d;
+}
+
 // A restricted edge near p whose surface ball holds p: such an edge has a
 // triangle whose circumcircle holds p, so the triangle containing p and its
 // neighbours are searched (p's cavity in a well-shaped mesh).
@@ -131,6 +140,13 @@ SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const Spacing
         std::vector<int32_t> buried;
         int32_t v = tri.insert(p, 0.0, next_id++, &buried);
         if (!tri.in_triangulation(v)) {
+            ++stats.rejected;
+            continue;
+        }
+        // A point this close to an existing vertex (one on Gamma, placed
+        // where the front did not expect it) would over-refine: take it back.
+        if (nearest_neighbour(tri, v) < options.filter * h(p)) {
+            tri.remove(v);
             ++stats.rejected;
             continue;
         }

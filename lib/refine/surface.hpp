@@ -20,9 +20,10 @@ namespace um::refine {
 struct SurfaceOptions {
     double alpha = 4.0 / 3.0;  // size bound: sqrt(3) r < alpha h
     double rho = 1.05;         // shape bound: r / e_min < rho
-    // With Gamma: a candidate inside the surface ball of a restricted edge
-    // (it would change Tri|Gamma) is replaced by that ball's centre, on
-    // Gamma, unless that would make an edge shorter than filter * h.
+    // A candidate that would make an edge shorter than filter * h is not
+    // inserted. With Gamma, a candidate inside the surface ball of a
+    // restricted edge (it would change Tri|Gamma) is replaced by that ball's
+    // centre, on Gamma.
     const geom::ArcTree *gamma = nullptr;
     double filter = 0.5;
     std::vector<int32_t> *on_gamma = nullptr;  // per vertex slot: Gamma arc or -1

@@ -1,0 +1,159 @@
+// um_mesh entry points: the refinement stage through the C ABI.
+#include <memory>
+
+#include "capi/api.hpp"
+#include "capi/objects.hpp"
+#include "geom/sphere.hpp"
+
+using um::fail;
+using um::capi::HandleKind;
+using um::capi::require_handle;
+using um::capi::require_pointer;
+
+namespace {
+
+um::Context *state_or_null(const um_mesh *m) {
+    return um::capi::is_live(m, HandleKind::mesh) ? m->context.get() : nullptr;
+}
+
+void check_base(int32_t base) {
+    if (base != 0 && base != 1) fail(UM_ERR_INVALID_ARGUMENT, "base = ", base, " is not 0 or 1");
+}
+
+void check_capacity(int64_t capacity, int64_t needed, const char *what) {
+    if (capacity < needed)
+        fail(UM_ERR_BUFFER_TOO_SMALL, "capacity = ", capacity, " is below the ", needed,
+             " elements ", what, " needs");
+}
+
+}  // namespace
+
+extern "C" {
+
+UM_API um_status um_mesh_refine(um_context *ctx, const um_spacing *spacing,
+                                const um_features *features, const um_options *options,
+                                um_mesh **out) {
+    UM_API_BEGIN
+    require_handle(ctx, HandleKind::context, "ctx");
+    require_pointer(out, "out");
+    *out = nullptr;
+    require_handle(spacing, HandleKind::spacing, "spacing");
+    if (features) require_handle(features, HandleKind::features, "features");
+    if (options) require_handle(options, HandleKind::options, "options");
+    um::Options defaults;
+    const um::Options &opts = options ? options->values : defaults;
+    std::shared_ptr<const um::features::Network> gamma;
+    if (features) gamma = std::make_shared<um::features::Network>(features->network);
+    auto handle = std::make_unique<um_mesh>();
+    handle->context = ctx->state;
+    handle->mesh = um::mesh::refine_mesh(*ctx->state, *spacing->spacing, gamma, opts);
+    um::capi::register_handle(handle.get(), HandleKind::mesh);
+    *out = handle.release();
+    return UM_OK;
+    UM_API_END(um::capi::is_live(ctx, HandleKind::context) ? ctx->state.get() : nullptr)
+}
+
+UM_API void um_mesh_destroy(um_mesh *m) {
+    if (um::capi::unregister_handle(m, HandleKind::mesh)) delete m;
+}
+
+UM_API um_status um_mesh_counts(const um_mesh *m, int64_t *n_vertices, int64_t *n_triangles,
+                                int64_t *n_restricted_edges, int64_t *n_filtered) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    if (n_vertices) *n_vertices = m->mesh.vertex_count();
+    if (n_triangles) *n_triangles = m->mesh.tri.triangle_count();
+    if (n_restricted_edges) *n_restricted_edges = static_cast<int64_t>(m->mesh.restricted.size());
+    if (n_filtered) *n_filtered = m->mesh.filtered;
+    return UM_OK;
+    UM_API_END(state_or_null(m))
+}
+
+UM_API um_status um_mesh_copy_vertices(const um_mesh *m, double *lon_deg, double *lat_deg,
+                                       int64_t capacity) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    check_capacity(capacity, m->mesh.vertex_count(), "the vertices");
+    require_pointer(lon_deg, "lon_deg");
+    require_pointer(lat_deg, "lat_deg");
+    for (int64_t i = 0; i < m->mesh.vertex_count(); ++i)
+        um::geom::lonlat_deg_from_unit(m->mesh.tri.direction(m->mesh.slot_of_vertex[i]), lon_deg[i],
+                                       lat_deg[i]);
+    return UM_OK;
+    UM_API_END(state_or_null(m))
+}
+
+UM_API um_status um_mesh_copy_triangles(const um_mesh *m, int32_t base, int32_t *out,
+                                        int64_t capacity) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    check_base(base);
+    const auto &tri = m->mesh.tri;
+    check_capacity(capacity, 3 * int64_t(tri.triangle_count()), "the triangles");
+    require_pointer(out, "out");
+    for (int32_t f = 0; f < tri.triangle_count(); ++f)
+        for (int k = 0; k < 3; ++k) out[3 * f + k] = m->mesh.vertex_of_slot[tri.vertex(f, k)] + base;
+    return UM_OK;
+    UM_API_END(state_or_null(m))
+}
+
+UM_API um_status um_mesh_copy_vertex_parts(const um_mesh *m, int32_t base, int32_t *out,
+                                           int64_t capacity) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    check_base(base);
+    check_capacity(capacity, m->mesh.vertex_count(), "the vertex parts");
+    require_pointer(out, "out");
+    for (int64_t i = 0; i < m->mesh.vertex_count(); ++i) {
+        int32_t s = m->mesh.on_segment[m->mesh.slot_of_vertex[i]];
+        out[i] = s < 0 ? -1 : static_cast<int32_t>(m->mesh.gamma->segment_part(s)) + base;
+    }
+    return UM_OK;
+    UM_API_END(state_or_null(m))
+}
+
+UM_API um_status um_mesh_copy_restricted_edges(const um_mesh *m, int32_t base,
+                                               int32_t *vertices, int32_t *parts,
+                                               int64_t capacity) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    check_base(base);
+    const auto &r = m->mesh.restricted;
+    check_capacity(capacity, static_cast<int64_t>(r.size()), "the restricted edges");
+    if (!vertices && !parts) fail(UM_ERR_NULL_ARGUMENT, "vertices and parts are both NULL");
+    const auto &tri = m->mesh.tri;
+    for (size_t i = 0; i < r.size(); ++i) {
+        if (vertices) {
+            vertices[2 * i] = m->mesh.vertex_of_slot[tri.vertex(r[i].triangle, (r[i].edge + 1) % 3)] + base;
+            vertices[2 * i + 1] = m->mesh.vertex_of_slot[tri.vertex(r[i].triangle, (r[i].edge + 2) % 3)] + base;
+        }
+        if (parts) parts[i] = static_cast<int32_t>(m->mesh.gamma->segment_part(r[i].arc)) + base;
+    }
+    return UM_OK;
+    UM_API_END(state_or_null(m))
+}
+
+UM_API um_status um_mesh_copy_vertex_sides(const um_mesh *m, int32_t *out, int64_t capacity) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    check_capacity(capacity, m->mesh.vertex_count(), "the vertex sides");
+    require_pointer(out, "out");
+    for (int64_t i = 0; i < m->mesh.vertex_count(); ++i)
+        out[i] = static_cast<int32_t>(m->mesh.vertex_side[m->mesh.slot_of_vertex[i]]);
+    return UM_OK;
+    UM_API_END(state_or_null(m))
+}
+
+UM_API um_status um_mesh_copy_triangle_sides(const um_mesh *m, int32_t *out, int64_t capacity) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    const auto &tri = m->mesh.tri;
+    check_capacity(capacity, tri.triangle_count(), "the triangle sides");
+    require_pointer(out, "out");
+    for (int32_t f = 0; f < tri.triangle_count(); ++f)
+        out[f] = static_cast<int32_t>(m->mesh.triangle_side[f]);
+    return UM_OK;
+    UM_API_END(state_or_null(m))
+}
+
+}  // extern "C"

@@ -1,0 +1,43 @@
+// The restricted triangulation the refinement stage hands on (paper section
+// 5, issue "Geometry, spacing functions and restricted refinement"): from the
+// icosahedron, boundary refinement along Gamma then surface refinement, and
+// what later stages need to know about Gamma and the sides of the coastlines.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/context.hpp"
+#include "core/options.hpp"
+#include "features/network.hpp"
+#include "hfun/spacing.hpp"
+#include "refine/restricted.hpp"
+#include "refine/sides.hpp"
+#include "tri/triangulation.hpp"
+
+namespace um::mesh {
+
+struct RefinedMesh {
+    tri::Triangulation tri;
+    std::shared_ptr<const features::Network> gamma;  // may be empty
+    double radius_m = 0;
+    // Per vertex slot: the Gamma segment it was placed on, or -1.
+    std::vector<int32_t> on_segment;
+    // Mesh vertices are the slots in the triangulation, numbered in slot order.
+    std::vector<int32_t> vertex_of_slot;  // slot -> vertex, -1 if not a vertex
+    std::vector<int32_t> slot_of_vertex;
+    std::vector<refine::RestrictedEdge> restricted;  // .arc is a Gamma segment index
+    std::vector<refine::Side> vertex_side, triangle_side;
+    int64_t filtered = 0;  // bad restricted edges left: features below the spacing
+
+    int64_t vertex_count() const { return static_cast<int64_t>(slot_of_vertex.size()); }
+};
+
+// Refines from the icosahedron. gamma may be null (no features); h is read
+// through its km_at and checked (finite, > 0) wherever it is used; options
+// give alpha, beta, rho and the sphere radius.
+RefinedMesh refine_mesh(Context &ctx, const hfun::Spacing &h,
+                        std::shared_ptr<const features::Network> gamma, const Options &options);
+
+}  // namespace um::mesh

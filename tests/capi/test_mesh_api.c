@@ -1,0 +1,212 @@
+/* CMocka suite: the refinement stage through the C ABI (um_mesh_*). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "unimesh.h"
+
+#define DEG (M_PI / 180.0)
+static const double kRadiusKm = 6371.22;
+
+static int setup_context(void **state) {
+    um_context *ctx = NULL;
+    if (um_context_create(&ctx) != UM_OK) return -1;
+    *state = ctx;
+    return 0;
+}
+static int teardown_context(void **state) {
+    um_context_destroy((um_context *)*state);
+    return 0;
+}
+
+static double arc(double lon1, double lat1, double lon2, double lat2) {
+    double a[3] = {cos(lat1 * DEG) * cos(lon1 * DEG), cos(lat1 * DEG) * sin(lon1 * DEG), sin(lat1 * DEG)};
+    double b[3] = {cos(lat2 * DEG) * cos(lon2 * DEG), cos(lat2 * DEG) * sin(lon2 * DEG), sin(lat2 * DEG)};
+    double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    return atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+}
+
+typedef struct {
+    int64_t nv, nt, nr, nf;
+    double *lon, *lat;
+    int32_t *tri, *vparts, *redges, *rparts, *vsides, *tsides;
+} mesh_copy;
+
+static mesh_copy copy_out(um_mesh *m) {
+    mesh_copy c;
+    assert_int_equal(um_mesh_counts(m, &c.nv, &c.nt, &c.nr, &c.nf), UM_OK);
+    c.lon = malloc(c.nv * sizeof(double)), c.lat = malloc(c.nv * sizeof(double));
+    c.tri = malloc(3 * c.nt * sizeof(int32_t)), c.vparts = malloc(c.nv * sizeof(int32_t));
+    c.redges = malloc((2 * c.nr + 1) * sizeof(int32_t)), c.rparts = malloc((c.nr + 1) * sizeof(int32_t));
+    c.vsides = malloc(c.nv * sizeof(int32_t)), c.tsides = malloc(c.nt * sizeof(int32_t));
+    assert_int_equal(um_mesh_copy_vertices(m, c.lon, c.lat, c.nv), UM_OK);
+    assert_int_equal(um_mesh_copy_triangles(m, 0, c.tri, 3 * c.nt), UM_OK);
+    assert_int_equal(um_mesh_copy_vertex_parts(m, 0, c.vparts, c.nv), UM_OK);
+    assert_int_equal(um_mesh_copy_restricted_edges(m, 0, c.redges, c.rparts, c.nr), UM_OK);
+    assert_int_equal(um_mesh_copy_vertex_sides(m, c.vsides, c.nv), UM_OK);
+    assert_int_equal(um_mesh_copy_triangle_sides(m, c.tsides, c.nt), UM_OK);
+    return c;
+}
+
+static void free_copy(mesh_copy *c) {
+    free(c->lon), free(c->lat), free(c->tri), free(c->vparts), free(c->redges), free(c->rparts);
+    free(c->vsides), free(c->tsides);
+}
+
+/* Every edge length in units of the (constant) spacing. */
+static void edge_range(const mesh_copy *c, double h_km, double *lo, double *hi) {
+    *lo = 1e300, *hi = 0;
+    for (int64_t f = 0; f < c->nt; ++f)
+        for (int k = 0; k < 3; ++k) {
+            int32_t a = c->tri[3 * f + k], b = c->tri[3 * f + (k + 1) % 3];
+            double l = arc(c->lon[a], c->lat[a], c->lon[b], c->lat[b]) * kRadiusKm / h_km;
+            if (l < *lo) *lo = l;
+            if (l > *hi) *hi = l;
+        }
+}
+
+static void uniform_sphere(void **state) {
+    um_context *ctx = *state;
+    um_spacing *h = NULL;
+    assert_int_equal(um_spacing_create_constant(ctx, 500.0, &h), UM_OK);
+    um_mesh *m = NULL;
+    assert_int_equal(um_mesh_refine(ctx, h, NULL, NULL, &m), UM_OK);
+    mesh_copy c = copy_out(m);
+    assert_int_equal(c.nt, 2 * c.nv - 4);
+    assert_int_equal(c.nr, 0);
+    double lo, hi;
+    edge_range(&c, 500.0, &lo, &hi);
+    assert_true(lo > 0.5 && hi < 1.54);
+    for (int64_t i = 0; i < c.nv; ++i) assert_int_equal(c.vparts[i], -1);
+    free_copy(&c);
+    um_mesh_destroy(m);
+    um_spacing_destroy(h);
+}
+
+static void same_mesh_for_any_thread_count(void **state) {
+    um_context *ctx = *state;
+    um_spacing *h = NULL;
+    assert_int_equal(um_spacing_create_preset(ctx, "EC60to30", &h), UM_OK);
+    um_spacing *coarse = NULL;
+    /* EC60to30 scaled up: clamp to keep the test quick */
+    assert_int_equal(um_spacing_create_constant(ctx, 400.0, &coarse), UM_OK);
+    mesh_copy ref = {0};
+    for (int threads = 1; threads <= 2; ++threads) {
+        assert_int_equal(um_context_set_threads(ctx, threads), UM_OK);
+        um_mesh *m = NULL;
+        assert_int_equal(um_mesh_refine(ctx, coarse, NULL, NULL, &m), UM_OK);
+        mesh_copy c = copy_out(m);
+        if (threads == 1) {
+            ref = c;
+        } else {
+            assert_int_equal(c.nv, ref.nv);
+            assert_memory_equal(c.lon, ref.lon, c.nv * sizeof(double));
+            assert_memory_equal(c.tri, ref.tri, 3 * c.nt * sizeof(int32_t));
+            free_copy(&c);
+        }
+        um_mesh_destroy(m);
+    }
+    free_copy(&ref);
+    um_spacing_destroy(h);
+    um_spacing_destroy(coarse);
+}
+
+/* The shipped GSHHG low-resolution coastlines at 480 km: restricted edges
+ * close to the coast, no edge below h/2, land and ocean told apart. */
+static void global_coastline(void **state) {
+    um_context *ctx = *state;
+    um_features *f = NULL;
+    assert_int_equal(um_features_create(ctx, &f), UM_OK);
+    assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_global_l.geojson", NULL, 0),
+                     UM_OK);
+    const double h_km = 480.0;
+    um_spacing *h = NULL;
+    assert_int_equal(um_spacing_create_constant(ctx, h_km, &h), UM_OK);
+    um_mesh *m = NULL;
+    assert_int_equal(um_mesh_refine(ctx, h, f, NULL, &m), UM_OK);
+    mesh_copy c = copy_out(m);
+    assert_int_equal(c.nt, 2 * c.nv - 4);
+    assert_true(c.nr > 100);
+    double lo, hi;
+    edge_range(&c, h_km, &lo, &hi);
+    assert_true(lo > 0.5);
+    /* restricted edges are shorter than alpha h */
+    for (int64_t i = 0; i < c.nr; ++i) {
+        int32_t a = c.redges[2 * i], b = c.redges[2 * i + 1];
+        assert_true(arc(c.lon[a], c.lat[a], c.lon[b], c.lat[b]) * kRadiusKm < 4.0 / 3.0 * h_km);
+    }
+    /* sides: the middle of the Sahara is land, the middle of the Pacific ocean */
+    int64_t land = 0, ocean = 0, coastal = 0;
+    for (int64_t i = 0; i < c.nv; ++i) {
+        land += c.vsides[i] == UM_SIDE_LAND, ocean += c.vsides[i] == UM_SIDE_OCEAN;
+        coastal += c.vsides[i] == UM_SIDE_COASTAL;
+        if (fabs(c.lat[i] - 23) < 4 && fabs(c.lon[i] - 15) < 6) assert_int_equal(c.vsides[i], UM_SIDE_LAND);
+        if (fabs(c.lat[i]) < 8 && fabs(c.lon[i] + 150) < 10) assert_int_equal(c.vsides[i], UM_SIDE_OCEAN);
+    }
+    assert_true(land > 0.15 * c.nv && ocean > 0.5 * c.nv && coastal > 0);
+    free_copy(&c);
+    um_mesh_destroy(m);
+    um_spacing_destroy(h);
+    um_features_destroy(f);
+}
+
+static void bad_input(void **state) {
+    um_context *ctx = *state;
+    um_spacing *h = NULL;
+    um_mesh *m = (um_mesh *)&h;
+    assert_int_equal(um_mesh_refine(ctx, NULL, NULL, NULL, &m), UM_ERR_NULL_ARGUMENT);
+    assert_null(m);
+    assert_int_equal(um_mesh_refine(ctx, (um_spacing *)ctx, NULL, NULL, &m), UM_ERR_INVALID_HANDLE);
+    assert_int_equal(um_spacing_create_constant(ctx, 800.0, &h), UM_OK);
+    assert_int_equal(um_mesh_refine(NULL, h, NULL, NULL, &m), UM_ERR_NULL_ARGUMENT);
+    assert_int_equal(um_mesh_refine(ctx, h, (um_features *)h, NULL, &m), UM_ERR_INVALID_HANDLE);
+    assert_int_equal(um_mesh_refine(ctx, h, NULL, NULL, NULL), UM_ERR_NULL_ARGUMENT);
+    assert_int_equal(um_mesh_refine(ctx, h, NULL, NULL, &m), UM_OK);
+    int64_t nv;
+    assert_int_equal(um_mesh_counts(m, &nv, NULL, NULL, NULL), UM_OK);
+    double lon[4], lat[4];
+    assert_int_equal(um_mesh_copy_vertices(m, lon, lat, 4), UM_ERR_BUFFER_TOO_SMALL);
+    int32_t *tri = malloc(3 * 2 * nv * sizeof(int32_t));
+    assert_int_equal(um_mesh_copy_triangles(m, 5, tri, 6 * nv), UM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(um_mesh_copy_restricted_edges(m, 0, NULL, NULL, 0), UM_ERR_NULL_ARGUMENT);
+    free(tri);
+    um_mesh_destroy(m);
+    um_mesh_destroy(m);
+    assert_int_equal(um_mesh_counts(m, &nv, NULL, NULL, NULL), UM_ERR_INVALID_HANDLE);
+    um_spacing_destroy(h);
+}
+
+static double nan_south(void *user, double lon, double lat) {
+    (void)user, (void)lon;
+    return lat < -60 ? NAN : 900.0;
+}
+
+static void spacing_callback_failure_names_the_point(void **state) {
+    um_context *ctx = *state;
+    um_spacing *h = NULL;
+    assert_int_equal(um_spacing_create_callback(ctx, nan_south, NULL, &h), UM_OK);
+    um_mesh *m = NULL;
+    assert_int_equal(um_mesh_refine(ctx, h, NULL, NULL, &m), UM_ERR_NONFINITE_INPUT);
+    assert_null(m);
+    assert_non_null(strstr(um_context_last_error(ctx), "spacing"));
+    assert_non_null(strstr(um_context_last_error(ctx), "lat"));
+    um_spacing_destroy(h);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(uniform_sphere, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(same_mesh_for_any_thread_count, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(global_coastline, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(bad_input, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(spacing_callback_failure_names_the_point, setup_context,
+                                        teardown_context),
+    };
+    return cmocka_run_group_tests_name("mesh_api", tests, NULL, NULL);
+}
