@@ -74,7 +74,7 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
                 ++filtered;
                 continue;
             }
-            int32_t v = tri.insert(e.centre, 0.0, next_id++, nullptr);
+            int32_t v = tri.insert(e.centre, 0.0, next_id++, nullptr, t);
             on_gamma.resize(static_cast<size_t>(tri.vertex_slots()), -1);
             if (!tri.in_triangulation(v)) continue;
             if (nearest_neighbour(tri, v) < options.filter * h(e.centre)) {

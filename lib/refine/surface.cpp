@@ -2,8 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <queue>
-#include <tuple>
+#include <deque>
 
 #include "core/error.hpp"
 #include "refine/restricted.hpp"
@@ -16,12 +15,8 @@ namespace {
 
 // A queued bad triangle: its vertices identify it (slots are reused).
 struct Candidate {
-    double priority;  // r / h: largest first
     int32_t t;
     int32_t v0, v1, v2;
-    bool operator<(const Candidate &o) const {
-        return std::tie(priority, o.v0, o.v1, o.v2) < std::tie(o.priority, v0, v1, v2);
-    }
 };
 
 bool still_there(const tri::Triangulation &tri, const Candidate &c) {
@@ -38,13 +33,17 @@ Vec3 towards(const Vec3 &m, const Vec3 &c, double d) {
     return geom::normalized(std::cos(d) * m + std::sin(d) * t);
 }
 
+// Arc distance from v to its nearest neighbour (chords compared, one asin).
 double nearest_neighbour(const tri::Triangulation &tri, int32_t v) {
-    double d = 1e300;
+    double d2 = 1e300;
     const Vec3 x = tri.direction(v);
     for (int32_t t : tri.star(v))
         for (int k = 0; k < 3; ++k)
-            if (tri.vertex(t, k) != v) d = std::min(d, geom::arc_length(x, tri.direction(tri.vertex(t, k))));
-    return d;
+            if (tri.vertex(t, k) != v) {
+                Vec3 d = x - tri.direction(tri.vertex(t, k));
+                d2 = std::min(d2, geom::dot(d, d));
+            }
+    return 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(d2)));
 }
 
 // A restricted edge near p whose surface ball holds p: such an edge has a
@@ -66,10 +65,15 @@ bool encroached_edge(const tri::Triangulation &tri, const Vec3 &p, int32_t hint,
 }  // namespace
 
 void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, double *shortest) {
+    // Chords first, one arc conversion each (2 asin(chord / 2)): this runs
+    // for every new triangle of the refinement.
     Vec3 a = tri.direction(tri.vertex(t, 0)), b = tri.direction(tri.vertex(t, 1)),
          c = tri.direction(tri.vertex(t, 2));
-    *radius = geom::arc_length(tri.orthocentre(t), a);
-    *shortest = std::min({geom::arc_length(a, b), geom::arc_length(b, c), geom::arc_length(c, a)});
+    double e2 = std::min({geom::dot(a - b, a - b), geom::dot(b - c, b - c), geom::dot(c - a, c - a)});
+    Vec3 centre = tri.orthocentre(t);
+    double r2 = geom::dot(centre - a, centre - a);
+    *radius = 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(r2)));
+    *shortest = 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(e2)));
 }
 
 tri::Triangulation icosahedron(Context &ctx) {
@@ -84,7 +88,7 @@ tri::Triangulation icosahedron(Context &ctx) {
 SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
                             const SurfaceOptions &options, int32_t next_id) {
     SurfaceStats stats;
-    std::priority_queue<Candidate> queue;
+    std::deque<Candidate> queue;  // first in, first out: deterministic and cache-friendly
     auto consider = [&](int32_t t) {
         double r, e;
         triangle_size(tri, t, &r, &e);
@@ -95,15 +99,15 @@ SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const Spacing
         bool too_big = std::sqrt(3.0) * r >= options.alpha * ht;
         bool badly_shaped = r / e >= options.rho;
         if (too_big || badly_shaped)
-            queue.push({r / ht, t, tri.vertex(t, 0), tri.vertex(t, 1), tri.vertex(t, 2)});
+            queue.push_back({t, tri.vertex(t, 0), tri.vertex(t, 1), tri.vertex(t, 2)});
     };
     for (int32_t t = 0; t < tri.triangle_slots(); ++t)
         if (!tri.is_free(t)) consider(t);
 
     int64_t steps = 0;
     while (!queue.empty()) {
-        Candidate c = queue.top();
-        queue.pop();
+        Candidate c = queue.front();
+        queue.pop_front();
         if (!still_there(tri, c)) continue;
         if (++steps % 65536 == 0) ctx.progress("refine surface", 0.0);
         // The shortest edge (a, b) and its bisector towards the circumcentre.
@@ -138,7 +142,7 @@ SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const Spacing
             p = enc.centre, arc = enc.arc;
         }
         std::vector<int32_t> buried;
-        int32_t v = tri.insert(p, 0.0, next_id++, &buried);
+        int32_t v = tri.insert(p, 0.0, next_id++, &buried, c.t);
         if (!tri.in_triangulation(v)) {
             ++stats.rejected;
             continue;

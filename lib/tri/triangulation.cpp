@@ -390,13 +390,13 @@ void Triangulation::free_triangle_slot(int32_t t) {
 }
 
 int32_t Triangulation::insert(const Vec3 &direction, double weight, int32_t id,
-                              std::vector<int32_t> *buried) {
+                              std::vector<int32_t> *buried, int32_t hint) {
     int32_t v = static_cast<int32_t>(q_.size());
     q_.push_back(lifted_scale(weight) * direction);
     id_.push_back(id);
     vertex_tri_.push_back(kNone);
     try {
-        return reinsert(v, buried);
+        return reinsert(v, buried, hint);
     } catch (...) {
         q_.pop_back(), id_.pop_back(), vertex_tri_.pop_back();
         throw;

@@ -107,8 +107,9 @@ public:
     // returns its vertex slot. The slot is hidden (in_triangulation false)
     // when its power cell is empty; vertices it buries become hidden and are
     // appended to *buried when given. Throws UM_ERR_DUPLICATE_POINTS.
+    // `hint` is a triangle near the point, where the walk starts.
     int32_t insert(const Vec3 &direction, double weight, int32_t id,
-                   std::vector<int32_t> *buried = nullptr);
+                   std::vector<int32_t> *buried = nullptr, int32_t hint = 0);
     // Removes vertex v (its slot becomes hidden); its star is re-triangulated
     // by ears that are facets of the hull of the remaining points.
     // Returns a live triangle where v was (a hint for later walks).
