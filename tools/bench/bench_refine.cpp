@@ -1,0 +1,236 @@
+// bench_refine: times the refinement stage (um_mesh_refine: boundary
+// refinement along the features, then surface refinement) on the three cases
+// of the issue "Geometry, spacing functions and restricted refinement", with
+// 1 and 2 threads, printing cells, time per phase and peak memory.
+//
+//   (a) uniform 30 km, global, no features;
+//   (b) coast_global_l + rivers_global_l at 60 km;
+//   (c) the Mid-Atlantic unified case: the spacing midatlantic_cellwidth.nc,
+//       coast_global_l outside the Mid-Atlantic box and the full-resolution
+//       coast and rivers inside it.
+//
+// Each run happens in a fork()ed child (peak memory per run: the child's max
+// RSS growth over the refinement, read with getrusage). Phase times come from
+// the progress callback's stage names. Data: the repository's data/ folder.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "unimesh.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Result {
+    double total_s = 0, boundary_s = 0, surface_s = 0;
+    int64_t cells = 0, triangles = 0, restricted = 0, filtered = 0;
+    double peak_mb = 0;
+    int ok = 0;
+    char error[200] = {0};
+};
+
+// Phase timing through the progress callback: time spent since the first
+// report of a stage until the first report of the next one.
+struct Phases {
+    Clock::time_point start, last;
+    std::string stage;
+    std::map<std::string, double> seconds;
+};
+
+int32_t on_progress(void *user, const char *stage, double) {
+    auto *p = static_cast<Phases *>(user);
+    auto now = Clock::now();
+    if (p->stage != stage) {
+        if (!p->stage.empty()) p->seconds[p->stage] += std::chrono::duration<double>(now - p->last).count();
+        p->stage = stage;
+        p->last = now;
+    }
+    return 0;
+}
+
+long max_rss_kb() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_maxrss;
+}
+
+void check(um_status s, um_context *ctx, const char *what) {
+    if (s != UM_OK) {
+        std::fprintf(stderr, "bench_refine: %s: %s\n", what, um_context_last_error(ctx));
+        std::exit(2);
+    }
+}
+
+// coast_global_l with the segments inside the Mid-Atlantic box removed: each
+// part is split where it enters the box (open parts).
+void add_global_coast_outside_box(um_context *ctx, um_features *dst, const std::string &path) {
+    um_features *all = nullptr;
+    check(um_features_create(ctx, &all), ctx, "features");
+    check(um_features_read_geojson(all, path.c_str(), nullptr, 0), ctx, path.c_str());
+    int64_t np = 0, npt = 0, nseg = 0;
+    um_features_counts(all, &np, &npt, &nseg);
+    std::vector<double> lon(npt), lat(npt);
+    std::vector<int64_t> off(np + 1);
+    std::vector<int32_t> closed(np), kind(np), ids(np);
+    check(um_features_copy_points(all, lon.data(), lat.data(), npt), ctx, "copy points");
+    check(um_features_copy_parts(all, off.data(), closed.data(), kind.data(), ids.data(), np + 1), ctx,
+          "copy parts");
+    auto inside = [&](int64_t i) {
+        return lon[i] > -78.5 && lon[i] < -73.5 && lat[i] > 36.5 && lat[i] < 41.0;
+    };
+    std::vector<double> olon, olat;
+    std::vector<int64_t> ooff = {0};
+    std::vector<int32_t> oclosed, okind;
+    for (int64_t p = 0; p < np; ++p) {
+        bool any_inside = false;
+        for (int64_t i = off[p]; i < off[p + 1]; ++i) any_inside |= inside(i);
+        auto flush = [&](int32_t k, int32_t c) {
+            if (static_cast<int64_t>(olon.size()) - ooff.back() >= 2) {
+                ooff.push_back(static_cast<int64_t>(olon.size()));
+                oclosed.push_back(c), okind.push_back(k);
+            } else {
+                olon.resize(ooff.back()), olat.resize(ooff.back());
+            }
+        };
+        if (!any_inside) {
+            for (int64_t i = off[p]; i < off[p + 1]; ++i) olon.push_back(lon[i]), olat.push_back(lat[i]);
+            flush(kind[p], closed[p]);
+            continue;
+        }
+        for (int64_t i = off[p]; i < off[p + 1]; ++i) {
+            if (inside(i)) {
+                flush(kind[p], 0);
+                continue;
+            }
+            olon.push_back(lon[i]), olat.push_back(lat[i]);
+        }
+        flush(kind[p], 0);
+    }
+    int64_t n_parts = static_cast<int64_t>(oclosed.size());
+    check(um_features_add(dst, static_cast<int64_t>(olon.size()), olon.data(), olat.data(), n_parts,
+                          ooff.data(), oclosed.data(), okind.data(), nullptr),
+          ctx, "add clipped coast");
+    um_features_destroy(all);
+}
+
+Result run_case(const std::string &name, const std::string &data, int threads) {
+    Result r;
+    um_context *ctx = nullptr;
+    um_context_create(&ctx);
+    um_context_set_threads(ctx, threads);
+    um_spacing *h = nullptr;
+    um_features *f = nullptr;
+    if (name == "uniform-30km") {
+        check(um_spacing_create_constant(ctx, 30.0, &h), ctx, "spacing");
+    } else if (name == "coast-rivers-60km") {
+        check(um_spacing_create_constant(ctx, 60.0, &h), ctx, "spacing");
+        check(um_features_create(ctx, &f), ctx, "features");
+        check(um_features_read_geojson(f, (data + "/coast_global_l.geojson").c_str(), nullptr, 0), ctx, "coast");
+        check(um_features_read_geojson(f, (data + "/rivers_global_l.geojson").c_str(), nullptr, 0), ctx, "rivers");
+    } else {
+        check(um_spacing_create_from_file(ctx, (data + "/midatlantic_cellwidth.nc").c_str(), &h), ctx, "spacing file");
+        check(um_features_create(ctx, &f), ctx, "features");
+        add_global_coast_outside_box(ctx, f, data + "/coast_global_l.geojson");
+        check(um_features_read_geojson(f, (data + "/coast_midatlantic_f.geojson").c_str(), nullptr, 0), ctx, "coast f");
+        check(um_features_read_geojson(f, (data + "/rivers_midatlantic_f.geojson").c_str(), nullptr, 0), ctx, "rivers f");
+    }
+    Phases phases;
+    um_context_set_progress(ctx, on_progress, &phases);
+    long base_kb = max_rss_kb();
+    auto t0 = Clock::now();
+    phases.start = phases.last = t0;
+    um_mesh *m = nullptr;
+    um_status s = um_mesh_refine(ctx, h, f, nullptr, &m);
+    auto t1 = Clock::now();
+    r.total_s = std::chrono::duration<double>(t1 - t0).count();
+    if (!phases.stage.empty()) phases.seconds[phases.stage] += std::chrono::duration<double>(t1 - phases.last).count();
+    r.boundary_s = phases.seconds["refine boundary"];
+    r.surface_s = phases.seconds["refine surface"];
+    r.peak_mb = (max_rss_kb() - base_kb) / 1024.0;
+    if (s != UM_OK) {
+        std::snprintf(r.error, sizeof r.error, "%s", um_context_last_error(ctx));
+    } else {
+        um_mesh_counts(m, &r.cells, &r.triangles, &r.restricted, &r.filtered);
+        r.ok = 1;
+    }
+    um_mesh_destroy(m);
+    um_features_destroy(f);
+    um_spacing_destroy(h);
+    um_context_destroy(ctx);
+    return r;
+}
+
+Result in_child(const std::string &name, const std::string &data, int threads) {
+    int fd[2];
+    if (pipe(fd) != 0) std::exit(2);
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(fd[0]);
+        Result r = run_case(name, data, threads);
+        ssize_t w = write(fd[1], &r, sizeof r);
+        _exit(w == static_cast<ssize_t>(sizeof r) ? 0 : 1);
+    }
+    close(fd[1]);
+    Result r;
+    ssize_t got = read(fd[0], &r, sizeof r);
+    close(fd[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (got != static_cast<ssize_t>(sizeof r)) {
+        r = Result();
+        std::snprintf(r.error, sizeof r.error, "child failed (status %d)", status);
+    }
+    return r;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+    std::string data = UNIMESH_DATA_DIR;
+    std::vector<std::string> cases = {"uniform-30km", "coast-rivers-60km", "midatlantic"};
+    for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "--data") && i + 1 < argc) data = argv[++i];
+        else if (!std::strcmp(argv[i], "--cases") && i + 1 < argc) {
+            cases.clear();
+            std::string list = argv[++i];
+            for (size_t b = 0, e; b <= list.size(); b = e + 1) {
+                e = list.find(',', b);
+                if (e == std::string::npos) e = list.size();
+                if (e > b) cases.push_back(list.substr(b, e - b));
+            }
+        } else {
+            std::fprintf(stderr, "usage: bench_refine [--cases uniform-30km,coast-rivers-60km,midatlantic] [--data DIR]\n");
+            return 2;
+        }
+    }
+    std::printf("# bench_refine: um_mesh_refine (boundary + surface refinement), unimesh %s\n", um_version_string());
+    std::printf("# each run in its own child; peak_MB = growth of its max RSS during the refinement\n");
+    std::printf("%-18s %3s %9s %9s %9s %9s %9s %10s %9s %8s %7s\n", "case", "thr", "cells", "triangles",
+                "restrict", "filtered", "boundary", "surface+", "total_s", "peak_MB", "B/cell");
+    int failures = 0;
+    for (const auto &c : cases)
+        for (int threads : {1, 2}) {
+            Result r = in_child(c, data, threads);
+            if (!r.ok) {
+                std::printf("%-18s %3d FAILED: %s\n", c.c_str(), threads, r.error);
+                ++failures;
+                continue;
+            }
+            std::printf("%-18s %3d %9lld %9lld %9lld %9lld %9.3f %10.3f %9.3f %8.1f %7.0f\n", c.c_str(),
+                        threads, (long long)r.cells, (long long)r.triangles, (long long)r.restricted,
+                        (long long)r.filtered, r.boundary_s, r.total_s - r.boundary_s, r.total_s,
+                        r.peak_mb, r.peak_mb * 1048576.0 / double(r.cells));
+            std::fflush(stdout);
+        }
+    std::printf("# boundary = boundary refinement; surface+ = surface refinement and the tags\n");
+    return failures ? 1 : 0;
+}
