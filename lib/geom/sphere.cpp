@@ -48,6 +48,14 @@ double signed_triangle_area(Vec3 a, Vec3 b, Vec3 c) {
 
 bool arc_intersection(Vec3 a0, Vec3 a1, Vec3 b0, Vec3 b1, Vec3 &crossing, double tolerance) {
     Vec3 na = cross(a0, a1), nb = cross(b0, b1);
+    // Quick rejection: both ends of one arc strictly on one side of the other's
+    // great circle, farther than the tolerance (and rounding) from it.
+    const double margin = tolerance + 1e-15;
+    const double la = norm(na), lb = norm(nb);
+    const double sb0 = dot(na, b0), sb1 = dot(na, b1), sa0 = dot(nb, a0), sa1 = dot(nb, a1);
+    if ((sb0 > margin * la && sb1 > margin * la) || (sb0 < -margin * la && sb1 < -margin * la) ||
+        (sa0 > margin * lb && sa1 > margin * lb) || (sa0 < -margin * lb && sa1 < -margin * lb))
+        return false;
     Vec3 line = cross(na, nb);
     double ll = norm(line);
     if (ll > 0) {

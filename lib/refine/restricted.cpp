@@ -6,8 +6,12 @@ namespace um::refine {
 
 bool restricted_crossing(const tri::Triangulation &tri, int32_t t, int k,
                          const geom::ArcTree &gamma, RestrictedEdge *out) {
-    const int32_t u = tri.neighbour(t, k);
-    const Vec3 c0 = tri.orthocentre(t), c1 = tri.orthocentre(u);
+    return restricted_crossing(tri, t, k, tri.orthocentre(t), tri.orthocentre(tri.neighbour(t, k)),
+                               gamma, out);
+}
+
+bool restricted_crossing(const tri::Triangulation &tri, int32_t t, int k, const Vec3 &c0,
+                         const Vec3 &c1, const geom::ArcTree &gamma, RestrictedEdge *out) {
     const Vec3 xi = tri.direction(tri.vertex(t, (k + 1) % 3));
     const Vec3 xj = tri.direction(tri.vertex(t, (k + 2) % 3));
     bool found = false;
@@ -38,10 +42,13 @@ std::vector<RestrictedEdge> restricted_edges(Context &ctx, const tri::Triangulat
             for (int64_t t = c * kChunk; t < std::min(n, (c + 1) * kChunk); ++t) {
                 const int32_t ti = static_cast<int32_t>(t);
                 if (tri.is_free(ti)) continue;
+                const Vec3 ct = tri.orthocentre(ti);
                 for (int k = 0; k < 3; ++k) {
-                    if (tri.neighbour(ti, k) < ti) continue;  // each edge once
+                    const int32_t u = tri.neighbour(ti, k);
+                    if (u < ti) continue;  // each edge once
                     RestrictedEdge r;
-                    if (restricted_crossing(tri, ti, k, gamma, &r)) found[c].push_back(r);
+                    if (restricted_crossing(tri, ti, k, ct, tri.orthocentre(u), gamma, &r))
+                        found[c].push_back(r);
                 }
             }
         }

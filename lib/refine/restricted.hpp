@@ -28,6 +28,10 @@ struct RestrictedEdge {
 // The crossing of edge k of t with Gamma, if any.
 bool restricted_crossing(const tri::Triangulation &tri, int32_t t, int k,
                          const geom::ArcTree &gamma, RestrictedEdge *out);
+// The same with the orthocentres of t and of its neighbour across edge k
+// already known (c0, c1).
+bool restricted_crossing(const tri::Triangulation &tri, int32_t t, int k, const Vec3 &c0,
+                         const Vec3 &c1, const geom::ArcTree &gamma, RestrictedEdge *out);
 
 // All restricted edges, each once (from the triangle with the smaller index),
 // in triangle order; evaluated in parallel, the same for any thread count.

@@ -52,13 +52,22 @@ double nearest_neighbour(const tri::Triangulation &tri, int32_t v) {
 bool encroached_edge(const tri::Triangulation &tri, const Vec3 &p, int32_t hint,
                      const geom::ArcTree &gamma, RestrictedEdge *out) {
     int32_t t0 = tri.locate(p, hint);
-    int32_t near[4] = {t0, tri.neighbour(t0, 0), tri.neighbour(t0, 1), tri.neighbour(t0, 2)};
-    for (int32_t t : near)
-        for (int k = 0; k < 3; ++k) {
-            RestrictedEdge e;
-            if (restricted_crossing(tri, t, k, gamma, &e) && geom::arc_length(p, e.centre) < e.radius)
+    const Vec3 c0 = tri.orthocentre(t0);
+    for (int k0 = 0; k0 < 3; ++k0) {
+        // Edge k0 of t0, then the two other edges of its neighbour t1.
+        const int32_t t1 = tri.neighbour(t0, k0);
+        const Vec3 c1 = tri.orthocentre(t1);
+        RestrictedEdge e;
+        if (restricted_crossing(tri, t0, k0, c0, c1, gamma, &e) && geom::arc_length(p, e.centre) < e.radius)
+            return *out = e, true;
+        for (int k1 = 0; k1 < 3; ++k1) {
+            const int32_t t2 = tri.neighbour(t1, k1);
+            if (t2 == t0) continue;
+            if (restricted_crossing(tri, t1, k1, c1, tri.orthocentre(t2), gamma, &e) &&
+                geom::arc_length(p, e.centre) < e.radius)
                 return *out = e, true;
         }
+    }
     return false;
 }
 
