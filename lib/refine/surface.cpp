@@ -33,6 +33,18 @@ Vec3 towards(const Vec3 &m, const Vec3 &c, double d) {
     return geom::normalized(std::cos(d) * m + std::sin(d) * t);
 }
 
+// Whether any Gamma arc comes within (about) `reach` of p: a surface ball
+// holding p has its centre on Gamma within its radius, below ~h, so farther
+// candidates need no encroachment search.
+bool near_gamma(const geom::ArcTree &gamma, const Vec3 &p, double reach) {
+    geom::Box box;
+    box.add(p);
+    box.grow(reach);
+    bool any = false;
+    gamma.query(box, [&](int32_t) { any = true; });
+    return any;
+}
+
 // Arc distance from v to its nearest neighbour (chords compared, one asin).
 double nearest_neighbour(const tri::Triangulation &tri, int32_t v) {
     double d2 = 1e300;
@@ -143,7 +155,8 @@ SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const Spacing
         Vec3 p = towards(m, centre, d);
         int32_t arc = -1;
         RestrictedEdge enc;
-        if (options.gamma && encroached_edge(tri, p, c.t, *options.gamma, &enc)) {
+        if (options.gamma && near_gamma(*options.gamma, p, 3 * target) &&
+            encroached_edge(tri, p, c.t, *options.gamma, &enc)) {
             if (enc.radius < options.filter * h(enc.centre)) {
                 ++stats.rejected;  // left as it is: refining would over-refine Gamma
                 continue;
