@@ -519,6 +519,23 @@ UM_API um_status um_mesh_copy_restricted_edges(const um_mesh *m, int32_t base,
 UM_API um_status um_mesh_copy_vertex_sides(const um_mesh *m, int32_t *out, int64_t capacity);
 UM_API um_status um_mesh_copy_triangle_sides(const um_mesh *m, int32_t *out, int64_t capacity);
 
+/* Quality (the paper's Figure 10 metrics, DESIGN.md section 5): per triangle
+ * the area-length ratio Q^T (1 = equilateral), the primal-dual staggering Q^P
+ * (eq. 1), the smallest and largest angles (degrees), and per edge its length
+ * over the spacing at its midpoint (h_r). Arc lengths and geodesic areas on
+ * the sphere. The JSON report holds, for each metric, min / 1st percentile /
+ * mean / max and a 50-bin histogram, and the counts of obtuse triangles and
+ * of triangles that do not contain their orthocentre; it is copied out as
+ * strings are. The summary takes a metric name: "area_length_ratio",
+ * "primal_dual", "angle_min_deg", "angle_max_deg" or "edge_spacing_ratio"
+ * (out-pointers may be NULL). */
+UM_API um_status um_mesh_quality_json(const um_mesh *m, char *buf, int64_t capacity,
+                                      int64_t *needed);
+UM_API um_status um_mesh_quality_summary(const um_mesh *m, const char *metric, double *min,
+                                         double *p1, double *mean, double *max);
+UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
+                                        int64_t *not_well_centred);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

@@ -4,6 +4,7 @@
 #include "capi/api.hpp"
 #include "capi/objects.hpp"
 #include "geom/sphere.hpp"
+#include "quality/metrics.hpp"
 
 using um::fail;
 using um::capi::HandleKind;
@@ -26,6 +27,11 @@ void check_capacity(int64_t capacity, int64_t needed, const char *what) {
              " elements ", what, " needs");
 }
 
+um::quality::Report quality_of(const um_mesh *m) {
+    return um::quality::measure(*m->context, m->mesh.tri,
+                                um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m));
+}
+
 }  // namespace
 
 extern "C" {
@@ -46,7 +52,7 @@ UM_API um_status um_mesh_refine(um_context *ctx, const um_spacing *spacing,
     if (features) gamma = std::make_shared<um::features::Network>(features->network);
     auto handle = std::make_unique<um_mesh>();
     handle->context = ctx->state;
-    handle->mesh = um::mesh::refine_mesh(*ctx->state, *spacing->spacing, gamma, opts);
+    handle->mesh = um::mesh::refine_mesh(*ctx->state, spacing->spacing, gamma, opts);
     um::capi::register_handle(handle.get(), HandleKind::mesh);
     *out = handle.release();
     return UM_OK;
@@ -152,6 +158,50 @@ UM_API um_status um_mesh_copy_triangle_sides(const um_mesh *m, int32_t *out, int
     require_pointer(out, "out");
     for (int32_t f = 0; f < tri.triangle_count(); ++f)
         out[f] = static_cast<int32_t>(m->mesh.triangle_side[f]);
+    return UM_OK;
+    UM_API_END(state_or_null(m))
+}
+
+UM_API um_status um_mesh_quality_json(const um_mesh *m, char *buf, int64_t capacity,
+                                      int64_t *needed) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    um::quality::Report r = quality_of(m);
+    return um::capi::copy_out_string(m->context.get(), um::quality::to_json(r), buf, capacity, needed);
+    UM_API_END(state_or_null(m))
+}
+
+UM_API um_status um_mesh_quality_summary(const um_mesh *m, const char *metric, double *min,
+                                         double *p1, double *mean, double *max) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    require_pointer(metric, "metric");
+    um::quality::Report r = quality_of(m);
+    const std::string name = metric;
+    const um::quality::Summary *s = name == "area_length_ratio"    ? &r.area_length
+                                    : name == "primal_dual"        ? &r.primal_dual
+                                    : name == "angle_min_deg"      ? &r.angle_min
+                                    : name == "angle_max_deg"      ? &r.angle_max
+                                    : name == "edge_spacing_ratio" ? &r.spacing_ratio
+                                                                   : nullptr;
+    if (!s)
+        fail(UM_ERR_INVALID_ARGUMENT, "metric = '", name, "' is not one of area_length_ratio, "
+             "primal_dual, angle_min_deg, angle_max_deg, edge_spacing_ratio");
+    if (min) *min = s->min;
+    if (p1) *p1 = s->p1;
+    if (mean) *mean = s->mean;
+    if (max) *max = s->max;
+    return UM_OK;
+    UM_API_END(state_or_null(m))
+}
+
+UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
+                                        int64_t *not_well_centred) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    um::quality::Report r = quality_of(m);
+    if (obtuse) *obtuse = r.obtuse;
+    if (not_well_centred) *not_well_centred = r.not_well_centred;
     return UM_OK;
     UM_API_END(state_or_null(m))
 }

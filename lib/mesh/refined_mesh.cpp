@@ -8,10 +8,8 @@
 
 namespace um::mesh {
 
-namespace {
-
 // h in radians on the unit sphere, refusing values no mesh can follow.
-refine::SpacingRadians checked_spacing(const hfun::Spacing &h, double radius_m) {
+refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m) {
     const double per_km = 1000.0 / radius_m;
     return [&h, per_km](const geom::Vec3 &x) {
         double km = h.km_at(x);
@@ -26,6 +24,8 @@ refine::SpacingRadians checked_spacing(const hfun::Spacing &h, double radius_m) 
     };
 }
 
+namespace {
+
 void number_vertices(RefinedMesh &m) {
     m.vertex_of_slot.assign(static_cast<size_t>(m.tri.vertex_slots()), -1);
     m.slot_of_vertex.clear();
@@ -38,12 +38,13 @@ void number_vertices(RefinedMesh &m) {
 
 }  // namespace
 
-RefinedMesh refine_mesh(Context &ctx, const hfun::Spacing &h,
+RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
                         std::shared_ptr<const features::Network> gamma, const Options &options) {
     RefinedMesh m;
     m.radius_m = options.real(UM_OPT_SPHERE_RADIUS);
     m.gamma = std::move(gamma);
-    const refine::SpacingRadians hr = checked_spacing(h, m.radius_m);
+    m.spacing = std::move(h);
+    const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
     m.tri = refine::icosahedron(ctx);
     int32_t next_id = 12;
 

@@ -14,6 +14,7 @@
 #include "hfun/spacing.hpp"
 #include "refine/restricted.hpp"
 #include "refine/sides.hpp"
+#include "refine/surface.hpp"
 #include "tri/triangulation.hpp"
 
 namespace um::mesh {
@@ -21,6 +22,7 @@ namespace um::mesh {
 struct RefinedMesh {
     tri::Triangulation tri;
     std::shared_ptr<const features::Network> gamma;  // may be empty
+    hfun::SpacingPtr spacing;                         // what it was refined to
     double radius_m = 0;
     // Per vertex slot: the Gamma segment it was placed on, or -1.
     std::vector<int32_t> on_segment;
@@ -37,7 +39,10 @@ struct RefinedMesh {
 // Refines from the icosahedron. gamma may be null (no features); h is read
 // through its km_at and checked (finite, > 0) wherever it is used; options
 // give alpha, beta, rho and the sphere radius.
-RefinedMesh refine_mesh(Context &ctx, const hfun::Spacing &h,
+RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
                         std::shared_ptr<const features::Network> gamma, const Options &options);
+
+// The spacing in radians on the unit sphere, checked (finite, > 0) where read.
+refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m);
 
 }  // namespace um::mesh

@@ -199,6 +199,39 @@ static void spacing_callback_failure_names_the_point(void **state) {
     um_spacing_destroy(h);
 }
 
+static void quality_report(void **state) {
+    um_context *ctx = *state;
+    um_spacing *h = NULL;
+    assert_int_equal(um_spacing_create_constant(ctx, 400.0, &h), UM_OK);
+    um_mesh *m = NULL;
+    assert_int_equal(um_mesh_refine(ctx, h, NULL, NULL, &m), UM_OK);
+    double mn, p1, mean, mx;
+    assert_int_equal(um_mesh_quality_summary(m, "area_length_ratio", &mn, &p1, &mean, &mx), UM_OK);
+    /* spherical triangles have a little more area than flat ones: just above 1 */
+    assert_true(mn > 0.5 && mx < 1.01 && mean > 0.9);
+    /* radius-edge < 1.05 bounds the smallest angle by asin(1 / 2.1) = 28.4 degrees */
+    assert_int_equal(um_mesh_quality_summary(m, "angle_min_deg", &mn, &p1, &mean, &mx), UM_OK);
+    assert_true(mn > 28.0 && mx < 60.5);
+    assert_int_equal(um_mesh_quality_summary(m, "primal_dual", &mn, NULL, &mean, &mx), UM_OK);
+    assert_true(mn > 0 && mx <= 1.0 + 1e-12 && mean > 0.9);
+    assert_int_equal(um_mesh_quality_summary(m, "edge_spacing_ratio", &mn, NULL, &mean, &mx), UM_OK);
+    assert_true(mn >= 0.5 && mx < 1.54 && fabs(mean - 1.0) < 0.1);
+    int64_t obtuse = -1, bad = -1;
+    assert_int_equal(um_mesh_quality_counts(m, &obtuse, &bad), UM_OK);
+    assert_true(obtuse >= 0 && bad >= 0 && bad <= obtuse);
+    int64_t needed = 0;
+    assert_int_equal(um_mesh_quality_json(m, NULL, 0, &needed), UM_ERR_BUFFER_TOO_SMALL);
+    char *json = malloc(needed);
+    assert_int_equal(um_mesh_quality_json(m, json, needed, NULL), UM_OK);
+    assert_non_null(strstr(json, "\"primal_dual\""));
+    assert_non_null(strstr(json, "\"not_well_centred\""));
+    free(json);
+    assert_int_equal(um_mesh_quality_summary(m, "nonsense", &mn, NULL, NULL, NULL), UM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(um_context_last_error(ctx), "nonsense"));
+    um_mesh_destroy(m);
+    um_spacing_destroy(h);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(uniform_sphere, setup_context, teardown_context),
@@ -207,6 +240,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(bad_input, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(spacing_callback_failure_names_the_point, setup_context,
                                         teardown_context),
+        cmocka_unit_test_setup_teardown(quality_report, setup_context, teardown_context),
     };
     return cmocka_run_group_tests_name("mesh_api", tests, NULL, NULL);
 }

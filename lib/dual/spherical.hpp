@@ -1,0 +1,63 @@
+// Geodesic measures of the staggered mesh on the unit sphere, written so that
+// small elements keep their relative accuracy: the output contract asks for
+// 1e-10 relative on lengths and areas, and the naive forms (a . (b x c),
+// |a x b|) lose it on cells a few km wide, where the parts cancel to h^2.
+#pragma once
+
+#include <cmath>
+
+#include "geom/sphere.hpp"
+
+namespace um::dual {
+
+using geom::Vec3;
+
+// Great-circle distance (radians): atan2(|a x b|, a . b), with a x b taken as
+// (a - b) x b, whose rounding scales with |a - b| rather than with 1.
+inline double arc(Vec3 a, Vec3 b) {
+    return std::atan2(geom::norm(geom::cross(a - b, b)), geom::dot(a, b));
+}
+
+// Signed area (steradians) of the geodesic triangle (a, b, c), positive when
+// counter-clockwise seen from outside: tan(E/2) = det / (1 + a.b + b.c + c.a)
+// (Eriksson 1990), with det = a . ((b - a) x (c - a)).
+inline double signed_area(Vec3 a, Vec3 b, Vec3 c) {
+    double det = geom::dot(a, geom::cross(b - a, c - a));
+    double den = 1.0 + geom::dot(a, b) + geom::dot(b, c) + geom::dot(c, a);
+    return 2.0 * std::atan2(det, den);
+}
+
+// Where the dual arc of the primal edge (i, j) crosses the primal great
+// circle, from the lifted points q_i, q_j (DESIGN.md section 3): the unit
+// point p = a x_i + b x_j with p . (q_i - q_j) = 0, i.e. a = s_j - s_i cos d,
+// b = s_i - s_j cos d (s = |q|), with 1 - cos d written as |x_i - x_j|^2 / 2
+// so that equal weights do not cancel.
+inline Vec3 edge_point(Vec3 qi, Vec3 qj) {
+    double si = geom::norm(qi), sj = geom::norm(qj);
+    Vec3 xi = (1.0 / si) * qi, xj = (1.0 / sj) * qj;
+    Vec3 d = xi - xj;
+    double one_minus_cos = 0.5 * geom::dot(d, d);
+    double a = (sj - si) + si * one_minus_cos;
+    double b = (si - sj) + sj * one_minus_cos;
+    return geom::normalized(a * xi + b * xj);
+}
+
+// Latitude and longitude (radians) of a unit vector; longitude in (-pi, pi]
+// (0 at the poles).
+inline void lat_lon(Vec3 u, double &lat, double &lon) {
+    lat = std::atan2(u.z, std::hypot(u.x, u.y));
+    lon = std::atan2(u.y, u.x);
+    if (lon <= -M_PI) lon = M_PI;
+}
+
+// angleEdge: the angle of the normal n (any tangent vector at the unit point
+// e) counter-clockwise from local east, atan2(n . north, n . east). At a pole,
+// east is taken as that of longitude 0, which lat_lon gives there.
+inline double angle_from_east(Vec3 n, Vec3 e) {
+    double h = std::hypot(e.x, e.y);
+    Vec3 east = h > 0 ? Vec3{-e.y / h, e.x / h, 0.0} : Vec3{0.0, 1.0, 0.0};
+    Vec3 north = geom::cross(e, east);
+    return std::atan2(geom::dot(n, north), geom::dot(n, east));
+}
+
+}  // namespace um::dual

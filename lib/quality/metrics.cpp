@@ -1,0 +1,132 @@
+#include "quality/metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/text.hpp"
+#include "geom/predicates.hpp"
+
+namespace um::quality {
+
+using geom::Vec3;
+
+namespace {
+
+constexpr double kDegree = 180.0 / M_PI;
+
+// Interior angle at b of the spherical triangle (a, b, c), radians.
+double angle_at(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+    Vec3 ta = geom::cross(geom::cross(b, a), b), tc = geom::cross(geom::cross(b, c), b);
+    return std::atan2(geom::norm(geom::cross(ta, tc)), geom::dot(ta, tc));
+}
+
+Summary summarise(std::vector<double> values, double lo, double hi) {
+    Summary s;
+    s.lo = lo, s.hi = hi;
+    s.histogram.assign(kBins, 0);
+    if (values.empty()) return s;
+    double sum = 0;
+    for (double v : values) {
+        sum += v;
+        int b = static_cast<int>((v - lo) / (hi - lo) * kBins);
+        ++s.histogram[std::clamp(b, 0, kBins - 1)];
+    }
+    s.mean = sum / double(values.size());  // summed in index order: deterministic
+    std::sort(values.begin(), values.end());
+    s.min = values.front(), s.max = values.back();
+    s.p1 = values[values.size() / 100];
+    return s;
+}
+
+std::string json_summary(const Summary &s) {
+    std::string h = "[";
+    for (size_t i = 0; i < s.histogram.size(); ++i) h += (i ? "," : "") + to_text(s.histogram[i]);
+    return concat("{\"min\": ", s.min, ", \"p1\": ", s.p1, ", \"mean\": ", s.mean, ", \"max\": ", s.max,
+                  ", \"histogram\": {\"lo\": ", s.lo, ", \"hi\": ", s.hi, ", \"counts\": ", h, "]}}");
+}
+
+}  // namespace
+
+TriangleQuality triangle_quality(const tri::Triangulation &tri, int32_t t) {
+    Vec3 x[3];
+    for (int k = 0; k < 3; ++k) x[k] = tri.direction(tri.vertex(t, k));
+    double l[3], l2 = 0, lsum = 0;
+    for (int k = 0; k < 3; ++k) {
+        l[k] = geom::arc_length(x[(k + 1) % 3], x[(k + 2) % 3]);  // opposite vertex k
+        l2 += l[k] * l[k], lsum += l[k];
+    }
+    const double area = geom::signed_triangle_area(x[0], x[1], x[2]);
+    TriangleQuality q;
+    q.area_length = 4 * std::sqrt(3.0) * area / l2;
+    const Vec3 ortho = tri.orthocentre(t);
+    const Vec3 centroid = geom::normalized(x[0] + x[1] + x[2]);
+    const double d_f = geom::arc_length(ortho, centroid);
+    double edge_term = 0;
+    for (int k = 0; k < 3; ++k) {
+        Vec3 mid = geom::normalized(x[(k + 1) % 3] + x[(k + 2) % 3]);
+        double d_e = geom::arc_length(tri.edge_orthocentre(t, k), mid);
+        edge_term += 1 - (d_e / l[k]) * (d_e / l[k]);
+    }
+    const double l_mean = lsum / 3;
+    q.primal_dual = 2.0 / 3.0 * (1 - (d_f / l_mean) * (d_f / l_mean)) + 1.0 / 3.0 * edge_term / 3;
+    double angles[3];
+    for (int k = 0; k < 3; ++k) angles[k] = angle_at(x[(k + 2) % 3], x[k], x[(k + 1) % 3]) * kDegree;
+    q.angle_min = std::min({angles[0], angles[1], angles[2]});
+    q.angle_max = std::max({angles[0], angles[1], angles[2]});
+    // Inside (or on) the triangle: on the left of (or on) every edge, exactly.
+    q.well_centred = true;
+    for (int k = 0; k < 3; ++k)
+        q.well_centred &= geom::orient_origin(x[(k + 1) % 3].data(), x[(k + 2) % 3].data(), ortho.data()) >= 0;
+    return q;
+}
+
+Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h) {
+    const int32_t n = tri.triangle_slots();
+    std::vector<TriangleQuality> q(static_cast<size_t>(n));
+    std::vector<double> ratio(3 * static_cast<size_t>(n), -1.0);
+    ctx.parallel_for(n, 2048, [&](int64_t b, int64_t e) {
+        for (int64_t t = b; t < e; ++t) {
+            const int32_t ti = static_cast<int32_t>(t);
+            if (tri.is_free(ti)) continue;
+            q[t] = triangle_quality(tri, ti);
+            if (!h) continue;
+            for (int k = 0; k < 3; ++k) {
+                if (tri.neighbour(ti, k) < ti) continue;  // each edge once
+                Vec3 a = tri.direction(tri.vertex(ti, (k + 1) % 3)), c = tri.direction(tri.vertex(ti, (k + 2) % 3));
+                ratio[3 * t + k] = geom::arc_length(a, c) / h(geom::normalized(a + c));
+            }
+        }
+    });
+    Report r;
+    std::vector<double> qt, qp, amin, amax, hr;
+    for (int32_t t = 0; t < n; ++t) {
+        if (tri.is_free(t)) continue;
+        ++r.triangles;
+        qt.push_back(q[t].area_length), qp.push_back(q[t].primal_dual);
+        amin.push_back(q[t].angle_min), amax.push_back(q[t].angle_max);
+        r.obtuse += q[t].angle_max > 90;
+        r.not_well_centred += !q[t].well_centred;
+        for (int k = 0; k < 3; ++k)
+            if (ratio[3 * size_t(t) + k] >= 0) hr.push_back(ratio[3 * size_t(t) + k]);
+    }
+    r.edges = 3 * r.triangles / 2;
+    r.area_length = summarise(qt, 0, 1);
+    r.primal_dual = summarise(qp, 0, 1);
+    r.angle_min = summarise(amin, 0, 180);
+    r.angle_max = summarise(amax, 0, 180);
+    r.spacing_ratio = summarise(hr, 0, 2);
+    return r;
+}
+
+std::string to_json(const Report &r) {
+    return concat("{\n  \"triangles\": ", r.triangles, ",\n  \"edges\": ", r.edges,
+                  ",\n  \"area_length_ratio\": ", json_summary(r.area_length),
+                  ",\n  \"primal_dual\": ", json_summary(r.primal_dual),
+                  ",\n  \"angle_min_deg\": ", json_summary(r.angle_min),
+                  ",\n  \"angle_max_deg\": ", json_summary(r.angle_max),
+                  ",\n  \"edge_spacing_ratio\": ", json_summary(r.spacing_ratio),
+                  ",\n  \"obtuse_triangles\": ", r.obtuse,
+                  ",\n  \"not_well_centred\": ", r.not_well_centred, "\n}\n");
+}
+
+}  // namespace um::quality

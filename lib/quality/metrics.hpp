@@ -1,0 +1,52 @@
+// Mesh quality metrics (DESIGN.md section 5, the paper's Figure 10), on the
+// sphere with arc lengths and spherical (geodesic) areas:
+//   Q^T  area-length ratio 4 sqrt(3) A / (l1^2 + l2^2 + l3^2) (1 = equilateral);
+//   Q^P  primal-dual staggering, eq. 1: beta_f (1 - (d_f / l_mean)^2)
+//        + beta_e mean_e (1 - (d_e / l_e)^2), d_f = |orthocentre - centroid|,
+//        d_e = |edge orthocentre - edge midpoint|, beta_f = 2/3, beta_e = 1/3;
+//   angles of every triangle (degrees), the share with an angle > 90;
+//   h_r = l_e / h(midpoint of e) per edge;
+//   well-centred: the triangle contains its orthocentre.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/context.hpp"
+#include "refine/surface.hpp"
+#include "tri/triangulation.hpp"
+
+namespace um::quality {
+
+struct TriangleQuality {
+    double area_length;  // Q^T
+    double primal_dual;  // Q^P
+    double angle_min, angle_max;  // degrees
+    bool well_centred;
+};
+
+TriangleQuality triangle_quality(const tri::Triangulation &tri, int32_t t);
+
+struct Summary {
+    double min = 0, p1 = 0, mean = 0, max = 0;
+    std::vector<int64_t> histogram;  // kBins bins over [lo, hi]
+    double lo = 0, hi = 1;
+};
+constexpr int kBins = 50;
+
+struct Report {
+    int64_t triangles = 0, edges = 0;
+    Summary area_length, primal_dual, angle_min, angle_max, spacing_ratio;
+    int64_t obtuse = 0;           // triangles with an angle > 90 degrees
+    int64_t not_well_centred = 0;
+};
+
+// Every metric over the live triangles (in parallel; the same result for any
+// thread count). h may be empty: then h_r is not computed.
+Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h);
+
+// The report as JSON text (for quality.json).
+std::string to_json(const Report &r);
+
+}  // namespace um::quality
