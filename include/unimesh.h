@@ -536,6 +536,43 @@ UM_API um_status um_mesh_quality_summary(const um_mesh *m, const char *metric, d
 UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
                                         int64_t *not_well_centred);
 
+/* -------------------------------------------------------------- MPAS output */
+
+/* Writes the MPAS staggered mesh of m to a netCDF file at path (created or
+ * overwritten), in the form MPAS-Tools' MpasMeshConverter.x writes:
+ *   cells     the power cells of the mesh vertices (xCell = the generator);
+ *   vertices  the triangles, at their orthocentres (power vertices), not
+ *             their circumcentres;
+ *   edges     one per triangle edge: the primal (cell-cell) arc and the dual
+ *             (vertex-vertex) arc, orthogonal; xEdge is where they cross.
+ * Every variable of the MPAS mesh specification (dimensions nCells, nEdges,
+ * nVertices, maxEdges, maxEdges2, TWO, vertexDegree = 3, Time), int32
+ * connectivity 1-based with 0 padding, doubles for the rest; orderings
+ * counter-clockwise seen from outside; n_e from cellsOnEdge(e,1) to (e,2),
+ * k x n_e from verticesOnEdge(e,1) to (e,2); signed geodesic areas and kites;
+ * TRSK weightsOnEdge (Thuburn et al. 2009); exact angleEdge; lat/lon in
+ * radians, longitudes in (-pi, pi]; lengths in m and areas in m^2 on the
+ * sphere of radius UM_OPT_SPHERE_RADIUS given to um_mesh_refine;
+ * meshDensity = (min h / h)^4 from the spacing h the mesh was refined to, at
+ * the generators (the minimum over the cells). Unified tags: cellSide (per
+ * cell) and vertexSide (per vertex), UM_SIDE_* values with flag_values /
+ * flag_meanings attributes.
+ * Global attributes on_a_sphere = "YES", sphere_radius, is_periodic = "NO",
+ * mesh_spec = "1.0", Conventions = "MPAS", source = "unimesh <version>" and a
+ * file_id hashed from the content.
+ *
+ * Cells, edges and vertices are numbered along a space-filling curve so that
+ * neighbours have nearby indices. The file is netCDF classic 64-bit offset,
+ * or CDF-5 when a variable is too large for it (meshes of about 8 million
+ * cells and more). The same mesh gives the same bytes for any thread count.
+ * The progress callback sees stage "MPAS mesh" before the mesh is built and
+ * before the file is written; cancelling there writes nothing.
+ * Errors: UM_ERR_IO naming the file (a partly written file is removed),
+ * UM_ERR_LIMIT when a count does not fit int32, UM_ERR_MEMORY_CAP, and the
+ * spacing's errors if a callback spacing gives a value that is not finite
+ * and > 0 at a generator. */
+UM_API um_status um_mesh_write_mpas(const um_mesh *m, const char *path);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
-# The main job: sets up (tools/setup.sh), builds, then runs the default job.
+# The main job: sets up (tools/setup.sh), builds, then meshes the globe to the
+# shipped GSHHG coastlines and major rivers at 60 km, writing the MPAS mesh,
+# graph.info, a VTK file and the quality report into out/.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 export BUILD_DIR=${BUILD_DIR:-$root/build}
 "$root/tools/setup.sh"
-exec "$BUILD_DIR/tools/unimesh" demo --out "$root/out"
+exec "$BUILD_DIR/tools/unimesh" build \
+  --geometry "$root/data/coast_global_l.geojson" \
+  --geometry "$root/data/rivers_global_l.geojson" \
+  --spacing-km 60 --out "$root/out"

@@ -9,6 +9,12 @@
 !   call um_options_set_double(opts, UM_OPT_REFINE_ALPHA, 1.25d0, ierr)
 !   if (ierr /= UM_OK) print *, um_context_last_error(ctx)
 !   call um_options_destroy(opts)
+!
+!   type(um_triangulation_t) :: tri
+!   integer, allocatable :: triangles(:, :)       ! (3, n_triangles), 1-based
+!   call um_triangulation_create(ctx, lon_deg, lat_deg, tri)   ! real(real64)(:)
+!   call um_triangulation_get_triangles(tri, triangles)
+!   call um_triangulation_destroy(tri)
 !   call um_context_destroy(ctx)
 !
 ! Routines carry the C names and take Fortran types: handles wrapped in small
@@ -32,13 +38,15 @@
 ! intent(out), function results) and a finaliser on a copy would destroy the
 ! one C object every copy shares.
 !
-! Adding a handle type (e.g. um_triangulation_t) follows um_options_t: a type
-! holding the C pointer plus the borrowed context pointer its errors are
-! recorded in, create/destroy routines, and `call finish(status, h%ctx, ...)`
-! after every C call.
+! Adding a handle type follows um_options_t (um_triangulation_t is another
+! example): a type holding the C pointer plus the borrowed context pointer its
+! errors are recorded in, create/destroy routines, and
+! `call finish(status, h%ctx, ...)` after every C call. Array results are
+! allocatable dummies allocated to the size the C counts give, indices 1-based
+! (see the triangulation section).
 module unimesh
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_f_pointer, &
-      c_char, c_null_char, c_int32_t, c_int64_t, c_double, c_size_t
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_f_pointer, c_loc, &
+      c_char, c_null_char, c_int32_t, c_int64_t, c_double, c_size_t, c_funloc
   use, intrinsic :: iso_fortran_env, only: error_unit, int64, real64
   use unimesh_cint
   implicit none
@@ -61,6 +69,9 @@ module unimesh
       UM_OPT_OPTIM_INNER_ITERATIONS, UM_OPT_OPTIM_TOLERANCE, UM_OPT_OPTIM_WEIGHTS, &
       UM_OPT_OPTIM_FIX_BOUNDARY, UM_OPT_OPTIM_COLLAPSE_RATIO, UM_OPT_OPTIM_SPLIT_RATIO
   public :: UM_OPTION_TYPE_INT, UM_OPTION_TYPE_REAL
+  public :: UM_FEATURE_COASTLINE, UM_FEATURE_LAKE, UM_FEATURE_RIVER, UM_FEATURE_WATERSHED, &
+      UM_FEATURE_OTHER
+  public :: UM_SIDE_OCEAN, UM_SIDE_LAND, UM_SIDE_COASTAL
 
   ! ------------------------------------------------------------------ handles
 
@@ -77,6 +88,39 @@ module unimesh
     type(c_ptr) :: ptr = c_null_ptr
     type(c_ptr) :: ctx = c_null_ptr
   end type um_options_t
+
+  !> A um_triangulation: the Laguerre (weighted Delaunay) triangulation of
+  !> points on the unit sphere. ctx is borrowed as for um_options_t; the
+  !> triangulation stays valid (and its getters work) after the context is
+  !> destroyed.
+  type, public :: um_triangulation_t
+    type(c_ptr) :: ptr = c_null_ptr
+    type(c_ptr) :: ctx = c_null_ptr
+  end type um_triangulation_t
+
+  !> A um_features polyarc network (coastlines, rivers, ...). ctx is borrowed
+  !> as for um_options_t.
+  type, public :: um_features_t
+    type(c_ptr) :: ptr = c_null_ptr
+    type(c_ptr) :: ctx = c_null_ptr
+  end type um_features_t
+
+  !> A um_spacing: the target edge length h(x) in km. ctx is borrowed as for
+  !> um_options_t.
+  type, public :: um_spacing_t
+    type(c_ptr) :: ptr = c_null_ptr
+    type(c_ptr) :: ctx = c_null_ptr
+  end type um_spacing_t
+
+  !> A um_mesh: the restricted triangulation made by um_mesh_refine. ctx is
+  !> borrowed as for um_options_t; the mesh stays valid after the context,
+  !> spacing, features and options are destroyed (a callback spacing's
+  !> function and user data must stay valid while the mesh lives: the mesh
+  !> keeps the spacing).
+  type, public :: um_mesh_t
+    type(c_ptr) :: ptr = c_null_ptr
+    type(c_ptr) :: ctx = c_null_ptr
+  end type um_mesh_t
 
   ! -------------------------------------------------------------- abort hook
 
@@ -102,6 +146,18 @@ module unimesh
   public :: um_options_create, um_options_destroy, um_options_set_double, um_options_set_int, &
       um_options_get_double, um_options_get_int, um_options_set_string
   public :: um_option_info, um_option_name, um_option_key
+  public :: um_triangulation_create, um_triangulation_create_xyz, um_triangulation_destroy, &
+      um_triangulation_counts, um_triangulation_get_triangles, um_triangulation_get_neighbours, &
+      um_triangulation_get_orthocentres, um_triangulation_get_hidden, um_triangulation_check
+  public :: um_spacing_fn
+  public :: um_features_create, um_features_destroy, um_features_add_part, &
+      um_features_read_geojson, um_features_counts
+  public :: um_spacing_create_constant, um_spacing_create_grid, um_spacing_create_preset, &
+      um_spacing_create_from_file, um_spacing_create_callback, um_spacing_destroy, &
+      um_spacing_limit_gradient, um_spacing_clamp, um_spacing_evaluate
+  public :: um_mesh_refine, um_mesh_destroy, um_mesh_counts, um_mesh_get_vertices, &
+      um_mesh_get_triangles, um_mesh_get_vertex_parts, um_mesh_get_restricted_edges, &
+      um_mesh_get_vertex_sides, um_mesh_get_triangle_sides
 
   ! Where the ABI takes int64 the routine accepts default integers (the
   ! common case) and int64 (for values a default integer cannot hold).
@@ -117,6 +173,9 @@ module unimesh
   interface um_options_get_int
     module procedure options_get_int, options_get_int_int64
   end interface um_options_get_int
+  interface um_triangulation_counts
+    module procedure triangulation_counts, triangulation_counts_int64
+  end interface um_triangulation_counts
 
   ! C's strlen, to size the Fortran copy of a borrowed C string.
   interface
@@ -518,6 +577,688 @@ contains
     call finish(c_um_options_set_string(opts%ptr, to_c(assignments)), opts%ctx, &
         'um_options_set_string', ierr)
   end subroutine um_options_set_string
+
+  ! ============================================================= triangulation
+  ! Arrays in are assumed-shape and may be sections with strides (the
+  ! compiler hands C a contiguous copy when needed); lon_deg/lat_deg/weights
+  ! have one element per point, xyz is xyz(3, n). Arrays out are allocatable
+  ! and allocated here to their exact size (left unallocated on failure).
+  ! Vertex indices are INPUT point indices and, like triangle indices, are
+  ! 1-based.
+  !
+  ! Messages. The C library's messages name the argument, the index and the
+  ! value, with C's 0-based index in brackets: "lat_deg[4] = nan" is the
+  ! Fortran lat_deg(5). Sizes that disagree (lat_deg or weights against
+  ! lon_deg, a first dimension of xyz other than 3) are found by this
+  ! binding: UM_ERR_INVALID_ARGUMENT, described in the abort hook's message
+  ! (the context holds no message for them, as for other binding-level
+  ! failures).
+
+  !> The triangulation of points given by longitude and latitude in degrees.
+  !> weights (units of R^2, each below 2; absent = all 0, the Delaunay
+  !> triangulation) make it the Laguerre triangulation: a point whose power
+  !> cell is empty is hidden (see um_triangulation_get_hidden).
+  subroutine um_triangulation_create(ctx, lon_deg, lat_deg, tri, weights, ierr)
+    type(um_context_t), intent(in) :: ctx
+    real(real64), intent(in) :: lon_deg(:), lat_deg(:)
+    type(um_triangulation_t), intent(out) :: tri
+    real(real64), optional, intent(in) :: weights(:)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_triangulation_create'
+    character(len=:), allocatable :: problem
+    integer(c_int32_t) :: status
+    problem = size_problem('lat_deg', size(lat_deg, kind=int64), 'lon_deg', &
+        size(lon_deg, kind=int64))
+    if (len(problem) == 0 .and. present(weights)) problem = size_problem('weights', &
+        size(weights, kind=int64), 'lon_deg', size(lon_deg, kind=int64))
+    if (len(problem) > 0) then
+      call finish(UM_ERR_INVALID_ARGUMENT, ctx%ptr, routine, ierr, problem)
+      return
+    end if
+    status = c_um_triangulation_create(ctx%ptr, size(lon_deg, kind=c_int64_t), lon_deg, &
+        lat_deg, weights, tri%ptr)
+    if (status == UM_OK) tri%ctx = ctx%ptr
+    call finish(status, ctx%ptr, routine, ierr)
+  end subroutine um_triangulation_create
+
+  !> The same from vectors xyz(:, i) (normalised by the library; not zero).
+  subroutine um_triangulation_create_xyz(ctx, xyz, tri, weights, ierr)
+    type(um_context_t), intent(in) :: ctx
+    real(real64), intent(in) :: xyz(:, :)
+    type(um_triangulation_t), intent(out) :: tri
+    real(real64), optional, intent(in) :: weights(:)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_triangulation_create_xyz'
+    character(len=:), allocatable :: problem
+    integer(c_int32_t) :: status
+    problem = ''
+    if (size(xyz, 1) /= 3) then
+      problem = 'xyz has ' // int_text(size(xyz, 1, kind=int64)) // &
+          ' rows: it must be xyz(3, n), one column per point'
+    else if (present(weights)) then
+      problem = size_problem('weights', size(weights, kind=int64), 'the columns of xyz', &
+          size(xyz, 2, kind=int64))
+    end if
+    if (len(problem) > 0) then
+      call finish(UM_ERR_INVALID_ARGUMENT, ctx%ptr, routine, ierr, problem)
+      return
+    end if
+    status = c_um_triangulation_create_xyz(ctx%ptr, size(xyz, 2, kind=c_int64_t), xyz, &
+        weights, tri%ptr)
+    if (status == UM_OK) tri%ctx = ctx%ptr
+    call finish(status, ctx%ptr, routine, ierr)
+  end subroutine um_triangulation_create_xyz
+
+  !> Destroys the triangulation and nulls the handle; a null handle is fine.
+  subroutine um_triangulation_destroy(tri, ierr)
+    type(um_triangulation_t), intent(inout) :: tri
+    integer, optional, intent(out) :: ierr
+    call c_um_triangulation_destroy(tri%ptr)
+    tri%ptr = c_null_ptr
+    tri%ctx = c_null_ptr
+    if (present(ierr)) ierr = UM_OK
+  end subroutine um_triangulation_destroy
+
+  !> Vertices (input points that are not hidden), triangles and hidden points.
+  subroutine triangulation_counts(tri, n_vertices, n_triangles, n_hidden, ierr)
+    type(um_triangulation_t), intent(in) :: tri
+    integer, intent(out) :: n_vertices, n_triangles, n_hidden
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_triangulation_counts'
+    integer(int64) :: v, t, h, largest
+    integer :: status, unused
+    n_vertices = 0
+    n_triangles = 0
+    n_hidden = 0
+    call triangulation_counts_int64(tri, v, t, h, status)
+    if (status /= UM_OK) then
+      call finish(int(status, c_int32_t), tri%ctx, routine, ierr)
+      return
+    end if
+    ! One check for the three (all >= 0), so that one failure is reported once.
+    largest = max(v, t, h)
+    if (largest <= int(huge(n_vertices), int64)) then
+      n_vertices = int(v)
+      n_triangles = int(t)
+      n_hidden = int(h)
+    end if
+    call narrow(largest, unused, tri%ctx, routine, ierr)
+  end subroutine triangulation_counts
+
+  subroutine triangulation_counts_int64(tri, n_vertices, n_triangles, n_hidden, ierr)
+    type(um_triangulation_t), intent(in) :: tri
+    integer(int64), intent(out) :: n_vertices, n_triangles, n_hidden
+    integer, optional, intent(out) :: ierr
+    integer(c_int64_t) :: v, t, h
+    v = 0
+    t = 0
+    h = 0
+    call finish(c_um_triangulation_counts(tri%ptr, v, t, h), tri%ctx, &
+        'um_triangulation_counts', ierr)
+    n_vertices = int(v, int64)
+    n_triangles = int(t, int64)
+    n_hidden = int(h, int64)
+  end subroutine triangulation_counts_int64
+
+  !> triangles(:, j): the three vertices of triangle j (1-based input point
+  !> indices), counter-clockwise seen from outside the sphere.
+  subroutine um_triangulation_get_triangles(tri, triangles, ierr)
+    type(um_triangulation_t), intent(in) :: tri
+    integer, allocatable, intent(out) :: triangles(:, :)
+    integer, optional, intent(out) :: ierr
+    call get_per_corner(tri, c_um_triangulation_copy_triangles, triangles, &
+        'um_triangulation_get_triangles', ierr)
+  end subroutine um_triangulation_get_triangles
+
+  !> neighbours(k, j): the triangle (1-based) across the edge of triangle j
+  !> opposite its vertex triangles(k, j).
+  subroutine um_triangulation_get_neighbours(tri, neighbours, ierr)
+    type(um_triangulation_t), intent(in) :: tri
+    integer, allocatable, intent(out) :: neighbours(:, :)
+    integer, optional, intent(out) :: ierr
+    call get_per_corner(tri, c_um_triangulation_copy_neighbours, neighbours, &
+        'um_triangulation_get_neighbours', ierr)
+  end subroutine um_triangulation_get_neighbours
+
+  !> xyz(:, j): the orthocentre (power vertex) of triangle j, a unit vector.
+  subroutine um_triangulation_get_orthocentres(tri, xyz, ierr)
+    type(um_triangulation_t), intent(in) :: tri
+    real(real64), allocatable, intent(out) :: xyz(:, :)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_triangulation_get_orthocentres'
+    integer(c_int64_t) :: n_vertices, n_triangles, n_hidden
+    integer(c_int32_t) :: status
+    integer :: alloc_status
+    status = c_um_triangulation_counts(tri%ptr, n_vertices, n_triangles, n_hidden)
+    if (status == UM_OK) then
+      allocate (xyz(3, n_triangles), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, tri%ctx, routine, ierr, no_memory(3 * n_triangles))
+        return
+      end if
+      status = c_um_triangulation_copy_orthocentres(tri%ptr, xyz, 3 * n_triangles)
+      if (status /= UM_OK) deallocate (xyz)
+    end if
+    call finish(status, tri%ctx, routine, ierr)
+  end subroutine um_triangulation_get_orthocentres
+
+  !> The hidden points (1-based input indices, ascending); size 0 when none.
+  subroutine um_triangulation_get_hidden(tri, hidden, ierr)
+    type(um_triangulation_t), intent(in) :: tri
+    integer, allocatable, intent(out) :: hidden(:)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_triangulation_get_hidden'
+    integer(c_int64_t) :: n_vertices, n_triangles, n_hidden
+    integer(c_int32_t) :: status
+    integer :: alloc_status
+    status = c_um_triangulation_counts(tri%ptr, n_vertices, n_triangles, n_hidden)
+    if (status == UM_OK) then
+      allocate (hidden(n_hidden), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, tri%ctx, routine, ierr, no_memory(n_hidden))
+        return
+      end if
+      status = copy_indices(c_um_triangulation_copy_hidden, tri%ptr, hidden, n_hidden)
+      if (status /= UM_OK) deallocate (hidden)
+    end if
+    call finish(status, tri%ctx, routine, ierr)
+  end subroutine um_triangulation_get_hidden
+
+  !> Re-checks every invariant with exact predicates: UM_OK when all hold,
+  !> UM_ERR_INTERNAL naming the first violation otherwise.
+  subroutine um_triangulation_check(tri, ierr)
+    type(um_triangulation_t), intent(in) :: tri
+    integer, optional, intent(out) :: ierr
+    call finish(c_um_triangulation_check(tri%ptr), tri%ctx, 'um_triangulation_check', ierr)
+  end subroutine um_triangulation_check
+
+  ! ================================================================== features
+  ! Messages name C's 0-based indices, as for the triangulation.
+
+  subroutine um_features_create(ctx, features, ierr)
+    type(um_context_t), intent(in) :: ctx
+    type(um_features_t), intent(out) :: features
+    integer, optional, intent(out) :: ierr
+    integer(c_int32_t) :: status
+    status = c_um_features_create(ctx%ptr, features%ptr)
+    if (status == UM_OK) features%ctx = ctx%ptr
+    call finish(status, ctx%ptr, 'um_features_create', ierr)
+  end subroutine um_features_create
+
+  !> Destroys the network and nulls the handle; a null handle is fine.
+  subroutine um_features_destroy(features, ierr)
+    type(um_features_t), intent(inout) :: features
+    integer, optional, intent(out) :: ierr
+    call c_um_features_destroy(features%ptr)
+    features%ptr = c_null_ptr
+    features%ctx = c_null_ptr
+    if (present(ierr)) ierr = UM_OK
+  end subroutine um_features_destroy
+
+  !> Appends one part: the polyline through (lon_deg(i), lat_deg(i)), closed
+  !> back to its first point when closed is true. kind is a UM_FEATURE_*
+  !> value; part_id is the caller's own label kept with the part (absent:
+  !> the part's 0-based index in the network). Mesh getters name parts by
+  !> their 1-based position in the network, not by part_id.
+  subroutine um_features_add_part(features, lon_deg, lat_deg, closed, kind, part_id, ierr)
+    type(um_features_t), intent(in) :: features
+    real(real64), intent(in) :: lon_deg(:), lat_deg(:)
+    logical, intent(in) :: closed
+    integer, intent(in) :: kind
+    integer, optional, intent(in) :: part_id
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_features_add_part'
+    character(len=:), allocatable :: problem
+    integer(c_int64_t) :: offsets(2)
+    integer(c_int32_t) :: closed_c(1), kind_c(1), id_c(1), status
+    problem = size_problem('lat_deg', size(lat_deg, kind=int64), 'lon_deg', &
+        size(lon_deg, kind=int64))
+    if (len(problem) > 0) then
+      call finish(UM_ERR_INVALID_ARGUMENT, features%ctx, routine, ierr, problem)
+      return
+    end if
+    offsets = [0_c_int64_t, size(lon_deg, kind=c_int64_t)]
+    closed_c = merge(1_c_int32_t, 0_c_int32_t, closed)
+    kind_c = int(kind, c_int32_t)
+    if (present(part_id)) then
+      id_c = int(part_id, c_int32_t)
+      status = c_um_features_add(features%ptr, offsets(2), lon_deg, lat_deg, 1_c_int64_t, &
+          offsets, closed_c, kind_c, id_c)
+    else
+      status = c_um_features_add(features%ptr, offsets(2), lon_deg, lat_deg, 1_c_int64_t, &
+          offsets, closed_c, kind_c)
+    end if
+    call finish(status, features%ctx, routine, ierr)
+  end subroutine um_features_add_part
+
+  !> Appends the lines of a GeoJSON file (all-or-nothing). kind_property:
+  !> the property giving the kind (absent: "kind"); default_kind: the kind of
+  !> features without a known one (absent or 0: such a feature is an error).
+  subroutine um_features_read_geojson(features, path, kind_property, default_kind, ierr)
+    type(um_features_t), intent(in) :: features
+    character(len=*), intent(in) :: path
+    character(len=*), optional, intent(in) :: kind_property
+    integer, optional, intent(in) :: default_kind
+    integer, optional, intent(out) :: ierr
+    integer(c_int32_t) :: default_c, status
+    default_c = 0
+    if (present(default_kind)) default_c = int(default_kind, c_int32_t)
+    if (present(kind_property)) then
+      status = c_um_features_read_geojson(features%ptr, to_c(path), to_c(kind_property), &
+          default_c)
+    else
+      status = c_um_features_read_geojson(features%ptr, to_c(path), &
+          default_kind=default_c)
+    end if
+    call finish(status, features%ctx, 'um_features_read_geojson', ierr)
+  end subroutine um_features_read_geojson
+
+  !> Stored parts, points and segments (after cleaning).
+  subroutine um_features_counts(features, n_parts, n_points, n_segments, ierr)
+    type(um_features_t), intent(in) :: features
+    integer(int64), optional, intent(out) :: n_parts, n_points, n_segments
+    integer, optional, intent(out) :: ierr
+    integer(c_int64_t) :: parts, points, segments
+    parts = 0
+    points = 0
+    segments = 0
+    call finish(c_um_features_counts(features%ptr, parts, points, segments), features%ctx, &
+        'um_features_counts', ierr)
+    if (present(n_parts)) n_parts = int(parts, int64)
+    if (present(n_points)) n_points = int(points, int64)
+    if (present(n_segments)) n_segments = int(segments, int64)
+  end subroutine um_features_counts
+
+  ! =================================================================== spacing
+
+  !> h = km everywhere.
+  subroutine um_spacing_create_constant(ctx, km, spacing, ierr)
+    type(um_context_t), intent(in) :: ctx
+    real(real64), intent(in) :: km
+    type(um_spacing_t), intent(out) :: spacing
+    integer, optional, intent(out) :: ierr
+    integer(c_int32_t) :: status
+    status = c_um_spacing_create_constant(ctx%ptr, real(km, c_double), spacing%ptr)
+    if (status == UM_OK) spacing%ctx = ctx%ptr
+    call finish(status, ctx%ptr, 'um_spacing_create_constant', ierr)
+  end subroutine um_spacing_create_constant
+
+  !> Bilinear interpolation in a lon/lat grid: cell_width_km(i, j) is the
+  !> width at (lon_deg(i), lat_deg(j)), i.e. MPAS cellWidth(lat, lon) as
+  !> Fortran reads it from netCDF.
+  subroutine um_spacing_create_grid(ctx, lon_deg, lat_deg, cell_width_km, spacing, ierr)
+    type(um_context_t), intent(in) :: ctx
+    real(real64), intent(in) :: lon_deg(:), lat_deg(:), cell_width_km(:, :)
+    type(um_spacing_t), intent(out) :: spacing
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_spacing_create_grid'
+    integer(c_int32_t) :: status
+    if (size(cell_width_km, 1) /= size(lon_deg) .or. size(cell_width_km, 2) /= size(lat_deg)) &
+        then
+      call finish(UM_ERR_INVALID_ARGUMENT, ctx%ptr, routine, ierr, &
+          'cell_width_km must have shape (size(lon_deg), size(lat_deg)) = (' // &
+          int_text(size(lon_deg, kind=int64)) // ', ' // int_text(size(lat_deg, kind=int64)) &
+          // ')')
+      return
+    end if
+    status = c_um_spacing_create_grid(ctx%ptr, size(lon_deg, kind=c_int64_t), lon_deg, &
+        size(lat_deg, kind=c_int64_t), lat_deg, cell_width_km, spacing%ptr)
+    if (status == UM_OK) spacing%ctx = ctx%ptr
+    call finish(status, ctx%ptr, routine, ierr)
+  end subroutine um_spacing_create_grid
+
+  !> A named E3SM spacing: "QU240", "EC60to30", "RRS18to6", ...
+  subroutine um_spacing_create_preset(ctx, name, spacing, ierr)
+    type(um_context_t), intent(in) :: ctx
+    character(len=*), intent(in) :: name
+    type(um_spacing_t), intent(out) :: spacing
+    integer, optional, intent(out) :: ierr
+    integer(c_int32_t) :: status
+    status = c_um_spacing_create_preset(ctx%ptr, to_c(name), spacing%ptr)
+    if (status == UM_OK) spacing%ctx = ctx%ptr
+    call finish(status, ctx%ptr, 'um_spacing_create_preset', ierr)
+  end subroutine um_spacing_create_preset
+
+  !> The grid of an MPAS-tools spacing file (netCDF lon, lat, cellWidth).
+  subroutine um_spacing_create_from_file(ctx, path, spacing, ierr)
+    type(um_context_t), intent(in) :: ctx
+    character(len=*), intent(in) :: path
+    type(um_spacing_t), intent(out) :: spacing
+    integer, optional, intent(out) :: ierr
+    integer(c_int32_t) :: status
+    status = c_um_spacing_create_from_file(ctx%ptr, to_c(path), spacing%ptr)
+    if (status == UM_OK) spacing%ctx = ctx%ptr
+    call finish(status, ctx%ptr, 'um_spacing_create_from_file', ierr)
+  end subroutine um_spacing_create_from_file
+
+  !> h = fn(user_data, lon_deg, lat_deg) in km, fn a bind(c) function of
+  !> interface um_spacing_fn. It is called from worker threads, concurrently:
+  !> it must be thread-safe (no SAVEd state it writes). user_data (absent:
+  !> c_null_ptr) is passed back, e.g. c_loc of a TARGET with parameters; it
+  !> and fn must stay valid while the spacing or a mesh made from it lives.
+  subroutine um_spacing_create_callback(ctx, fn, spacing, user_data, ierr)
+    type(um_context_t), intent(in) :: ctx
+    procedure(um_spacing_fn) :: fn
+    type(um_spacing_t), intent(out) :: spacing
+    type(c_ptr), optional, intent(in) :: user_data
+    integer, optional, intent(out) :: ierr
+    type(c_ptr) :: data
+    integer(c_int32_t) :: status
+    data = c_null_ptr
+    if (present(user_data)) data = user_data
+    status = c_um_spacing_create_callback(ctx%ptr, c_funloc(fn), data, spacing%ptr)
+    if (status == UM_OK) spacing%ctx = ctx%ptr
+    call finish(status, ctx%ptr, 'um_spacing_create_callback', ierr)
+  end subroutine um_spacing_create_callback
+
+  !> Destroys the spacing and nulls the handle; a null handle is fine.
+  subroutine um_spacing_destroy(spacing, ierr)
+    type(um_spacing_t), intent(inout) :: spacing
+    integer, optional, intent(out) :: ierr
+    call c_um_spacing_destroy(spacing%ptr)
+    spacing%ptr = c_null_ptr
+    spacing%ctx = c_null_ptr
+    if (present(ierr)) ierr = UM_OK
+  end subroutine um_spacing_destroy
+
+  !> Limits |grad h| to g km per km (grid spacings only).
+  subroutine um_spacing_limit_gradient(spacing, g, ierr)
+    type(um_spacing_t), intent(in) :: spacing
+    real(real64), intent(in) :: g
+    integer, optional, intent(out) :: ierr
+    call finish(c_um_spacing_limit_gradient(spacing%ptr, real(g, c_double)), spacing%ctx, &
+        'um_spacing_limit_gradient', ierr)
+  end subroutine um_spacing_limit_gradient
+
+  !> h = min(max(h, km_min), km_max).
+  subroutine um_spacing_clamp(spacing, km_min, km_max, ierr)
+    type(um_spacing_t), intent(in) :: spacing
+    real(real64), intent(in) :: km_min, km_max
+    integer, optional, intent(out) :: ierr
+    call finish(c_um_spacing_clamp(spacing%ptr, real(km_min, c_double), &
+        real(km_max, c_double)), spacing%ctx, 'um_spacing_clamp', ierr)
+  end subroutine um_spacing_clamp
+
+  !> km(i) = h at (lon_deg(i), lat_deg(i)); the three have the same size.
+  subroutine um_spacing_evaluate(spacing, lon_deg, lat_deg, km, ierr)
+    type(um_spacing_t), intent(in) :: spacing
+    real(real64), intent(in) :: lon_deg(:), lat_deg(:)
+    real(real64), intent(out) :: km(:)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_spacing_evaluate'
+    character(len=:), allocatable :: problem
+    problem = size_problem('lat_deg', size(lat_deg, kind=int64), 'lon_deg', &
+        size(lon_deg, kind=int64))
+    if (len(problem) == 0) problem = size_problem('km', size(km, kind=int64), 'lon_deg', &
+        size(lon_deg, kind=int64))
+    if (len(problem) > 0) then
+      call finish(UM_ERR_INVALID_ARGUMENT, spacing%ctx, routine, ierr, problem)
+      return
+    end if
+    call finish(c_um_spacing_evaluate(spacing%ptr, size(lon_deg, kind=c_int64_t), lon_deg, &
+        lat_deg, km), spacing%ctx, routine, ierr)
+  end subroutine um_spacing_evaluate
+
+  ! ====================================================================== mesh
+  ! Getters allocate their results to the exact size (left unallocated on
+  ! failure); vertex, triangle and part indices are 1-based.
+
+  !> The restricted triangulation for spacing, with vertices on features
+  !> when given; options absent = the defaults.
+  subroutine um_mesh_refine(ctx, spacing, mesh, features, options, ierr)
+    type(um_context_t), intent(in) :: ctx
+    type(um_spacing_t), intent(in) :: spacing
+    type(um_mesh_t), intent(out) :: mesh
+    type(um_features_t), optional, intent(in) :: features
+    type(um_options_t), optional, intent(in) :: options
+    integer, optional, intent(out) :: ierr
+    type(c_ptr) :: features_ptr, options_ptr
+    integer(c_int32_t) :: status
+    features_ptr = c_null_ptr
+    options_ptr = c_null_ptr
+    if (present(features)) features_ptr = features%ptr
+    if (present(options)) options_ptr = options%ptr
+    status = c_um_mesh_refine(ctx%ptr, spacing%ptr, features_ptr, options_ptr, mesh%ptr)
+    if (status == UM_OK) mesh%ctx = ctx%ptr
+    call finish(status, ctx%ptr, 'um_mesh_refine', ierr)
+  end subroutine um_mesh_refine
+
+  !> Destroys the mesh and nulls the handle; a null handle is fine.
+  subroutine um_mesh_destroy(mesh, ierr)
+    type(um_mesh_t), intent(inout) :: mesh
+    integer, optional, intent(out) :: ierr
+    call c_um_mesh_destroy(mesh%ptr)
+    mesh%ptr = c_null_ptr
+    mesh%ctx = c_null_ptr
+    if (present(ierr)) ierr = UM_OK
+  end subroutine um_mesh_destroy
+
+  !> Vertices, triangles, restricted edges and filtered (unrefined) ones.
+  subroutine um_mesh_counts(mesh, n_vertices, n_triangles, n_restricted_edges, n_filtered, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    integer(int64), optional, intent(out) :: n_vertices, n_triangles, n_restricted_edges, &
+        n_filtered
+    integer, optional, intent(out) :: ierr
+    integer(c_int64_t) :: v, t, r, f
+    v = 0
+    t = 0
+    r = 0
+    f = 0
+    call finish(c_um_mesh_counts(mesh%ptr, v, t, r, f), mesh%ctx, 'um_mesh_counts', ierr)
+    if (present(n_vertices)) n_vertices = int(v, int64)
+    if (present(n_triangles)) n_triangles = int(t, int64)
+    if (present(n_restricted_edges)) n_restricted_edges = int(r, int64)
+    if (present(n_filtered)) n_filtered = int(f, int64)
+  end subroutine um_mesh_counts
+
+  !> Vertex positions in degrees (lon in (-180, 180]).
+  subroutine um_mesh_get_vertices(mesh, lon_deg, lat_deg, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    real(real64), allocatable, intent(out) :: lon_deg(:), lat_deg(:)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_mesh_get_vertices'
+    integer(c_int64_t) :: v, t, r, f
+    integer(c_int32_t) :: status
+    integer :: alloc_status
+    status = c_um_mesh_counts(mesh%ptr, v, t, r, f)
+    if (status == UM_OK) then
+      allocate (lon_deg(v), lat_deg(v), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, mesh%ctx, routine, ierr, no_memory(2 * v))
+        return
+      end if
+      status = c_um_mesh_copy_vertices(mesh%ptr, lon_deg, lat_deg, v)
+      if (status /= UM_OK) deallocate (lon_deg, lat_deg)
+    end if
+    call finish(status, mesh%ctx, routine, ierr)
+  end subroutine um_mesh_get_vertices
+
+  !> triangles(:, j): the three vertices of triangle j (1-based),
+  !> counter-clockwise seen from outside the sphere.
+  subroutine um_mesh_get_triangles(mesh, triangles, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    integer, allocatable, intent(out) :: triangles(:, :)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_mesh_get_triangles'
+    integer(c_int64_t) :: v, t, r, f
+    integer(c_int32_t) :: status
+    integer :: alloc_status
+    status = c_um_mesh_counts(mesh%ptr, v, t, r, f)
+    if (status == UM_OK) then
+      allocate (triangles(3, t), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, mesh%ctx, routine, ierr, no_memory(3 * t))
+        return
+      end if
+      status = copy_indices(c_um_mesh_copy_triangles, mesh%ptr, triangles, 3 * t)
+      if (status /= UM_OK) deallocate (triangles)
+    end if
+    call finish(status, mesh%ctx, routine, ierr)
+  end subroutine um_mesh_get_triangles
+
+  !> parts(i): the features part (1-based, in the order added) vertex i was
+  !> placed on, or -1 when it is not on a feature.
+  subroutine um_mesh_get_vertex_parts(mesh, parts, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    integer, allocatable, intent(out) :: parts(:)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_mesh_get_vertex_parts'
+    integer(c_int64_t) :: v, t, r, f
+    integer(c_int32_t) :: status
+    integer :: alloc_status
+    status = c_um_mesh_counts(mesh%ptr, v, t, r, f)
+    if (status == UM_OK) then
+      allocate (parts(v), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, mesh%ctx, routine, ierr, no_memory(v))
+        return
+      end if
+      status = copy_indices(c_um_mesh_copy_vertex_parts, mesh%ptr, parts, v)
+      if (status /= UM_OK) deallocate (parts)
+    end if
+    call finish(status, mesh%ctx, routine, ierr)
+  end subroutine um_mesh_get_vertex_parts
+
+  !> vertices(:, e): the two vertices (1-based) of restricted edge e;
+  !> parts(e): the part (1-based) whose segment its dual edge crosses.
+  subroutine um_mesh_get_restricted_edges(mesh, vertices, parts, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    integer, allocatable, intent(out) :: vertices(:, :), parts(:)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_mesh_get_restricted_edges'
+    integer(c_int64_t) :: v, t, r, f
+    integer(c_int32_t) :: status
+    integer(c_int32_t), allocatable :: vertices_c(:, :), parts_c(:)
+    integer :: alloc_status
+    status = c_um_mesh_counts(mesh%ptr, v, t, r, f)
+    if (status == UM_OK) then
+      allocate (vertices_c(2, r), parts_c(r), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, mesh%ctx, routine, ierr, no_memory(3 * r))
+        return
+      end if
+      status = c_um_mesh_copy_restricted_edges(mesh%ptr, 1_c_int32_t, vertices_c, parts_c, r)
+      if (status == UM_OK) then
+        vertices = int(vertices_c)
+        parts = int(parts_c)
+      end if
+    end if
+    call finish(status, mesh%ctx, routine, ierr)
+  end subroutine um_mesh_get_restricted_edges
+
+  !> sides(i): UM_SIDE_OCEAN, UM_SIDE_LAND or UM_SIDE_COASTAL of vertex i.
+  subroutine um_mesh_get_vertex_sides(mesh, sides, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    integer, allocatable, intent(out) :: sides(:)
+    integer, optional, intent(out) :: ierr
+    call get_sides(mesh, .true., sides, 'um_mesh_get_vertex_sides', ierr)
+  end subroutine um_mesh_get_vertex_sides
+
+  !> sides(j): UM_SIDE_OCEAN or UM_SIDE_LAND of triangle j's orthocentre.
+  subroutine um_mesh_get_triangle_sides(mesh, sides, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    integer, allocatable, intent(out) :: sides(:)
+    integer, optional, intent(out) :: ierr
+    call get_sides(mesh, .false., sides, 'um_mesh_get_triangle_sides', ierr)
+  end subroutine um_mesh_get_triangle_sides
+
+  subroutine get_sides(mesh, per_vertex, sides, routine, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    logical, intent(in) :: per_vertex
+    integer, allocatable, intent(out) :: sides(:)
+    character(len=*), intent(in) :: routine
+    integer, optional, intent(out) :: ierr
+    integer(c_int64_t) :: v, t, r, f, n
+    integer(c_int32_t) :: status
+    integer(c_int32_t), allocatable :: sides_c(:)
+    integer :: alloc_status
+    status = c_um_mesh_counts(mesh%ptr, v, t, r, f)
+    if (status == UM_OK) then
+      n = merge(v, t, per_vertex)
+      allocate (sides_c(n), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, mesh%ctx, routine, ierr, no_memory(n))
+        return
+      end if
+      if (per_vertex) then
+        status = c_um_mesh_copy_vertex_sides(mesh%ptr, sides_c, n)
+      else
+        status = c_um_mesh_copy_triangle_sides(mesh%ptr, sides_c, n)
+      end if
+      if (status == UM_OK) sides = int(sides_c)
+    end if
+    call finish(status, mesh%ctx, routine, ierr)
+  end subroutine get_sides
+
+  !> Three 1-based indices per triangle from copy (copy_triangles or
+  !> copy_neighbours) into values(3, n_triangles).
+  subroutine get_per_corner(tri, copy, values, routine, ierr)
+    type(um_triangulation_t), intent(in) :: tri
+    procedure(c_um_triangulation_copy_triangles) :: copy
+    integer, allocatable, intent(out) :: values(:, :)
+    character(len=*), intent(in) :: routine
+    integer, optional, intent(out) :: ierr
+    integer(c_int64_t) :: n_vertices, n_triangles, n_hidden
+    integer(c_int32_t) :: status
+    integer :: alloc_status
+    status = c_um_triangulation_counts(tri%ptr, n_vertices, n_triangles, n_hidden)
+    if (status == UM_OK) then
+      allocate (values(3, n_triangles), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, tri%ctx, routine, ierr, no_memory(3 * n_triangles))
+        return
+      end if
+      status = copy_indices(copy, tri%ptr, values, 3 * n_triangles)
+      if (status /= UM_OK) deallocate (values)
+    end if
+    call finish(status, tri%ctx, routine, ierr)
+  end subroutine get_per_corner
+
+  !> Runs copy (a um_triangulation_copy_* of int32 indices) with base 1 into
+  !> the n default integers of values. C writes straight into values when the
+  !> default integer is int32 (the usual case: no second copy of a large
+  !> mesh), else into an int32 buffer that is then converted.
+  function copy_indices(copy, t, values, n) result(status)
+    procedure(c_um_triangulation_copy_triangles) :: copy
+    type(c_ptr), intent(in) :: t
+    integer(c_int64_t), intent(in) :: n
+    integer, target, intent(out) :: values(n)
+    integer(c_int32_t) :: status
+    integer(c_int32_t), pointer, contiguous :: view(:)
+    integer(c_int32_t), allocatable, target :: buffer(:)
+    if (kind(values) == c_int32_t .and. n > 0) then
+      call c_f_pointer(c_loc(values), view, [n])
+    else
+      allocate (buffer(n))
+      view => buffer
+    end if
+    status = copy(t, 1_c_int32_t, view, n)
+    if (kind(values) /= c_int32_t .and. status == UM_OK) values = int(view)
+  end function copy_indices
+
+  !> "" when size_a equals size_b, else why not.
+  function size_problem(name_a, size_a, name_b, size_b) result(problem)
+    character(len=*), intent(in) :: name_a, name_b
+    integer(int64), intent(in) :: size_a, size_b
+    character(len=:), allocatable :: problem
+    problem = ''
+    if (size_a /= size_b) problem = name_a // ' has ' // int_text(size_a) // ' elements and ' &
+        // name_b // ' has ' // int_text(size_b) // ': they must have one per point'
+  end function size_problem
+
+  function no_memory(n_elements) result(message)
+    integer(int64), intent(in) :: n_elements
+    character(len=:), allocatable :: message
+    message = 'cannot allocate the ' // int_text(n_elements) // '-element result'
+  end function no_memory
+
+  pure function int_text(value) result(text)
+    integer(int64), intent(in) :: value
+    character(len=:), allocatable :: text
+    character(len=24) :: digits
+    write (digits, '(i0)') value
+    text = trim(digits)
+  end function int_text
 
   ! ============================================================ option table
   ! These need no context: the C library has nowhere to keep a message, so a

@@ -87,6 +87,18 @@ module unimesh_cint
   integer(c_int32_t), parameter :: UM_OPTION_TYPE_INT = 1
   integer(c_int32_t), parameter :: UM_OPTION_TYPE_REAL = 2
 
+  ! ---------------------------------------------- features (polyarc networks)
+  integer(c_int32_t), parameter :: UM_FEATURE_COASTLINE = 1
+  integer(c_int32_t), parameter :: UM_FEATURE_LAKE = 2
+  integer(c_int32_t), parameter :: UM_FEATURE_RIVER = 3
+  integer(c_int32_t), parameter :: UM_FEATURE_WATERSHED = 4
+  integer(c_int32_t), parameter :: UM_FEATURE_OTHER = 5
+
+  ! --------------------------------------------------------------------- mesh
+  integer(c_int32_t), parameter :: UM_SIDE_OCEAN = 0
+  integer(c_int32_t), parameter :: UM_SIDE_LAND = 1
+  integer(c_int32_t), parameter :: UM_SIDE_COASTAL = 2
+
   ! ---------------------------------------------------------- callback types
   ! The header's function-pointer typedefs, for writing callbacks in Fortran:
   ! `procedure(um_log_fn) :: my_log` and pass c_funloc(my_log). Strings
@@ -112,6 +124,15 @@ module unimesh_cint
       integer(c_int32_t), value :: status
       type(c_ptr), value :: message
     end subroutine um_abort_fn
+
+    ! A spacing in km at a point in degrees; called from worker threads,
+    ! concurrently (it must be thread-safe).
+    real(c_double) function um_spacing_fn(user_data, lon_deg, lat_deg) bind(c)
+      import :: c_ptr, c_double
+      type(c_ptr), value :: user_data
+      real(c_double), value :: lon_deg
+      real(c_double), value :: lat_deg
+    end function um_spacing_fn
   end interface
 
   interface
@@ -386,6 +407,265 @@ module unimesh_cint
       import :: c_int32_t, c_ptr
       type(c_ptr), value :: t
     end function c_um_triangulation_check
+
+    ! --------------------------------------------- features (polyarc networks)
+    integer(c_int32_t) function c_um_features_create(ctx, out) bind(c, name="um_features_create")
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: ctx
+      type(c_ptr), intent(out) :: out
+    end function c_um_features_create
+
+    subroutine c_um_features_destroy(f) bind(c, name="um_features_destroy")
+      import :: c_ptr
+      type(c_ptr), value :: f
+    end subroutine c_um_features_destroy
+
+    integer(c_int32_t) function c_um_features_add(f, n_points, lon_deg, lat_deg, n_parts, &
+        part_offsets, closed, kind, part_id) bind(c, name="um_features_add")
+      import :: c_int32_t, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: f
+      integer(c_int64_t), value :: n_points
+      real(c_double), intent(in) :: lon_deg(*)
+      real(c_double), intent(in) :: lat_deg(*)
+      integer(c_int64_t), value :: n_parts
+      integer(c_int64_t), intent(in) :: part_offsets(*)
+      integer(c_int32_t), intent(in) :: closed(*)
+      integer(c_int32_t), intent(in) :: kind(*)
+      integer(c_int32_t), intent(in), optional :: part_id(*)
+    end function c_um_features_add
+
+    integer(c_int32_t) function c_um_features_read_geojson(f, path, kind_property, &
+        default_kind) bind(c, name="um_features_read_geojson")
+      import :: c_int32_t, c_ptr, c_char
+      type(c_ptr), value :: f
+      character(kind=c_char), intent(in) :: path(*)
+      character(kind=c_char), intent(in), optional :: kind_property(*)
+      integer(c_int32_t), value :: default_kind
+    end function c_um_features_read_geojson
+
+    integer(c_int32_t) function c_um_features_counts(f, n_parts, n_points, n_segments) &
+        bind(c, name="um_features_counts")
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: f
+      integer(c_int64_t), intent(out), optional :: n_parts
+      integer(c_int64_t), intent(out), optional :: n_points
+      integer(c_int64_t), intent(out), optional :: n_segments
+    end function c_um_features_counts
+
+    integer(c_int32_t) function c_um_features_copy_points(f, lon_deg, lat_deg, capacity) &
+        bind(c, name="um_features_copy_points")
+      import :: c_int32_t, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: f
+      real(c_double), intent(out), optional :: lon_deg(*)
+      real(c_double), intent(out), optional :: lat_deg(*)
+      integer(c_int64_t), value :: capacity
+    end function c_um_features_copy_points
+
+    integer(c_int32_t) function c_um_features_copy_parts(f, part_offsets, closed, kind, &
+        part_id, capacity) bind(c, name="um_features_copy_parts")
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: f
+      integer(c_int64_t), intent(out), optional :: part_offsets(*)
+      integer(c_int32_t), intent(out), optional :: closed(*)
+      integer(c_int32_t), intent(out), optional :: kind(*)
+      integer(c_int32_t), intent(out), optional :: part_id(*)
+      integer(c_int64_t), value :: capacity
+    end function c_um_features_copy_parts
+
+    ! ---------------------------------------------------------------- spacing
+    integer(c_int32_t) function c_um_spacing_create_constant(ctx, km, out) &
+        bind(c, name="um_spacing_create_constant")
+      import :: c_int32_t, c_double, c_ptr
+      type(c_ptr), value :: ctx
+      real(c_double), value :: km
+      type(c_ptr), intent(out) :: out
+    end function c_um_spacing_create_constant
+
+    ! cell_width_km(n_lon, n_lat) in Fortran order is the C [n_lat][n_lon].
+    integer(c_int32_t) function c_um_spacing_create_grid(ctx, n_lon, lon_deg, n_lat, lat_deg, &
+        cell_width_km, out) bind(c, name="um_spacing_create_grid")
+      import :: c_int32_t, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: ctx
+      integer(c_int64_t), value :: n_lon
+      real(c_double), intent(in) :: lon_deg(*)
+      integer(c_int64_t), value :: n_lat
+      real(c_double), intent(in) :: lat_deg(*)
+      real(c_double), intent(in) :: cell_width_km(*)
+      type(c_ptr), intent(out) :: out
+    end function c_um_spacing_create_grid
+
+    integer(c_int32_t) function c_um_spacing_create_from_file(ctx, path, out) &
+        bind(c, name="um_spacing_create_from_file")
+      import :: c_int32_t, c_ptr, c_char
+      type(c_ptr), value :: ctx
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr), intent(out) :: out
+    end function c_um_spacing_create_from_file
+
+    integer(c_int32_t) function c_um_spacing_create_callback(ctx, fn, user_data, out) &
+        bind(c, name="um_spacing_create_callback")
+      import :: c_int32_t, c_ptr, c_funptr
+      type(c_ptr), value :: ctx
+      type(c_funptr), value :: fn
+      type(c_ptr), value :: user_data
+      type(c_ptr), intent(out) :: out
+    end function c_um_spacing_create_callback
+
+    integer(c_int32_t) function c_um_spacing_create_preset(ctx, name, out) &
+        bind(c, name="um_spacing_create_preset")
+      import :: c_int32_t, c_ptr, c_char
+      type(c_ptr), value :: ctx
+      character(kind=c_char), intent(in) :: name(*)
+      type(c_ptr), intent(out) :: out
+    end function c_um_spacing_create_preset
+
+    subroutine c_um_spacing_destroy(s) bind(c, name="um_spacing_destroy")
+      import :: c_ptr
+      type(c_ptr), value :: s
+    end subroutine c_um_spacing_destroy
+
+    integer(c_int32_t) function c_um_spacing_limit_gradient(s, g) &
+        bind(c, name="um_spacing_limit_gradient")
+      import :: c_int32_t, c_double, c_ptr
+      type(c_ptr), value :: s
+      real(c_double), value :: g
+    end function c_um_spacing_limit_gradient
+
+    integer(c_int32_t) function c_um_spacing_clamp(s, km_min, km_max) &
+        bind(c, name="um_spacing_clamp")
+      import :: c_int32_t, c_double, c_ptr
+      type(c_ptr), value :: s
+      real(c_double), value :: km_min
+      real(c_double), value :: km_max
+    end function c_um_spacing_clamp
+
+    ! The arrays may be absent (NULL) when n = 0.
+    integer(c_int32_t) function c_um_spacing_evaluate(s, n, lon_deg, lat_deg, km_out) &
+        bind(c, name="um_spacing_evaluate")
+      import :: c_int32_t, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: s
+      integer(c_int64_t), value :: n
+      real(c_double), intent(in), optional :: lon_deg(*)
+      real(c_double), intent(in), optional :: lat_deg(*)
+      real(c_double), intent(out), optional :: km_out(*)
+    end function c_um_spacing_evaluate
+
+    ! ------------------------------------------------------------------- mesh
+    ! features and options: pass c_null_ptr for none.
+    integer(c_int32_t) function c_um_mesh_refine(ctx, spacing, features, options, out) &
+        bind(c, name="um_mesh_refine")
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: ctx
+      type(c_ptr), value :: spacing
+      type(c_ptr), value :: features
+      type(c_ptr), value :: options
+      type(c_ptr), intent(out) :: out
+    end function c_um_mesh_refine
+
+    subroutine c_um_mesh_destroy(m) bind(c, name="um_mesh_destroy")
+      import :: c_ptr
+      type(c_ptr), value :: m
+    end subroutine c_um_mesh_destroy
+
+    integer(c_int32_t) function c_um_mesh_counts(m, n_vertices, n_triangles, &
+        n_restricted_edges, n_filtered) bind(c, name="um_mesh_counts")
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int64_t), intent(out) :: n_vertices
+      integer(c_int64_t), intent(out) :: n_triangles
+      integer(c_int64_t), intent(out) :: n_restricted_edges
+      integer(c_int64_t), intent(out) :: n_filtered
+    end function c_um_mesh_counts
+
+    integer(c_int32_t) function c_um_mesh_copy_vertices(m, lon_deg, lat_deg, capacity) &
+        bind(c, name="um_mesh_copy_vertices")
+      import :: c_int32_t, c_int64_t, c_double, c_ptr
+      type(c_ptr), value :: m
+      real(c_double), intent(out) :: lon_deg(*)
+      real(c_double), intent(out) :: lat_deg(*)
+      integer(c_int64_t), value :: capacity
+    end function c_um_mesh_copy_vertices
+
+    integer(c_int32_t) function c_um_mesh_copy_triangles(m, base, out, capacity) &
+        bind(c, name="um_mesh_copy_triangles")
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int32_t), value :: base
+      integer(c_int32_t), intent(out) :: out(*)
+      integer(c_int64_t), value :: capacity
+    end function c_um_mesh_copy_triangles
+
+    integer(c_int32_t) function c_um_mesh_copy_vertex_parts(m, base, out, capacity) &
+        bind(c, name="um_mesh_copy_vertex_parts")
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int32_t), value :: base
+      integer(c_int32_t), intent(out) :: out(*)
+      integer(c_int64_t), value :: capacity
+    end function c_um_mesh_copy_vertex_parts
+
+    integer(c_int32_t) function c_um_mesh_copy_restricted_edges(m, base, vertices, parts, &
+        capacity) bind(c, name="um_mesh_copy_restricted_edges")
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int32_t), value :: base
+      integer(c_int32_t), intent(out) :: vertices(*)
+      integer(c_int32_t), intent(out) :: parts(*)
+      integer(c_int64_t), value :: capacity
+    end function c_um_mesh_copy_restricted_edges
+
+    integer(c_int32_t) function c_um_mesh_copy_vertex_sides(m, out, capacity) &
+        bind(c, name="um_mesh_copy_vertex_sides")
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int32_t), intent(out) :: out(*)
+      integer(c_int64_t), value :: capacity
+    end function c_um_mesh_copy_vertex_sides
+
+    integer(c_int32_t) function c_um_mesh_copy_triangle_sides(m, out, capacity) &
+        bind(c, name="um_mesh_copy_triangle_sides")
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int32_t), intent(out) :: out(*)
+      integer(c_int64_t), value :: capacity
+    end function c_um_mesh_copy_triangle_sides
+
+    ! The JSON quality report, copied out as strings are (buf may be absent
+    ! with capacity 0 to ask for the length).
+    integer(c_int32_t) function c_um_mesh_quality_json(m, buf, capacity, needed) &
+        bind(c, name="um_mesh_quality_json")
+      import :: c_int32_t, c_int64_t, c_ptr, c_char
+      type(c_ptr), value :: m
+      character(kind=c_char), intent(out), optional :: buf(*)
+      integer(c_int64_t), value :: capacity
+      integer(c_int64_t), intent(out), optional :: needed
+    end function c_um_mesh_quality_json
+
+    integer(c_int32_t) function c_um_mesh_quality_summary(m, metric, min, p1, mean, max) &
+        bind(c, name="um_mesh_quality_summary")
+      import :: c_int32_t, c_double, c_ptr, c_char
+      type(c_ptr), value :: m
+      character(kind=c_char), intent(in) :: metric(*)
+      real(c_double), intent(out), optional :: min
+      real(c_double), intent(out), optional :: p1
+      real(c_double), intent(out), optional :: mean
+      real(c_double), intent(out), optional :: max
+    end function c_um_mesh_quality_summary
+
+    integer(c_int32_t) function c_um_mesh_quality_counts(m, obtuse, not_well_centred) &
+        bind(c, name="um_mesh_quality_counts")
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int64_t), intent(out) :: obtuse
+      integer(c_int64_t), intent(out) :: not_well_centred
+    end function c_um_mesh_quality_counts
+
+    ! ------------------------------------------------------------ MPAS output
+    integer(c_int32_t) function c_um_mesh_write_mpas(m, path) bind(c, name="um_mesh_write_mpas")
+      import :: c_int32_t, c_ptr, c_char
+      type(c_ptr), value :: m
+      character(kind=c_char), intent(in) :: path(*)
+    end function c_um_mesh_write_mpas
   end interface
 
 end module unimesh_cint

@@ -17,8 +17,8 @@ namespace {
 
 constexpr int64_t kMaxIndex = std::numeric_limits<int32_t>::max();
 // Bytes per cell of the finished mesh and the temporaries of its
-// construction (about 3 edges and 2 vertices per cell, 7-sided cells at most
-// on average), for the memory-cap check.
+// construction (3 edges and 2 vertices per cell; maxEdges about 8), for the
+// memory-cap check.
 constexpr int64_t kBytesPerCell = 1600;
 
 // The MPAS numbering of the elements and the maps to and from the
@@ -86,7 +86,8 @@ std::vector<int32_t> checked_vertex_slots(const tri::Triangulation &tri, const M
 }
 
 void check_input(Context &ctx, const tri::Triangulation &tri, const MpasMeshInput &in,
-                 size_t n_vertices) {
+                 const std::vector<int32_t> &slots) {
+    const size_t n_vertices = slots.size();
     if (!std::isfinite(in.radius_m) || in.radius_m <= 0)
         fail(UM_ERR_INVALID_ARGUMENT, "MPAS mesh: sphere radius = ", in.radius_m,
              " m; it must be finite and > 0");
@@ -94,10 +95,16 @@ void check_input(Context &ctx, const tri::Triangulation &tri, const MpasMeshInpu
         if (in.cell_width_km.size() != n_vertices)
             fail(UM_ERR_INTERNAL, "MPAS mesh: ", in.cell_width_km.size(),
                  " cell widths for ", n_vertices, " mesh vertices");
-        for (size_t i = 0; i < n_vertices; ++i)
-            if (!std::isfinite(in.cell_width_km[i]) || in.cell_width_km[i] <= 0)
-                fail(UM_ERR_INVALID_ARGUMENT, "MPAS mesh: cell width ", in.cell_width_km[i],
-                     " km at mesh vertex ", i, "; it must be finite and > 0");
+        for (size_t i = 0; i < n_vertices; ++i) {
+            double h = in.cell_width_km[i];
+            if (!std::isfinite(h) || h <= 0) {
+                double lon, lat;
+                geom::lonlat_deg_from_unit(tri.direction(slots[i]), lon, lat);
+                fail(std::isfinite(h) ? UM_ERR_INVALID_ARGUMENT : UM_ERR_NONFINITE_INPUT,
+                     "MPAS mesh: the spacing is ", h, " km at mesh vertex ", i, " (lon ", lon,
+                     ", lat ", lat, " degrees); it must be finite and > 0");
+            }
+        }
     }
     // nEdges = 3 nTriangles / 2 is the largest count; every index is int32.
     if (int64_t(tri.triangle_count()) * 3 / 2 > kMaxIndex)
@@ -184,7 +191,7 @@ void number_edges(Context &ctx, const tri::Triangulation &tri, Numbering &num,
             int32_t p = tri.vertex(t, next3(k)), q = tri.vertex(t, prev3(k));
             // In u the edge runs q -> p: it is edge k' with v(u, k' + 2) = p.
             int lp = local_index(tri, u, p);
-            int ku = lp < 0 ? 0 : prev3(lp);
+            int ku = lp < 0 ? 0 : next3(lp);
             if (lp < 0 || tri.neighbour(u, ku) != t) {
                 broken = true;
                 continue;
@@ -307,7 +314,7 @@ void fill_mesh_density(const MpasMeshInput &in, MpasMesh &m) {
 
 MpasMesh build_mpas_mesh(Context &ctx, const tri::Triangulation &tri, const MpasMeshInput &input) {
     std::vector<int32_t> slots = checked_vertex_slots(tri, input);
-    check_input(ctx, tri, input, slots.size());
+    check_input(ctx, tri, input, slots);
     MpasMesh m;
     m.radius_m = input.radius_m;
     Numbering num;
@@ -330,6 +337,15 @@ MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined) {
     MpasMeshInput input;
     input.slot_of_vertex = refined.slot_of_vertex;
     input.radius_m = refined.radius_m;
+    if (refined.spacing) {
+        // The spacing the mesh was refined to, at the generators, for meshDensity
+        // (check_input refuses values that are not finite and > 0).
+        input.cell_width_km.resize(input.slot_of_vertex.size());
+        ctx.parallel_for(refined.vertex_count(), 1024, [&](int64_t b, int64_t e) {
+            for (int64_t i = b; i < e; ++i)
+                input.cell_width_km[i] = refined.spacing->km_at(refined.tri.direction(input.slot_of_vertex[i]));
+        });
+    }
     MpasMesh m = build_mpas_mesh(ctx, refined.tri, input);
     if (!refined.vertex_side.empty()) {
         m.cell_side.resize(static_cast<size_t>(m.n_cells));

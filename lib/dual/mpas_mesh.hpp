@@ -89,7 +89,8 @@ struct MpasMeshInput {
     std::vector<int32_t> slot_of_vertex;
     double radius_m = 0;
     // Optional spacing per mesh vertex (km, finite and > 0): meshDensity =
-    // (min h / h)^4 as MPAS-Tools' inject_meshDensity; empty = 1.0 everywhere.
+    // (min h / h)^4 as MPAS-Tools' inject_meshDensity (the minimum taken over
+    // the cells); empty = 1.0 everywhere.
     std::vector<double> cell_width_km;
 };
 
@@ -100,7 +101,8 @@ struct MpasMeshInput {
 MpasMesh build_mpas_mesh(Context &ctx, const tri::Triangulation &tri, const MpasMeshInput &input);
 
 // The same for the refinement stage's mesh, with its vertex numbering, its
-// sphere radius and its ocean/land sides as tags.
+// sphere radius, meshDensity from the spacing it was refined to (evaluated
+// at the generators) and its ocean/land sides as tags.
 MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined);
 
 }  // namespace um::dual

@@ -10,6 +10,8 @@
 
 namespace um::dual {
 
+using geom::Vec3;
+
 // Unit vectors of the cells (generators), edges (edge orthocentres) and
 // vertices (orthocentres), in the MPAS numbering.
 struct UnitPositions {

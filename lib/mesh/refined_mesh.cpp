@@ -1,5 +1,6 @@
 #include "mesh/refined_mesh.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -25,6 +26,49 @@ refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m) 
 }
 
 namespace {
+
+// Four generators on (nearly) one circle give two triangles with (nearly)
+// the same orthocentre: a dual edge of (almost) zero length, which MPAS and
+// its checkers cannot orient. Making the vertex opposite such an edge a
+// little lighter (a Laguerre weight of a few thousandths of l^2, far too
+// small to hide it) keeps the edge regular with a dual edge ~1e-3 l long.
+// Returns how many vertices were reweighted.
+int64_t separate_degenerate_dual_edges(tri::Triangulation &tri) {
+    constexpr double kMinDualOverPrimal = 1e-3;
+    int64_t changed = 0;
+    for (int pass = 0; pass < 4; ++pass) {
+        std::vector<int32_t> lighten;
+        for (int32_t t = 0; t < tri.triangle_slots(); ++t) {
+            if (tri.is_free(t)) continue;
+            const geom::Vec3 ct = tri.orthocentre(t);
+            for (int k = 0; k < 3; ++k) {
+                const int32_t u = tri.neighbour(t, k);
+                if (u < t) continue;
+                const double l = geom::arc_length(tri.direction(tri.vertex(t, (k + 1) % 3)),
+                                                  tri.direction(tri.vertex(t, (k + 2) % 3)));
+                if (geom::arc_length(ct, tri.orthocentre(u)) < kMinDualOverPrimal * l)
+                    lighten.push_back(tri.vertex(t, k));
+            }
+        }
+        if (lighten.empty()) break;
+        std::sort(lighten.begin(), lighten.end());
+        lighten.erase(std::unique(lighten.begin(), lighten.end()), lighten.end());
+        for (int32_t v : lighten) {
+            if (!tri.in_triangulation(v)) continue;
+            double l = 0;  // its shortest edge
+            const geom::Vec3 x = tri.direction(v);
+            for (int32_t t : tri.star(v))
+                for (int k = 0; k < 3; ++k)
+                    if (tri.vertex(t, k) != v) {
+                        double d = geom::arc_length(x, tri.direction(tri.vertex(t, k)));
+                        l = l == 0 ? d : std::min(l, d);
+                    }
+            tri.set_weight(v, tri.weight(v) - 4 * kMinDualOverPrimal * l * l);
+            ++changed;
+        }
+    }
+    return changed;
+}
 
 void number_vertices(RefinedMesh &m) {
     m.vertex_of_slot.assign(static_cast<size_t>(m.tri.vertex_slots()), -1);
@@ -67,6 +111,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     so.rho = options.real(UM_OPT_REFINE_RHO);
     if (arcs.size() > 0) so.gamma = &arcs, so.on_gamma = &m.on_segment;
     refine::refine_surface(ctx, m.tri, hr, so, next_id);
+    separate_degenerate_dual_edges(m.tri);
     m.tri.compact();
     m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
     number_vertices(m);

@@ -216,7 +216,7 @@ _EXPECTED = {
     "handle*": ({"type(c_ptr)"}, False),
     "callback": ({"type(c_funptr)"}, True),
 }
-_RESULTS = {"int32": "integer(c_int32_t)", "string": "type(c_ptr)"}
+_RESULTS = {"int32": "integer(c_int32_t)", "double": "real(c_double)", "string": "type(c_ptr)"}
 
 
 def compare_function(function, interface):

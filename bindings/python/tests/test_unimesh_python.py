@@ -113,6 +113,8 @@ class Constants(unittest.TestCase):
         ("UM_VERSION_", None),
         ("UM_OPT_", unimesh.Option),
         ("UM_LOG_", unimesh.LogLevel),
+        ("UM_FEATURE_", unimesh.FeatureKind),
+        ("UM_SIDE_", unimesh.Side),
         ("UM_", unimesh.Status),
     )
 
@@ -402,6 +404,23 @@ class ArrayHelpers(unittest.TestCase):
         self.assertEqual(as_int.dtype, numpy.int32)
         with self.assertRaisesRegex(ValueError, r"xyz must have shape \(n, 3\)"):
             _arrays.input_array(numpy.zeros((4, 2)), c_double, (-1, 3), name="xyz")
+
+    def test_input_array_refuses_what_would_change_values(self):
+        for bad in (numpy.zeros(3, complex), numpy.array(["1", "2"]), [1.0, None],
+                    numpy.array([True, False])):
+            with self.subTest(values=bad):
+                with self.assertRaisesRegex(TypeError, "x must hold real numbers"):
+                    _arrays.input_array(bad, c_double, name="x")
+        with self.assertRaisesRegex(TypeError, "k must hold integers, not float64"):
+            _arrays.input_array([1.5, 2.0], c_int32, name="k")  # not truncated
+        with self.assertRaisesRegex(ValueError, "k holds values outside int32"):
+            _arrays.input_array(numpy.array([0, 2 ** 31]), c_int32, name="k")  # not wrapped
+        in_range = _arrays.input_array(numpy.array([0, 2 ** 31 - 1], dtype=numpy.uint64), c_int32)
+        self.assertEqual((in_range.dtype, in_range[1]), (numpy.int32, 2 ** 31 - 1))
+        single = _arrays.input_array(numpy.arange(4, dtype=numpy.float32), c_double, (4,))
+        self.assertEqual(single.dtype, numpy.float64)
+        with self.assertRaisesRegex(ValueError, r"w must have shape \(5\), not \(4,\)"):
+            _arrays.input_array(numpy.zeros(4), c_double, (5,), name="w")
 
     def test_output_array_is_filled_in_place(self):
         out = _arrays.output_array(c_int32, (2, 3))

@@ -6,6 +6,8 @@
         with unimesh.Options(ctx, refine_alpha=1.3, optim_outer_iterations=8) as opts:
             opts["refine_rho"] = 1.1
             print(opts["refine_alpha"], opts.get(unimesh.Option.OPTIM_WEIGHTS))
+        with unimesh.Triangulation(ctx, lon_deg, lat_deg) as tri:  # numpy arrays
+            triangles = tri.triangles()  # (n_triangles, 3) int32, input indices
 
 Every failure raises UnimeshError(status, message). The message is the one
 the context recorded (it names the argument and the value); it is moved into
@@ -20,18 +22,22 @@ them as a last resort.
 
 import enum
 import operator
+import os
 import weakref
 from collections import namedtuple
 from ctypes import byref, c_double, c_int32, c_int64, c_void_p, create_string_buffer
 
-from ._capi import C, LOG_FN, PROGRESS_FN, library_path, missing_functions
+from . import _arrays
+from ._capi import C, LOG_FN, PROGRESS_FN, SPACING_FN, library_path, missing_functions
 
 __all__ = [
     "VERSION_MAJOR", "VERSION_MINOR", "VERSION_PATCH", "VERSION_NUMBER", "VERSION_STRING",
-    "Status", "Option", "OptionType", "LogLevel", "ErrorMode", "OptionInfo", "UnimeshError",
-    "Context", "Options", "version", "version_number", "version_string", "status_string",
-    "status_class", "option_info", "option_name", "option_key", "library_path",
-    "missing_functions",
+    "Status", "Option", "OptionType", "FeatureKind", "Side", "LogLevel", "ErrorMode", "OptionInfo", "UnimeshError",
+    "Context", "Options", "Triangulation", "TriangulationCounts", "Features", "FeaturesCounts",
+    "FeatureParts", "Spacing", "Mesh", "MeshCounts", "QualitySummary", "QualityCounts",
+    "version", "version_number",
+    "version_string", "status_string", "status_class", "option_info", "option_name",
+    "option_key", "library_path", "missing_functions",
 ]
 
 # ----------------------------------------------------------------- constants
@@ -94,6 +100,22 @@ class OptionType(enum.IntEnum):
     REAL = 2
 
 
+class FeatureKind(enum.IntEnum):
+    """Kinds of features parts (UM_FEATURE_*)."""
+    COASTLINE = 1
+    LAKE = 2
+    RIVER = 3
+    WATERSHED = 4
+    OTHER = 5
+
+
+class Side(enum.IntEnum):
+    """Sides of the closed coastlines (UM_SIDE_*); COASTAL for vertices only."""
+    OCEAN = 0
+    LAND = 1
+    COASTAL = 2
+
+
 class LogLevel(enum.IntEnum):
     DEBUG = 10
     INFO = 20
@@ -109,6 +131,12 @@ class ErrorMode(enum.IntEnum):
 
 
 OptionInfo = namedtuple("OptionInfo", "type min max default")
+TriangulationCounts = namedtuple("TriangulationCounts", "n_vertices n_triangles n_hidden")
+FeaturesCounts = namedtuple("FeaturesCounts", "n_parts n_points n_segments")
+FeatureParts = namedtuple("FeatureParts", "offsets closed kind part_id")
+MeshCounts = namedtuple("MeshCounts", "n_vertices n_triangles n_restricted_edges n_filtered")
+QualitySummary = namedtuple("QualitySummary", "min p1 mean max")
+QualityCounts = namedtuple("QualityCounts", "obtuse not_well_centred")
 
 
 def _enum_or_int(enum_type, value):
@@ -488,6 +516,496 @@ class Options(_Handle):
 
     def __repr__(self):
         return "<unimesh.Options closed>" if self.closed else f"<unimesh.Options {self.to_dict()}>"
+
+
+class Triangulation(_Handle):
+    """The Laguerre (weighted Delaunay) triangulation of points on the unit
+    sphere, from longitudes and latitudes in degrees or from vectors:
+
+        tri = Triangulation(ctx, lon_deg, lat_deg)            # 1-D, n each
+        tri = Triangulation(ctx, xyz=points, weights=w)       # (n, 3); n weights
+
+    Weights are in units of R^2 (squared chords of the unit sphere), each
+    below 2; None means all 0, the Delaunay triangulation. A point whose
+    power cell is empty is hidden: it is no vertex and hidden() lists it.
+    Inputs may be any arrays of real numbers (lists, float32, strided
+    views, Fortran order): they are converted to contiguous float64; complex
+    or non-numeric arrays raise TypeError, wrong shapes ValueError.
+
+    Outputs are new numpy arrays (or `out=` arrays filled in place), with
+    INPUT point indices plus `base` (0, or 1 for Fortran/MPAS). Library
+    errors raise UnimeshError with the library's message, which names the
+    argument, its 0-based index and the value ("lat_deg[4] = nan ...").
+
+    The triangulation stays usable after its context is closed (errors
+    then carry only the status text).
+    """
+
+    _destroy = staticmethod(C.um_triangulation_destroy)
+
+    def __init__(self, context, lon_deg=None, lat_deg=None, *, xyz=None, weights=None):
+        self._context = context
+        if xyz is None:
+            if lon_deg is None or lat_deg is None:
+                raise TypeError("Triangulation needs lon_deg and lat_deg, or xyz=")
+            lon = _arrays.input_array(lon_deg, c_double, (-1,), "lon_deg")
+            lat = _arrays.input_array(lat_deg, c_double, (-1,), "lat_deg")
+            if lat.shape != lon.shape:
+                raise ValueError(f"lat_deg has {lat.size} elements and lon_deg {lon.size}: "
+                                 "they must have one per point")
+            n = lon.size
+        else:
+            if lon_deg is not None or lat_deg is not None:
+                raise TypeError("Triangulation takes lon_deg and lat_deg, or xyz=, not both")
+            points = _arrays.input_array(xyz, c_double, (-1, 3), "xyz")
+            n = points.shape[0]
+        w = None if weights is None else _arrays.input_array(weights, c_double, (n,), "weights")
+        ptr = c_void_p()
+        if xyz is None:
+            status = C.um_triangulation_create(context._handle, n, _arrays.pointer(lon, c_double),
+                                               _arrays.pointer(lat, c_double),
+                                               _arrays.pointer(w, c_double), byref(ptr))
+        else:
+            status = C.um_triangulation_create_xyz(context._handle, n,
+                                                   _arrays.pointer(points, c_double),
+                                                   _arrays.pointer(w, c_double), byref(ptr))
+        context._check(status)
+        self._ptr = ptr.value
+
+    def _check(self, status):
+        self._context._check(status)
+
+    def counts(self):
+        """TriangulationCounts(n_vertices, n_triangles, n_hidden)."""
+        counts = c_int64(0), c_int64(0), c_int64(0)
+        self._check(C.um_triangulation_counts(self._handle, *(byref(c) for c in counts)))
+        return TriangulationCounts(*(c.value for c in counts))
+
+    def _per_corner(self, function, base, out):
+        base = _base(base)
+        out = _arrays.output_array(c_int32, (self.counts().n_triangles, 3), out)
+        self._check(function(self._handle, base, _arrays.pointer(out, c_int32),
+                             _arrays.capacity(out)))
+        return out
+
+    def triangles(self, base=0, out=None):
+        """(n_triangles, 3) int32: the vertices of each triangle (input point
+        indices + base), counter-clockwise seen from outside the sphere."""
+        return self._per_corner(C.um_triangulation_copy_triangles, base, out)
+
+    def neighbours(self, base=0, out=None):
+        """(n_triangles, 3) int32: neighbours[t, k] is the triangle (+ base)
+        across the edge of t opposite its vertex triangles()[t, k]."""
+        return self._per_corner(C.um_triangulation_copy_neighbours, base, out)
+
+    def orthocentres(self, out=None):
+        """(n_triangles, 3) float64: the orthocentre (power vertex) of each
+        triangle, a unit vector."""
+        out = _arrays.output_array(c_double, (self.counts().n_triangles, 3), out)
+        self._check(C.um_triangulation_copy_orthocentres(
+            self._handle, _arrays.pointer(out, c_double), _arrays.capacity(out)))
+        return out
+
+    def hidden(self, base=0, out=None):
+        """(n_hidden,) int32: the hidden points (input indices + base), ascending."""
+        base = _base(base)
+        out = _arrays.output_array(c_int32, (self.counts().n_hidden,), out)
+        self._check(C.um_triangulation_copy_hidden(self._handle, base,
+                                                   _arrays.pointer(out, c_int32),
+                                                   _arrays.capacity(out)))
+        return out
+
+    def check(self):
+        """Re-checks every invariant with exact predicates; raises UnimeshError
+        (ERR_INTERNAL, naming the first violation) if one fails."""
+        self._check(C.um_triangulation_check(self._handle))
+
+    def __repr__(self):
+        if self.closed:
+            return "<unimesh.Triangulation closed>"
+        counts = self.counts()
+        return (f"<unimesh.Triangulation n_vertices={counts.n_vertices} "
+                f"n_triangles={counts.n_triangles} n_hidden={counts.n_hidden}>")
+
+
+class Features(_Handle):
+    """A polyarc network (um_features): coastlines, lake shores, rivers and
+    watersheds as polylines ("parts") of longitudes/latitudes in degrees.
+
+        gamma = Features(ctx)
+        gamma.add(lon, lat, closed=True, kind=FeatureKind.COASTLINE)   # one part
+        gamma.add(lon, lat, offsets=[0, 10, 25], closed=[1, 0],
+                  kind=FeatureKind.RIVER, part_id=[7, 8])               # two parts
+        gamma.read_geojson("coast.geojson", default_kind=FeatureKind.COASTLINE)
+        gamma.counts(); gamma.points(); gamma.parts()
+
+    closed, kind and part_id take one value per part or one for all. The
+    library cleans what it stores (consecutive duplicates dropped, a repeated
+    closing point stored once); points() and parts() give the stored form.
+    A failing call adds nothing.
+    """
+
+    _destroy = staticmethod(C.um_features_destroy)
+
+    def __init__(self, context):
+        self._context = context
+        ptr = c_void_p()
+        context._check(C.um_features_create(context._handle, byref(ptr)))
+        self._ptr = ptr.value
+
+    def _check(self, status):
+        self._context._check(status)
+
+    def add(self, lon_deg, lat_deg, offsets=None, closed=False, kind=FeatureKind.OTHER,
+            part_id=None):
+        """Appends parts: part p is points offsets[p]..offsets[p+1]-1 (offsets
+        has n_parts + 1 entries from 0 to n_points; None = one part of all
+        the points). part_id None numbers parts by their index in the network."""
+        numpy = _arrays._numpy()
+        lon = _arrays.input_array(lon_deg, c_double, (-1,), "lon_deg")
+        lat = _arrays.input_array(lat_deg, c_double, (lon.size,), "lat_deg")
+        if offsets is None:
+            offsets = (0, lon.size)
+        offs = _arrays.input_array(offsets, c_int64, (-1,), "offsets")
+        if offs.size < 1:
+            raise ValueError("offsets must have n_parts + 1 entries")
+        n_parts = offs.size - 1
+
+        def per_part(values, name):
+            array = numpy.asarray(values)
+            if array.ndim == 0:
+                array = numpy.full(n_parts, array)
+            return _arrays.input_array(array, c_int32, (n_parts,), name)
+        closed_ = per_part(numpy.asarray(closed).astype(numpy.int64)
+                           if numpy.asarray(closed).dtype == bool else closed, "closed")
+        kind_ = per_part(kind, "kind")
+        ids = None if part_id is None else per_part(part_id, "part_id")
+        self._check(C.um_features_add(
+            self._handle, lon.size, _arrays.pointer(lon, c_double),
+            _arrays.pointer(lat, c_double), n_parts, _arrays.pointer(offs, c_int64),
+            _arrays.pointer(closed_, c_int32), _arrays.pointer(kind_, c_int32),
+            _arrays.pointer(ids, c_int32)))
+
+    def read_geojson(self, path, kind_property=None, default_kind=0):
+        """Appends the lines of a GeoJSON file (all-or-nothing). kind_property
+        names the string property giving the kind (None = "kind");
+        default_kind is used for features without a known kind (0 = error)."""
+        prop = None if kind_property is None else str(kind_property).encode()
+        self._check(C.um_features_read_geojson(self._handle, os.fsencode(path), prop,
+                                               operator.index(default_kind)))
+
+    def counts(self):
+        """FeaturesCounts(n_parts, n_points, n_segments) of what is stored."""
+        counts = c_int64(0), c_int64(0), c_int64(0)
+        self._check(C.um_features_counts(self._handle, *(byref(c) for c in counts)))
+        return FeaturesCounts(*(c.value for c in counts))
+
+    def points(self):
+        """(lon_deg, lat_deg): the stored points, float64 arrays."""
+        n = self.counts().n_points
+        lon = _arrays.output_array(c_double, (n,))
+        lat = _arrays.output_array(c_double, (n,))
+        self._check(C.um_features_copy_points(self._handle, _arrays.pointer(lon, c_double),
+                                              _arrays.pointer(lat, c_double), n))
+        return lon, lat
+
+    def parts(self):
+        """FeatureParts(offsets (n_parts + 1,) int64, closed, kind, part_id
+        (n_parts,) int32 each) of the stored parts."""
+        n = self.counts().n_parts
+        offsets = _arrays.output_array(c_int64, (n + 1,))
+        # One capacity for all four arrays: n + 1 elements each.
+        rest = [_arrays.output_array(c_int32, (n + 1,)) for _ in range(3)]
+        self._check(C.um_features_copy_parts(self._handle, _arrays.pointer(offsets, c_int64),
+                                             *(_arrays.pointer(a, c_int32) for a in rest),
+                                             n + 1))
+        closed, kind, part_id = (a[:n].copy() for a in rest)
+        return FeatureParts(offsets, closed, kind, part_id)
+
+    def __len__(self):
+        return self.counts().n_parts
+
+    def __repr__(self):
+        if self.closed:
+            return "<unimesh.Features closed>"
+        counts = self.counts()
+        return (f"<unimesh.Features n_parts={counts.n_parts} n_points={counts.n_points} "
+                f"n_segments={counts.n_segments}>")
+
+
+class _SpacingCallback:
+    """A Python spacing function as C calls it: the ctypes function object
+    (which must live as long as any C spacing that may call it, including
+    the copy a Mesh keeps) and the first exception the function raised."""
+
+    def __init__(self, function):
+        self.error = None
+
+        def trampoline(_user_data, lon_deg, lat_deg):
+            if self.error is not None:
+                return float("nan")  # already failed: finish quickly
+            try:
+                return float(function(lon_deg, lat_deg))
+            except BaseException as error:  # must not unwind through C
+                if self.error is None:
+                    self.error = error
+                return float("nan")  # the call then fails, naming the point
+        self.c_function = SPACING_FN(trampoline)
+
+    def take_error(self):
+        error, self.error = self.error, None
+        return error
+
+
+def _check_with_callback(context, callback, status):
+    """context._check(status), except that an exception raised by a Python
+    spacing function during the call is raised instead, being the cause."""
+    pending = callback.take_error() if callback is not None else None
+    if pending is not None:
+        try:
+            context._check(status)
+        except UnimeshError:
+            pass  # the C side only saw a bad value
+        raise pending
+    context._check(status)
+
+
+class Spacing(_Handle):
+    """The mesh spacing h(x), in km (um_spacing). Made by the class methods:
+
+        Spacing.constant(ctx, 240.0)
+        Spacing.grid(ctx, lon_deg, lat_deg, cell_width_km)  # (n_lat, n_lon) widths
+        Spacing.from_file(ctx, "cellWidth.nc")             # MPAS-tools netCDF
+        Spacing.preset(ctx, "EC60to30")                    # QU<km>, EC<a>to<b>, RRS<a>to<b>
+        Spacing.callback(ctx, lambda lon, lat: 100 + abs(lat))
+
+    then refined in place by limit_gradient() and clamp(), and read by
+    evaluate(). A callback is called from the library's worker threads
+    (serialised by the GIL); an exception in it fails the call that
+    evaluated it and is what that call raises.
+    """
+
+    _destroy = staticmethod(C.um_spacing_destroy)
+
+    def __init__(self, *_args, **_kwargs):
+        raise TypeError("make a Spacing with Spacing.constant, .grid, .from_file, .preset "
+                        "or .callback")
+
+    @classmethod
+    def _create(cls, context, function, *args, callback=None):
+        self = object.__new__(cls)
+        self._context = context
+        self._callback = callback
+        ptr = c_void_p()
+        _check_with_callback(context, callback, function(context._handle, *args, byref(ptr)))
+        self._ptr = ptr.value
+        return self
+
+    @classmethod
+    def constant(cls, context, km):
+        """h = km everywhere."""
+        return cls._create(context, C.um_spacing_create_constant, float(km))
+
+    @classmethod
+    def grid(cls, context, lon_deg, lat_deg, cell_width_km):
+        """Bilinear interpolation in a lon/lat grid of cell widths in km:
+        cell_width_km has shape (n_lat, n_lon) (MPAS cellWidth(lat, lon))."""
+        lon = _arrays.input_array(lon_deg, c_double, (-1,), "lon_deg")
+        lat = _arrays.input_array(lat_deg, c_double, (-1,), "lat_deg")
+        width = _arrays.input_array(cell_width_km, c_double, (lat.size, lon.size),
+                                    "cell_width_km")
+        return cls._create(context, C.um_spacing_create_grid, lon.size,
+                           _arrays.pointer(lon, c_double), lat.size,
+                           _arrays.pointer(lat, c_double), _arrays.pointer(width, c_double))
+
+    @classmethod
+    def from_file(cls, context, path):
+        """The grid of an MPAS-tools spacing file (netCDF lon, lat, cellWidth)."""
+        return cls._create(context, C.um_spacing_create_from_file, os.fsencode(path))
+
+    @classmethod
+    def preset(cls, context, name):
+        """A named E3SM spacing: "QU240", "EC60to30", "RRS18to6", ..."""
+        return cls._create(context, C.um_spacing_create_preset, str(name).encode())
+
+    @classmethod
+    def callback(cls, context, function):
+        """h = function(lon_deg, lat_deg) in km. The Spacing (and any Mesh
+        made from it) keeps the function alive."""
+        if not callable(function):
+            raise TypeError(f"Spacing.callback needs a callable, not {type(function).__name__}")
+        holder = _SpacingCallback(function)
+        return cls._create(context, C.um_spacing_create_callback, holder.c_function, None,
+                           callback=holder)
+
+    def _check(self, status):
+        _check_with_callback(self._context, self._callback, status)
+
+    def limit_gradient(self, g):
+        """Limits |grad h| to g km per km (grid spacings only)."""
+        self._check(C.um_spacing_limit_gradient(self._handle, float(g)))
+        return self
+
+    def clamp(self, km_min, km_max):
+        """h = min(max(h, km_min), km_max)."""
+        self._check(C.um_spacing_clamp(self._handle, float(km_min), float(km_max)))
+        return self
+
+    def evaluate(self, lon_deg, lat_deg, out=None):
+        """h in km at the points: a float64 array of the inputs' shape."""
+        lon = _arrays.input_array(lon_deg, c_double, None, "lon_deg")
+        lat = _arrays.input_array(lat_deg, c_double, lon.shape, "lat_deg")
+        out = _arrays.output_array(c_double, lon.shape, out)
+        self._check(C.um_spacing_evaluate(self._handle, lon.size, _arrays.pointer(lon, c_double),
+                                          _arrays.pointer(lat, c_double),
+                                          _arrays.pointer(out, c_double)))
+        return out
+
+    def __call__(self, lon_deg, lat_deg):
+        return self.evaluate(lon_deg, lat_deg)
+
+    def __repr__(self):
+        return "<unimesh.Spacing closed>" if self.closed else "<unimesh.Spacing>"
+
+
+class Mesh(_Handle):
+    """The restricted triangulation of the sphere (um_mesh):
+
+        mesh = Mesh.refine(ctx, spacing, features=None, options=None)
+        lon, lat = mesh.vertices()
+        triangles = mesh.triangles()   # (n_triangles, 3) int32 (+ base)
+
+    Vertices are numbered 0..n_vertices-1 (+ base); triangles are
+    counter-clockwise seen from outside. The mesh stays usable after the
+    context, spacing, features and options are closed.
+    """
+
+    _destroy = staticmethod(C.um_mesh_destroy)
+
+    def __init__(self, context, spacing, features=None, options=None):
+        self._context = context
+        # The C mesh keeps the spacing (quality reads it): so must we keep a
+        # Python spacing function.
+        self._callback = spacing._callback
+        ptr = c_void_p()
+        status = C.um_mesh_refine(context._handle, spacing._handle,
+                                  None if features is None else features._handle,
+                                  None if options is None else options._handle, byref(ptr))
+        _check_with_callback(context, self._callback, status)
+        self._ptr = ptr.value
+
+    @classmethod
+    def refine(cls, context, spacing, features=None, options=None):
+        """Refines the icosahedron to the spacing, with vertices placed on
+        the features when given (see um_mesh_refine)."""
+        return cls(context, spacing, features, options)
+
+    def _check(self, status):
+        _check_with_callback(self._context, self._callback, status)
+
+    def counts(self):
+        """MeshCounts(n_vertices, n_triangles, n_restricted_edges, n_filtered)."""
+        counts = c_int64(0), c_int64(0), c_int64(0), c_int64(0)
+        self._check(C.um_mesh_counts(self._handle, *(byref(c) for c in counts)))
+        return MeshCounts(*(c.value for c in counts))
+
+    def vertices(self):
+        """(lon_deg, lat_deg) of the vertices, float64 (lon in (-180, 180])."""
+        n = self.counts().n_vertices
+        lon = _arrays.output_array(c_double, (n,))
+        lat = _arrays.output_array(c_double, (n,))
+        self._check(C.um_mesh_copy_vertices(self._handle, _arrays.pointer(lon, c_double),
+                                            _arrays.pointer(lat, c_double), n))
+        return lon, lat
+
+    def triangles(self, base=0, out=None):
+        """(n_triangles, 3) int32: the vertices (+ base) of each triangle."""
+        base = _base(base)
+        out = _arrays.output_array(c_int32, (self.counts().n_triangles, 3), out)
+        self._check(C.um_mesh_copy_triangles(self._handle, base, _arrays.pointer(out, c_int32),
+                                             _arrays.capacity(out)))
+        return out
+
+    def vertex_parts(self, base=0, out=None):
+        """(n_vertices,) int32: the features part (+ base) each vertex lies on,
+        -1 (whatever the base) when it is not on a feature."""
+        base = _base(base)
+        out = _arrays.output_array(c_int32, (self.counts().n_vertices,), out)
+        self._check(C.um_mesh_copy_vertex_parts(self._handle, base,
+                                                _arrays.pointer(out, c_int32),
+                                                _arrays.capacity(out)))
+        return out
+
+    def restricted_edges(self, base=0):
+        """(vertices (n, 2) int32, parts (n,) int32): each restricted edge's
+        two vertices (+ base) and the part (+ base) its dual edge crosses."""
+        base = _base(base)
+        n = self.counts().n_restricted_edges
+        vertices = _arrays.output_array(c_int32, (n, 2))
+        parts = _arrays.output_array(c_int32, (n,))
+        self._check(C.um_mesh_copy_restricted_edges(self._handle, base,
+                                                    _arrays.pointer(vertices, c_int32),
+                                                    _arrays.pointer(parts, c_int32), n))
+        return vertices, parts
+
+    def vertex_sides(self, out=None):
+        """(n_vertices,) int32 Side values (OCEAN, LAND or COASTAL)."""
+        out = _arrays.output_array(c_int32, (self.counts().n_vertices,), out)
+        self._check(C.um_mesh_copy_vertex_sides(self._handle, _arrays.pointer(out, c_int32),
+                                                _arrays.capacity(out)))
+        return out
+
+    def triangle_sides(self, out=None):
+        """(n_triangles,) int32 Side values (OCEAN or LAND) of the orthocentres."""
+        out = _arrays.output_array(c_int32, (self.counts().n_triangles,), out)
+        self._check(C.um_mesh_copy_triangle_sides(self._handle, _arrays.pointer(out, c_int32),
+                                                  _arrays.capacity(out)))
+        return out
+
+    def quality_json(self):
+        """The quality report (see um_mesh_quality_json) as JSON text."""
+        needed = c_int64(0)
+        status = C.um_mesh_quality_json(self._handle, None, 0, byref(needed))
+        if status != Status.ERR_BUFFER_TOO_SMALL:
+            self._check(status)
+        buffer = create_string_buffer(max(needed.value, 1))
+        self._check(C.um_mesh_quality_json(self._handle, buffer, len(buffer), byref(needed)))
+        return _text(buffer.value)
+
+    def quality_summary(self, metric):
+        """QualitySummary(min, p1, mean, max) of a metric: "area_length_ratio",
+        "primal_dual", "angle_min_deg", "angle_max_deg" or "edge_spacing_ratio"."""
+        values = c_double(), c_double(), c_double(), c_double()
+        self._check(C.um_mesh_quality_summary(self._handle, str(metric).encode(),
+                                              *(byref(v) for v in values)))
+        return QualitySummary(*(v.value for v in values))
+
+    def quality_counts(self):
+        """QualityCounts(obtuse, not_well_centred) triangles."""
+        counts = c_int64(0), c_int64(0)
+        self._check(C.um_mesh_quality_counts(self._handle, *(byref(c) for c in counts)))
+        return QualityCounts(*(c.value for c in counts))
+
+    def write_mpas(self, path):
+        """Writes the MPAS mesh file (netCDF) of this mesh."""
+        self._check(C.um_mesh_write_mpas(self._handle, os.fsencode(path)))
+
+    def __repr__(self):
+        if self.closed:
+            return "<unimesh.Mesh closed>"
+        counts = self.counts()
+        return (f"<unimesh.Mesh n_vertices={counts.n_vertices} "
+                f"n_triangles={counts.n_triangles} "
+                f"n_restricted_edges={counts.n_restricted_edges}>")
+
+
+def _base(base):
+    """An index base for C: 0 or 1. Checked here because ctypes would wrap an
+    int beyond int32 into range instead of refusing it."""
+    base = operator.index(base)
+    if base not in (0, 1):
+        raise UnimeshError(Status.ERR_INVALID_ARGUMENT, f"base = {base} is not 0 or 1")
+    return base
 
 
 def _name_of(key):

@@ -1,10 +1,14 @@
 """numpy arrays across the C ABI.
 
 The ABI's arrays are flat caller-owned buffers of double or int32_t with an
-element count. Inputs may be anything numpy can turn into such a buffer
-(copied only when the dtype or layout is wrong); outputs are written in
-place, so an `out=` array must already be exactly right -- converting it
-would make C write into a temporary copy and lose the result.
+element count. Inputs may be anything numpy can turn into such a buffer of
+numbers: copied only when the dtype or layout is wrong (float32, integers,
+other byte orders, strided views, Fortran order), refused when the
+conversion would change values rather than represent them (TypeError for
+complex, bool, strings, objects and floats given for integers; ValueError
+for integers outside int32). Outputs are written in place, so an `out=`
+array must already be exactly right -- converting it would make C write
+into a temporary copy and lose the result.
 
 numpy is imported on first use: the package works without it for everything
 that passes no arrays.
@@ -12,7 +16,12 @@ that passes no arrays.
 
 import ctypes
 
-_DTYPES = {ctypes.c_double: "float64", ctypes.c_int32: "int32"}
+_DTYPES = {ctypes.c_double: "float64", ctypes.c_int32: "int32", ctypes.c_int64: "int64"}
+# numpy dtype kinds each C type takes from an input without changing values:
+# floats and integers for double (integers above 2**53 round, as in C);
+# integers alone for int32 (range-checked below).
+_INPUT_KINDS = {ctypes.c_double: ("fiu", "real numbers"), ctypes.c_int32: ("iu", "integers"),
+                ctypes.c_int64: ("iu", "integers")}
 
 
 def _numpy():
@@ -34,13 +43,23 @@ def _check_shape(array, shape, name):
 
 
 def input_array(values, ctype, shape=None, name="array"):
-    """values as a C-contiguous array of the dtype matching ctype (c_double or
-    c_int32), without a copy when it already is one. Keep the result alive
+    """values as a C-contiguous array of the dtype matching ctype (c_double,
+    c_int32 or c_int64), without a copy when it already is one. shape as for
+    _check_shape (entries may also be exact lengths). Keep the result alive
     for as long as C may read the pointer taken from it."""
     numpy = _numpy()
-    array = numpy.ascontiguousarray(values, dtype=_DTYPES[ctype])
+    array = numpy.asarray(values)
+    kinds, what = _INPUT_KINDS[ctype]
+    if array.dtype.kind not in kinds:
+        raise TypeError(f"{name} must hold {what}, not {array.dtype}")
     _check_shape(array, shape, name)
-    return array
+    if ctype in (ctypes.c_int32, ctypes.c_int64) and array.size \
+            and not numpy.can_cast(array.dtype, _DTYPES[ctype]):
+        limits = numpy.iinfo(_DTYPES[ctype])
+        if array.min() < limits.min or array.max() > limits.max:
+            raise ValueError(f"{name} holds values outside {_DTYPES[ctype]}: "
+                             f"{array.min()}..{array.max()}")
+    return numpy.ascontiguousarray(array, dtype=_DTYPES[ctype])
 
 
 def output_array(ctype, shape, out=None, name="out"):

@@ -29,7 +29,10 @@ buffer_out_t = POINTER(c_char)  # char *buf of `capacity` bytes, written by C
 PROGRESS_FN = CFUNCTYPE(c_int32, c_void_p, c_char_p, c_double)  # um_progress_fn
 LOG_FN = CFUNCTYPE(None, c_void_p, c_int32, c_char_p)  # um_log_fn
 ABORT_FN = CFUNCTYPE(None, c_void_p, status_t, c_char_p)  # um_abort_fn
-CALLBACK_TYPES = {"um_progress_fn": PROGRESS_FN, "um_log_fn": LOG_FN, "um_abort_fn": ABORT_FN}
+# Called from worker threads, concurrently (ctypes takes the GIL for each call).
+SPACING_FN = CFUNCTYPE(c_double, c_void_p, c_double, c_double)  # um_spacing_fn
+CALLBACK_TYPES = {"um_progress_fn": PROGRESS_FN, "um_log_fn": LOG_FN, "um_abort_fn": ABORT_FN,
+                  "um_spacing_fn": SPACING_FN}
 
 _i32p, _i64p, _f64p = POINTER(c_int32), POINTER(c_int64), POINTER(c_double)
 
@@ -78,6 +81,41 @@ SIGNATURES = (
     ("um_triangulation_copy_orthocentres", status_t, (handle_t, _f64p, c_int64)),
     ("um_triangulation_copy_hidden", status_t, (handle_t, c_int32, _i32p, c_int64)),
     ("um_triangulation_check", status_t, (handle_t,)),
+    # features (polyarc networks)
+    ("um_features_create", status_t, (handle_t, handle_out_t)),
+    ("um_features_destroy", None, (handle_t,)),
+    ("um_features_add", status_t,
+     (handle_t, c_int64, _f64p, _f64p, c_int64, _i64p, _i32p, _i32p, _i32p)),
+    ("um_features_read_geojson", status_t, (handle_t, string_in_t, string_in_t, c_int32)),
+    ("um_features_counts", status_t, (handle_t, _i64p, _i64p, _i64p)),
+    ("um_features_copy_points", status_t, (handle_t, _f64p, _f64p, c_int64)),
+    ("um_features_copy_parts", status_t, (handle_t, _i64p, _i32p, _i32p, _i32p, c_int64)),
+    # spacing
+    ("um_spacing_create_constant", status_t, (handle_t, c_double, handle_out_t)),
+    ("um_spacing_create_grid", status_t,
+     (handle_t, c_int64, _f64p, c_int64, _f64p, _f64p, handle_out_t)),
+    ("um_spacing_create_from_file", status_t, (handle_t, string_in_t, handle_out_t)),
+    ("um_spacing_create_callback", status_t, (handle_t, SPACING_FN, c_void_p, handle_out_t)),
+    ("um_spacing_create_preset", status_t, (handle_t, string_in_t, handle_out_t)),
+    ("um_spacing_destroy", None, (handle_t,)),
+    ("um_spacing_limit_gradient", status_t, (handle_t, c_double)),
+    ("um_spacing_clamp", status_t, (handle_t, c_double, c_double)),
+    ("um_spacing_evaluate", status_t, (handle_t, c_int64, _f64p, _f64p, _f64p)),
+    # mesh
+    ("um_mesh_refine", status_t, (handle_t, handle_t, handle_t, handle_t, handle_out_t)),
+    ("um_mesh_destroy", None, (handle_t,)),
+    ("um_mesh_counts", status_t, (handle_t, _i64p, _i64p, _i64p, _i64p)),
+    ("um_mesh_copy_vertices", status_t, (handle_t, _f64p, _f64p, c_int64)),
+    ("um_mesh_copy_triangles", status_t, (handle_t, c_int32, _i32p, c_int64)),
+    ("um_mesh_copy_vertex_parts", status_t, (handle_t, c_int32, _i32p, c_int64)),
+    ("um_mesh_copy_restricted_edges", status_t, (handle_t, c_int32, _i32p, _i32p, c_int64)),
+    ("um_mesh_copy_vertex_sides", status_t, (handle_t, _i32p, c_int64)),
+    ("um_mesh_copy_triangle_sides", status_t, (handle_t, _i32p, c_int64)),
+    ("um_mesh_quality_json", status_t, (handle_t, buffer_out_t, c_int64, _i64p)),
+    ("um_mesh_quality_summary", status_t, (handle_t, string_in_t, _f64p, _f64p, _f64p, _f64p)),
+    ("um_mesh_quality_counts", status_t, (handle_t, _i64p, _i64p)),
+    # MPAS output
+    ("um_mesh_write_mpas", status_t, (handle_t, string_in_t)),
 )
 
 # ----------------------------------------------------------- finding the library

@@ -1,0 +1,31 @@
+// The MPAS mesh file (shared/mpas-format.md section 1): netCDF classic
+// 64-bit offset (CDF-5 when a variable is larger than that format allows),
+// int32 connectivity 1-based with 0 padding, double reals, the global
+// attributes of MpasMeshConverter.x, and the unified tags (cellSide,
+// vertexSide) when the mesh has them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "dual/mpas_mesh.hpp"
+
+namespace um::io {
+
+// The largest fixed-size variable a netCDF 64-bit offset file can hold.
+constexpr uint64_t kOffset64VariableLimit = (uint64_t(1) << 32) - 4;
+
+// Writes m to path (created or overwritten) under the process-wide netCDF
+// lock. The bytes depend only on m: file_id is a hash of its content, no
+// clock, no randomness. The format is 64-bit offset unless a variable needs
+// more than variable_limit bytes (a parameter so that tests can reach the
+// CDF-5 branch with small meshes), then CDF-5. Throws UM_ERR_IO naming the
+// file; a partly written file is removed.
+void write_mpas_mesh(const dual::MpasMesh &m, const std::string &path,
+                     uint64_t variable_limit = kOffset64VariableLimit);
+
+// The file_id attribute: 10 characters [0-9a-z] from a hash of every array
+// and the radius of m.
+std::string mpas_file_id(const dual::MpasMesh &m);
+
+}  // namespace um::io

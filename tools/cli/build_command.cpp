@@ -1,0 +1,137 @@
+#include "build_command.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "mpas_extras.hpp"
+#include "unimesh.h"
+
+namespace {
+
+// Stops with a one-line message naming what failed and the library's reason.
+struct Failure {
+    std::string message;
+};
+
+void check(um_status s, um_context *ctx, const std::string &what) {
+    if (s != UM_OK) throw Failure{what + ": " + um_context_last_error(ctx)};
+}
+
+int32_t report_progress(void *user, const char *stage, double) {
+    auto *last = static_cast<std::string *>(user);
+    if (*last != stage) {
+        *last = stage;
+        if (isatty(fileno(stderr)))
+            std::fprintf(stderr, "\r%-40s", stage);
+        else
+            std::fprintf(stderr, "%s\n", stage);
+    }
+    return 0;
+}
+
+um_spacing *make_spacing(um_context *ctx, const BuildArgs &a) {
+    um_spacing *h = nullptr;
+    int given = (a.spacing_km > 0) + !a.spacing_file.empty() + !a.spacing_preset.empty();
+    if (given != 1)
+        throw Failure{"give exactly one of --spacing-km, --spacing-file, --spacing-preset"};
+    if (a.spacing_km > 0)
+        check(um_spacing_create_constant(ctx, a.spacing_km, &h), ctx, "--spacing-km");
+    else if (!a.spacing_file.empty())
+        check(um_spacing_create_from_file(ctx, a.spacing_file.c_str(), &h), ctx,
+              "--spacing-file " + a.spacing_file);
+    else
+        check(um_spacing_create_preset(ctx, a.spacing_preset.c_str(), &h), ctx,
+              "--spacing-preset " + a.spacing_preset);
+    return h;
+}
+
+std::string quality_json(um_context *ctx, um_mesh *m) {
+    int64_t needed = 0;
+    um_mesh_quality_json(m, nullptr, 0, &needed);
+    std::string text(static_cast<size_t>(needed), '\0');
+    check(um_mesh_quality_json(m, text.data(), needed, nullptr), ctx, "quality report");
+    text.resize(static_cast<size_t>(needed) - 1);
+    return text;
+}
+
+void write_text(const std::string &path, const std::string &text) {
+    std::ofstream f(path, std::ios::binary);
+    f << text;
+    if (!f) throw Failure{"cannot write " + path};
+}
+
+}  // namespace
+
+int run_build(const BuildArgs &a) {
+    um_context *ctx = nullptr;
+    um_spacing *h = nullptr;
+    um_features *f = nullptr;
+    um_options *opts = nullptr;
+    um_mesh *m = nullptr;
+    int rc = 0;
+    std::string stage;
+    try {
+        if (um_context_create(&ctx) != UM_OK) throw Failure{"cannot create a context"};
+        check(um_context_set_threads(ctx, a.threads), ctx, "--threads");
+        um_context_set_progress(ctx, report_progress, &stage);
+        check(um_options_create(ctx, &opts), ctx, "options");
+        if (!a.options.empty()) check(um_options_set_string(opts, a.options.c_str()), ctx, "--option");
+        h = make_spacing(ctx, a);
+        if (!a.geometry.empty()) {
+            check(um_features_create(ctx, &f), ctx, "features");
+            for (const auto &g : a.geometry)
+                check(um_features_read_geojson(f, g.c_str(), nullptr, 0), ctx, "--geometry " + g);
+        }
+        std::error_code ec;
+        std::filesystem::create_directories(a.out_dir, ec);
+        if (ec) throw Failure{"--out " + a.out_dir + ": " + ec.message()};
+
+        auto t0 = std::chrono::steady_clock::now();
+        check(um_mesh_refine(ctx, h, f, opts, &m), ctx, "refinement");
+        double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-40s\r", "");
+
+        const std::string dir = a.out_dir + "/";
+        check(um_mesh_write_mpas(m, (dir + "mesh.nc").c_str()), ctx, "writing " + dir + "mesh.nc");
+        std::string extra_error;
+        if (!write_graph_info(dir + "mesh.nc", dir + "graph.info", &extra_error))
+            throw Failure{extra_error};
+        if (!write_cells_vtu(dir + "mesh.nc", dir + "mesh.vtu", &extra_error))
+            throw Failure{extra_error};
+        const std::string quality = quality_json(ctx, m);
+        write_text(dir + "quality.json", quality);
+
+        int64_t nv = 0, nt = 0, nr = 0, nf = 0, obtuse = 0, bad = 0;
+        um_mesh_counts(m, &nv, &nt, &nr, &nf);
+        um_mesh_quality_counts(m, &obtuse, &bad);
+        double qmin = 0, qmean = 0, amax = 0;
+        um_mesh_quality_summary(m, "area_length_ratio", &qmin, nullptr, &qmean, nullptr);
+        um_mesh_quality_summary(m, "angle_max_deg", nullptr, nullptr, nullptr, &amax);
+        std::printf("mesh: %lld cells, %lld triangles, %lld restricted edges (%lld left coarser "
+                    "than the features), refined in %.2f s\n",
+                    (long long)nv, (long long)nt, (long long)nr, (long long)nf, seconds);
+        std::printf("quality: area-length ratio min %.3f mean %.3f; max angle %.1f deg; %lld "
+                    "obtuse triangles, %lld not containing their orthocentre\n",
+                    qmin, qmean, amax, (long long)obtuse, (long long)bad);
+        if (!a.no_optimise)
+            std::printf("note: the weighted primal-dual optimisation is not built yet; the mesh "
+                        "is the refined one (as with --no-optimise)\n");
+        std::printf("wrote %smesh.nc, %sgraph.info, %smesh.vtu, %squality.json\n", dir.c_str(),
+                    dir.c_str(), dir.c_str(), dir.c_str());
+    } catch (const Failure &e) {
+        if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-40s\r", "");
+        std::fprintf(stderr, "unimesh build: %s\n", e.message.c_str());
+        rc = 1;
+    }
+    um_mesh_destroy(m);
+    um_features_destroy(f);
+    um_spacing_destroy(h);
+    um_options_destroy(opts);
+    um_context_destroy(ctx);
+    return rc;
+}

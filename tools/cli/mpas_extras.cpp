@@ -1,0 +1,98 @@
+#include "mpas_extras.hpp"
+
+#include <netcdf.h>
+
+#include <cstdint>
+#include <fstream>
+#include <vector>
+
+namespace {
+
+struct NcFile {
+    int id = -1;
+    ~NcFile() {
+        if (id >= 0) nc_close(id);
+    }
+};
+
+bool fail(std::string *error, const std::string &message) {
+    *error = message;
+    return false;
+}
+
+bool dim(const NcFile &f, const char *name, size_t *n) {
+    int d = 0;
+    return nc_inq_dimid(f.id, name, &d) == NC_NOERR && nc_inq_dimlen(f.id, d, n) == NC_NOERR;
+}
+
+template <class T>
+bool var(const NcFile &f, const char *name, std::vector<T> &out, size_t n) {
+    int v = 0;
+    out.resize(n);
+    if (nc_inq_varid(f.id, name, &v) != NC_NOERR) return false;
+    if constexpr (sizeof(T) == 4) return nc_get_var_int(f.id, v, reinterpret_cast<int *>(out.data())) == NC_NOERR;
+    else return nc_get_var_double(f.id, v, reinterpret_cast<double *>(out.data())) == NC_NOERR;
+}
+
+}  // namespace
+
+bool write_graph_info(const std::string &mesh_nc, const std::string &path, std::string *error) {
+    NcFile f;
+    if (nc_open(mesh_nc.c_str(), NC_NOWRITE, &f.id) != NC_NOERR) return fail(error, "cannot read " + mesh_nc);
+    size_t n_cells = 0, n_edges = 0, max_edges = 0;
+    std::vector<int32_t> n_on, cells_on;
+    if (!dim(f, "nCells", &n_cells) || !dim(f, "nEdges", &n_edges) || !dim(f, "maxEdges", &max_edges) ||
+        !var(f, "nEdgesOnCell", n_on, n_cells) || !var(f, "cellsOnCell", cells_on, n_cells * max_edges))
+        return fail(error, mesh_nc + " lacks nCells, nEdges, maxEdges, nEdgesOnCell or cellsOnCell");
+    std::ofstream out(path);
+    out << n_cells << ' ' << n_edges << '\n';
+    for (size_t c = 0; c < n_cells; ++c) {
+        for (int32_t j = 0; j < n_on[c]; ++j) {
+            int32_t other = cells_on[c * max_edges + j];
+            if (other > 0) out << (j ? " " : "") << other;
+        }
+        out << '\n';
+    }
+    return out ? true : fail(error, "cannot write " + path);
+}
+
+bool write_cells_vtu(const std::string &mesh_nc, const std::string &path, std::string *error) {
+    NcFile f;
+    if (nc_open(mesh_nc.c_str(), NC_NOWRITE, &f.id) != NC_NOERR) return fail(error, "cannot read " + mesh_nc);
+    size_t n_cells = 0, n_vertices = 0, max_edges = 0;
+    std::vector<int32_t> n_on, verts_on, side;
+    std::vector<double> x, y, z, area;
+    if (!dim(f, "nCells", &n_cells) || !dim(f, "nVertices", &n_vertices) || !dim(f, "maxEdges", &max_edges) ||
+        !var(f, "nEdgesOnCell", n_on, n_cells) || !var(f, "verticesOnCell", verts_on, n_cells * max_edges) ||
+        !var(f, "xVertex", x, n_vertices) || !var(f, "yVertex", y, n_vertices) ||
+        !var(f, "zVertex", z, n_vertices) || !var(f, "areaCell", area, n_cells))
+        return fail(error, mesh_nc + " lacks the cell polygons (verticesOnCell, x/y/zVertex, areaCell)");
+    const bool has_side = var(f, "cellSide", side, n_cells);
+    std::ofstream out(path);
+    out.precision(17);
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+           "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
+        << n_vertices << "\" NumberOfCells=\"" << n_cells << "\">\n<Points>\n"
+        << "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (size_t v = 0; v < n_vertices; ++v) out << x[v] << ' ' << y[v] << ' ' << z[v] << '\n';
+    out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    for (size_t c = 0; c < n_cells; ++c) {
+        for (int32_t j = 0; j < n_on[c]; ++j) out << verts_on[c * max_edges + j] - 1 << ' ';
+        out << '\n';
+    }
+    out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+    int64_t offset = 0;
+    for (size_t c = 0; c < n_cells; ++c) out << (offset += n_on[c]) << '\n';
+    out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+    for (size_t c = 0; c < n_cells; ++c) out << "7\n";  // VTK_POLYGON
+    out << "</DataArray>\n</Cells>\n<CellData>\n<DataArray type=\"Float64\" Name=\"areaCell\" format=\"ascii\">\n";
+    for (size_t c = 0; c < n_cells; ++c) out << area[c] << '\n';
+    out << "</DataArray>\n";
+    if (has_side) {
+        out << "<DataArray type=\"Int32\" Name=\"cellSide\" format=\"ascii\">\n";
+        for (size_t c = 0; c < n_cells; ++c) out << side[c] << '\n';
+        out << "</DataArray>\n";
+    }
+    out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+    return out ? true : fail(error, "cannot write " + path);
+}
