@@ -32,40 +32,64 @@ namespace {
 // its checkers cannot orient. Making the vertex opposite such an edge a
 // little lighter (a Laguerre weight of a few thousandths of l^2, far too
 // small to hide it) keeps the edge regular with a dual edge ~1e-3 l long.
-// Returns how many vertices were reweighted.
-int64_t separate_degenerate_dual_edges(tri::Triangulation &tri) {
-    constexpr double kMinDualOverPrimal = 1e-3;
-    int64_t changed = 0;
-    for (int pass = 0; pass < 4; ++pass) {
-        std::vector<int32_t> lighten;
-        for (int32_t t = 0; t < tri.triangle_slots(); ++t) {
+constexpr double kMinDualOverPrimal = 1e-3;
+
+// The apexes opposite too-short dual edges among the given triangles
+// (all live ones when `triangles` is empty), sorted, each once.
+std::vector<int32_t> apexes_of_short_dual_edges(Context &ctx, const tri::Triangulation &tri,
+                                                std::vector<int32_t> triangles) {
+    if (triangles.empty())
+        for (int32_t t = 0; t < tri.triangle_slots(); ++t)
+            if (!tri.is_free(t)) triangles.push_back(t);
+    const int64_t n = static_cast<int64_t>(triangles.size());
+    std::vector<int32_t> flagged(static_cast<size_t>(n), -1);
+    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            const int32_t t = triangles[i];
             if (tri.is_free(t)) continue;
             const geom::Vec3 ct = tri.orthocentre(t);
             for (int k = 0; k < 3; ++k) {
-                const int32_t u = tri.neighbour(t, k);
-                if (u < t) continue;
-                const double l = geom::arc_length(tri.direction(tri.vertex(t, (k + 1) % 3)),
-                                                  tri.direction(tri.vertex(t, (k + 2) % 3)));
-                if (geom::arc_length(ct, tri.orthocentre(u)) < kMinDualOverPrimal * l)
-                    lighten.push_back(tri.vertex(t, k));
+                const geom::Vec3 a = tri.direction(tri.vertex(t, (k + 1) % 3));
+                const geom::Vec3 c = tri.direction(tri.vertex(t, (k + 2) % 3));
+                const geom::Vec3 d = ct - tri.orthocentre(tri.neighbour(t, k));
+                if (geom::dot(d, d) < kMinDualOverPrimal * kMinDualOverPrimal * geom::dot(a - c, a - c))
+                    flagged[i] = tri.vertex(t, k);  // one per triangle is enough per pass
             }
         }
-        if (lighten.empty()) break;
-        std::sort(lighten.begin(), lighten.end());
-        lighten.erase(std::unique(lighten.begin(), lighten.end()), lighten.end());
+    });
+    std::vector<int32_t> out;
+    for (int32_t v : flagged)
+        if (v >= 0) out.push_back(v);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri) {
+    int64_t changed = 0;
+    std::vector<int32_t> lighten = apexes_of_short_dual_edges(ctx, tri, {});
+    for (int pass = 0; pass < 4 && !lighten.empty(); ++pass) {
+        std::vector<int32_t> touched;  // triangles to look at again
         for (int32_t v : lighten) {
             if (!tri.in_triangulation(v)) continue;
-            double l = 0;  // its shortest edge
+            double l2 = 1e300;  // its shortest edge, squared chord
             const geom::Vec3 x = tri.direction(v);
             for (int32_t t : tri.star(v))
                 for (int k = 0; k < 3; ++k)
                     if (tri.vertex(t, k) != v) {
-                        double d = geom::arc_length(x, tri.direction(tri.vertex(t, k)));
-                        l = l == 0 ? d : std::min(l, d);
+                        geom::Vec3 d = x - tri.direction(tri.vertex(t, k));
+                        l2 = std::min(l2, geom::dot(d, d));
                     }
-            tri.set_weight(v, tri.weight(v) - 4 * kMinDualOverPrimal * l * l);
+            tri.set_weight(v, tri.weight(v) - 4 * kMinDualOverPrimal * l2);
             ++changed;
+            for (int32_t t : tri.star(v)) {
+                touched.push_back(t);
+                for (int k = 0; k < 3; ++k) touched.push_back(tri.neighbour(t, k));
+            }
         }
+        std::sort(touched.begin(), touched.end());
+        touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+        lighten = apexes_of_short_dual_edges(ctx, tri, touched);
     }
     return changed;
 }
@@ -111,7 +135,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     so.rho = options.real(UM_OPT_REFINE_RHO);
     if (arcs.size() > 0) so.gamma = &arcs, so.on_gamma = &m.on_segment;
     refine::refine_surface(ctx, m.tri, hr, so, next_id);
-    separate_degenerate_dual_edges(m.tri);
+    separate_degenerate_dual_edges(ctx, m.tri);
     m.tri.compact();
     m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
     number_vertices(m);
