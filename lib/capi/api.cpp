@@ -51,6 +51,16 @@ um_status copy_out_string(Context *ctx, const std::string &text, char *buf, int6
     return UM_OK;
 }
 
+void check_capacity(int64_t capacity, int64_t needed, const char *what) {
+    if (capacity < needed)
+        fail(UM_ERR_BUFFER_TOO_SMALL, "capacity = ", capacity, " is below the ", needed,
+             " elements ", what, " needs");
+}
+
+void check_base(int32_t base) {
+    if (base != 0 && base != 1) fail(UM_ERR_INVALID_ARGUMENT, "base = ", base, " is not 0 or 1");
+}
+
 void require_handle(const void *handle, HandleKind kind, const char *argument) {
     if (!handle) fail(UM_ERR_NULL_ARGUMENT, argument, " is NULL");
     if (!is_live(handle, kind))

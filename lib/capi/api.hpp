@@ -42,6 +42,12 @@ inline Context *context_of(const um_context *h) { return h->state.get(); }
 
 // Throws UM_ERR_NULL_ARGUMENT / UM_ERR_INVALID_HANDLE naming the argument.
 void require_handle(const void *handle, HandleKind kind, const char *argument);
+// An output buffer of `capacity` elements must hold `needed` of them
+// (UM_ERR_BUFFER_TOO_SMALL naming both).
+void check_capacity(int64_t capacity, int64_t needed, const char *what);
+// Index bases are 0 (C, Python) or 1 (Fortran, MPAS).
+void check_base(int32_t base);
+
 template <class T>
 void require_pointer(const T *p, const char *argument) {
     if (!p) fail(UM_ERR_NULL_ARGUMENT, argument, " is NULL");

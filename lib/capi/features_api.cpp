@@ -12,6 +12,7 @@
 using um::fail;
 using um::capi::HandleKind;
 using um::capi::require_handle;
+using um::capi::check_capacity;
 using um::capi::require_pointer;
 
 namespace {
@@ -28,11 +29,6 @@ um::Context *context_state_or_null(const um_context *ctx) {
     return um::capi::is_live(ctx, HandleKind::context) ? ctx->state.get() : nullptr;
 }
 
-void check_capacity(int64_t capacity, int64_t needed, const char *what) {
-    if (capacity < needed)
-        fail(UM_ERR_BUFFER_TOO_SMALL, "capacity = ", capacity, " is below the ", needed,
-             " elements ", what, " needs");
-}
 
 }  // namespace
 

@@ -9,6 +9,8 @@
 using um::fail;
 using um::capi::HandleKind;
 using um::capi::require_handle;
+using um::capi::check_base;
+using um::capi::check_capacity;
 using um::capi::require_pointer;
 
 namespace {
@@ -17,15 +19,7 @@ um::Context *state_or_null(const um_mesh *m) {
     return um::capi::is_live(m, HandleKind::mesh) ? m->context.get() : nullptr;
 }
 
-void check_base(int32_t base) {
-    if (base != 0 && base != 1) fail(UM_ERR_INVALID_ARGUMENT, "base = ", base, " is not 0 or 1");
-}
 
-void check_capacity(int64_t capacity, int64_t needed, const char *what) {
-    if (capacity < needed)
-        fail(UM_ERR_BUFFER_TOO_SMALL, "capacity = ", capacity, " is below the ", needed,
-             " elements ", what, " needs");
-}
 
 um::quality::Report quality_of(const um_mesh *m) {
     return um::quality::measure(*m->context, m->mesh.tri,

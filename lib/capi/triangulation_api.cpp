@@ -12,6 +12,8 @@
 using um::fail;
 using um::capi::HandleKind;
 using um::capi::require_handle;
+using um::capi::check_base;
+using um::capi::check_capacity;
 using um::capi::require_pointer;
 using um::geom::Vec3;
 
@@ -80,15 +82,7 @@ um_status create(um_context *ctx, int64_t n, DirectionFn direction, const double
     return UM_OK;
 }
 
-void check_capacity(int64_t capacity, int64_t needed, const char *what) {
-    if (capacity < needed)
-        fail(UM_ERR_BUFFER_TOO_SMALL, "capacity = ", capacity, " is below the ", needed,
-             " elements ", what, " needs");
-}
 
-void check_base(int32_t base) {
-    if (base != 0 && base != 1) fail(UM_ERR_INVALID_ARGUMENT, "base = ", base, " is not 0 or 1");
-}
 
 // Fills out[3f + k] = index(f, k) + base for every triangle f and corner k.
 template <class IndexFn>
