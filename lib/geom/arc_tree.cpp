@@ -13,10 +13,11 @@ Box arc_box(const Vec3 &a, const Vec3 &b) {
     Box box;
     box.add(a);
     box.add(b);
-    // The arc bulges out of its chord by at most the sagitta 1 - cos(theta/2)
-    // (plus rounding).
-    double half = 0.5 * arc_length(a, b);
-    box.grow(1.0 - std::cos(half) + 1e-15);
+    // The arc bulges out of its chord by at most the sagitta
+    // 1 - cos(theta/2) = 1 - sqrt(1 - (c/2)^2), c the chord (plus rounding).
+    const Vec3 d = b - a;
+    const double quarter_c2 = 0.25 * dot(d, d);
+    box.grow(1.0 - std::sqrt(std::max(0.0, 1.0 - quarter_c2)) + 1e-15);
     return box;
 }
 

@@ -32,6 +32,12 @@ bool restricted_crossing(const tri::Triangulation &tri, int32_t t, int k, const 
 std::vector<RestrictedEdge> restricted_edges(Context &ctx, const tri::Triangulation &tri,
                                              const geom::ArcTree &gamma) {
     const int64_t n = tri.triangle_slots();
+    // Every orthocentre once (each is shared by three dual edges).
+    std::vector<Vec3> centre(static_cast<size_t>(n));
+    ctx.parallel_for(n, 8192, [&](int64_t b, int64_t e) {
+        for (int64_t t = b; t < e; ++t)
+            if (!tri.is_free(static_cast<int32_t>(t))) centre[t] = tri.orthocentre(static_cast<int32_t>(t));
+    });
     constexpr int64_t kChunk = 4096;
     const int64_t chunks = (n + kChunk - 1) / kChunk;
     std::vector<std::vector<RestrictedEdge>> found(static_cast<size_t>(chunks));
@@ -42,12 +48,11 @@ std::vector<RestrictedEdge> restricted_edges(Context &ctx, const tri::Triangulat
             for (int64_t t = c * kChunk; t < std::min(n, (c + 1) * kChunk); ++t) {
                 const int32_t ti = static_cast<int32_t>(t);
                 if (tri.is_free(ti)) continue;
-                const Vec3 ct = tri.orthocentre(ti);
                 for (int k = 0; k < 3; ++k) {
                     const int32_t u = tri.neighbour(ti, k);
                     if (u < ti) continue;  // each edge once
                     RestrictedEdge r;
-                    if (restricted_crossing(tri, ti, k, ct, tri.orthocentre(u), gamma, &r))
+                    if (restricted_crossing(tri, ti, k, centre[t], centre[u], gamma, &r))
                         found[c].push_back(r);
                 }
             }
