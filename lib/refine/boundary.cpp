@@ -29,15 +29,6 @@ struct Bad {
     }
 };
 
-double nearest_neighbour(const tri::Triangulation &tri, int32_t v) {
-    double d = 1e300;
-    Vec3 x = tri.direction(v);
-    for (int32_t t : tri.star(v))
-        for (int k = 0; k < 3; ++k)
-            if (tri.vertex(t, k) != v) d = std::min(d, geom::arc_length(x, tri.direction(tri.vertex(t, k))));
-    return d;
-}
-
 // The restricted edges among the edges of the given triangles, each once.
 std::vector<RestrictedEdge> restricted_edges_of(const tri::Triangulation &tri,
                                                 const std::vector<int32_t> &triangles,

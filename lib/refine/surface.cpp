@@ -45,18 +45,6 @@ bool near_gamma(const geom::ArcTree &gamma, const Vec3 &p, double reach) {
     return any;
 }
 
-// Arc distance from v to its nearest neighbour (chords compared, one asin).
-double nearest_neighbour(const tri::Triangulation &tri, int32_t v) {
-    double d2 = 1e300;
-    const Vec3 x = tri.direction(v);
-    for (int32_t t : tri.star(v))
-        for (int k = 0; k < 3; ++k)
-            if (tri.vertex(t, k) != v) {
-                Vec3 d = x - tri.direction(tri.vertex(t, k));
-                d2 = std::min(d2, geom::dot(d, d));
-            }
-    return 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(d2)));
-}
 
 // A restricted edge near p whose surface ball holds p: such an edge has a
 // triangle whose circumcircle holds p, so the triangle containing p and its
@@ -84,6 +72,19 @@ bool encroached_edge(const tri::Triangulation &tri, const Vec3 &p, int32_t hint,
 }
 
 }  // namespace
+
+// Chords compared, one asin.
+double nearest_neighbour(const tri::Triangulation &tri, int32_t v) {
+    double d2 = 1e300;
+    const Vec3 x = tri.direction(v);
+    for (int32_t t : tri.star(v))
+        for (int k = 0; k < 3; ++k)
+            if (tri.vertex(t, k) != v) {
+                Vec3 d = x - tri.direction(tri.vertex(t, k));
+                d2 = std::min(d2, geom::dot(d, d));
+            }
+    return 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(d2)));
+}
 
 void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, double *shortest) {
     // Chords first, one arc conversion each (2 asin(chord / 2)): this runs

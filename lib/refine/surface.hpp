@@ -46,6 +46,9 @@ SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const Spacing
 // A triangulation of the 12 vertices of the icosahedron, ids 0..11.
 tri::Triangulation icosahedron(Context &ctx);
 
+// Arc distance (radians) from vertex v to its nearest neighbour.
+double nearest_neighbour(const tri::Triangulation &tri, int32_t v);
+
 // Circumradius (radians) and shortest edge of triangle t (unweighted view).
 void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, double *shortest);
 
