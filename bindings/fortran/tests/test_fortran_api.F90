@@ -36,11 +36,11 @@ program test_fortran_api
   use, intrinsic :: iso_fortran_env, only: error_unit, int64, real64
   use, intrinsic :: iso_c_binding, only: c_associated
   use unimesh
+  use test_checks
   use unimesh_cint, only: c_um_version_number
   use test_hooks
   implicit none
 
-  integer :: passed = 0, failed = 0
 
   call test_version()
   call test_status_constants()
@@ -52,36 +52,11 @@ program test_fortran_api
   call test_abort_hook()
   call test_handles()
 
-  write (*, '(i0, a, i0, a)') passed, ' passed, ', failed, ' failed'
-  if (failed > 0) error stop 1
+  call finish_checks()
 
 contains
 
-  ! ================================================================ checking
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (ok) then
-      passed = passed + 1
-    else
-      failed = failed + 1
-      write (error_unit, '(2a)') 'FAILED: ', what
-    end if
-  end subroutine check
-
-  subroutine check_status(ierr, expected, what)
-    integer, intent(in) :: ierr, expected
-    character(len=*), intent(in) :: what
-    character(len=80) :: detail
-    write (detail, '(a, i0, a, i0, a)') ' (ierr = ', ierr, ', expected ', expected, ')'
-    call check(ierr == expected, what // trim(detail))
-  end subroutine check_status
-
-  subroutine check_contains(text, part, what)
-    character(len=*), intent(in) :: text, part, what
-    call check(index(text, part) > 0, what // ': "' // part // '" not in "' // text // '"')
-  end subroutine check_contains
+  ! ================================================================ helpers
 
   pure function lower(text) result(out)
     character(len=*), intent(in) :: text

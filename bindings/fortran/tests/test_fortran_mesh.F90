@@ -39,6 +39,7 @@ program test_fortran_mesh
   use, intrinsic :: iso_fortran_env, only: error_unit, int64, real64
   use, intrinsic :: iso_c_binding, only: c_loc, c_associated
   use unimesh
+  use test_checks
   use mesh_test_spacing
   implicit none
 
@@ -49,7 +50,6 @@ program test_fortran_mesh
   ! A 5-degree arc of the ring rises up to 0.024 degrees above ring_lat.
   real(real64), parameter :: arc_bulge = 0.03_real64
 
-  integer :: passed = 0, failed = 0
   type(um_context_t) :: ctx
 
   call um_context_create(ctx)
@@ -61,21 +61,9 @@ program test_fortran_mesh
   call test_errors()
 
   call um_context_destroy(ctx)
-  write (*, '(i0, a, i0, a)') passed, ' passed, ', failed, ' failed'
-  if (failed > 0) error stop 1
+  call finish_checks()
 
 contains
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (ok) then
-      passed = passed + 1
-    else
-      failed = failed + 1
-      write (error_unit, '(2a)') 'FAILED: ', what
-    end if
-  end subroutine check
 
   subroutine test_spacings()
     type(um_spacing_t) :: h

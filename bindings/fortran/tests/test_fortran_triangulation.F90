@@ -44,6 +44,7 @@ program test_fortran_triangulation
   use, intrinsic :: iso_c_binding, only: c_associated
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use unimesh
+  use test_checks
   use triangulation_test_hooks
   implicit none
 
@@ -51,7 +52,6 @@ program test_fortran_triangulation
   real(real64), parameter :: deg = pi / 180
   integer, parameter :: n_fib = 300
 
-  integer :: passed = 0, failed = 0
 
   call test_octahedron()
   call test_fibonacci_sphere()
@@ -62,36 +62,9 @@ program test_fortran_triangulation
   call test_abort_hook()
   call test_handles()
 
-  write (*, '(i0, a, i0, a)') passed, ' passed, ', failed, ' failed'
-  if (failed > 0) error stop 1
+  call finish_checks()
 
 contains
-
-  ! ================================================================ checking
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (ok) then
-      passed = passed + 1
-    else
-      failed = failed + 1
-      write (error_unit, '(2a)') 'FAILED: ', what
-    end if
-  end subroutine check
-
-  subroutine check_status(ierr, expected, what)
-    integer, intent(in) :: ierr, expected
-    character(len=*), intent(in) :: what
-    character(len=80) :: detail
-    write (detail, '(a, i0, a, i0, a)') ' (ierr = ', ierr, ', expected ', expected, ')'
-    call check(ierr == expected, what // trim(detail))
-  end subroutine check_status
-
-  subroutine check_contains(text, part, what)
-    character(len=*), intent(in) :: text, part, what
-    call check(index(text, part) > 0, what // ': "' // part // '" not in "' // text // '"')
-  end subroutine check_contains
 
   ! ================================================================= points
 
