@@ -495,6 +495,27 @@ UM_API um_status um_mesh_refine(um_context *ctx, const um_spacing *spacing,
                                 um_mesh **out);
 UM_API void um_mesh_destroy(um_mesh *m); /* NULL-safe */
 
+/* The weighted primal-dual optimisation (paper section 6, Algorithm 1), in
+ * place: UM_OPT_OPTIM_OUTER_ITERATIONS outer iterations, each of
+ * UM_OPT_OPTIM_INNER_ITERATIONS sweeps of vertex moves (weighted ODT towards
+ * the orthocentres, spacing-weighted areas; vertices on the features slide
+ * along them, or stay with UM_OPT_OPTIM_FIX_BOUNDARY) and weight ascent on the
+ * worst adjacent Q^P (UM_OPT_OPTIM_WEIGHTS), then flips restoring regularity,
+ * then edge collapse (< UM_OPT_OPTIM_COLLAPSE_RATIO * h) and splits
+ * (> UM_OPT_OPTIM_SPLIT_RATIO * h); an update is taken only if the worst
+ * quality of its triangles improves (or stays, and their mean improves), a
+ * weight only if it leaves every adjacent dual edge crossing its primal edge
+ * (no vertex can become hidden). Stops early when an outer iteration changes
+ * no quality summary by more than UM_OPT_OPTIM_TOLERANCE. Sweeps are
+ * graph-coloured and run in parallel; the mesh is bit-identical for any
+ * thread count. options may be NULL (defaults); ctx is the mesh's context.
+ * Progress: stage "optimise", once per outer iteration; cancelling there (or
+ * any error) leaves m exactly as it was. Afterwards the quality report holds
+ * the refined mesh's metrics too ("before_optimisation") and the counts and
+ * times of the optimisation ("optimisation"). Optimising twice continues
+ * from the optimised mesh. */
+UM_API um_status um_mesh_optimise(um_mesh *m, const um_options *options);
+
 /* n_restricted_edges: edges of Tri|Gamma; n_filtered: bad restricted edges
  * left unrefined because their feature is smaller than the spacing. */
 UM_API um_status um_mesh_counts(const um_mesh *m, int64_t *n_vertices, int64_t *n_triangles,

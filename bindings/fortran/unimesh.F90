@@ -155,7 +155,7 @@ module unimesh
   public :: um_spacing_create_constant, um_spacing_create_grid, um_spacing_create_preset, &
       um_spacing_create_from_file, um_spacing_create_callback, um_spacing_destroy, &
       um_spacing_limit_gradient, um_spacing_clamp, um_spacing_evaluate
-  public :: um_mesh_refine, um_mesh_destroy, um_mesh_counts, um_mesh_get_vertices, &
+  public :: um_mesh_refine, um_mesh_optimise, um_mesh_destroy, um_mesh_counts, um_mesh_get_vertices, &
       um_mesh_get_triangles, um_mesh_get_vertex_parts, um_mesh_get_restricted_edges, &
       um_mesh_get_vertex_sides, um_mesh_get_triangle_sides
 
@@ -1022,6 +1022,21 @@ contains
     if (status == UM_OK) mesh%ctx = ctx%ptr
     call finish(status, ctx%ptr, 'um_mesh_refine', ierr)
   end subroutine um_mesh_refine
+
+  !> The weighted primal-dual optimisation of the mesh, in place (paper
+  !> section 6; see um_mesh_optimise in unimesh.h); options absent = the
+  !> defaults. On an error the mesh is left as it was.
+  subroutine um_mesh_optimise(mesh, options, ierr)
+    type(um_mesh_t), intent(inout) :: mesh
+    type(um_options_t), optional, intent(in) :: options
+    integer, optional, intent(out) :: ierr
+    type(c_ptr) :: options_ptr
+    integer(c_int32_t) :: status
+    options_ptr = c_null_ptr
+    if (present(options)) options_ptr = options%ptr
+    status = c_um_mesh_optimise(mesh%ptr, options_ptr)
+    call finish(status, mesh%ctx, 'um_mesh_optimise', ierr)
+  end subroutine um_mesh_optimise
 
   !> Destroys the mesh and nulls the handle; a null handle is fine.
   subroutine um_mesh_destroy(mesh, ierr)

@@ -562,6 +562,12 @@ module unimesh_cint
       type(c_ptr), intent(out) :: out
     end function c_um_mesh_refine
 
+    integer(c_int32_t) function c_um_mesh_optimise(m, options) bind(c, name="um_mesh_optimise")
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: m
+      type(c_ptr), value :: options
+    end function c_um_mesh_optimise
+
     subroutine c_um_mesh_destroy(m) bind(c, name="um_mesh_destroy")
       import :: c_ptr
       type(c_ptr), value :: m

@@ -26,6 +26,22 @@ um::quality::Report quality_of(const um_mesh *m) {
                                 um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m));
 }
 
+// The report of the mesh as it is; after um_mesh_optimise also that of the
+// refined mesh and what the optimisation did.
+std::string quality_json(const um_mesh *m) {
+    const auto &mesh = m->mesh;
+    if (!mesh.optimised) return um::quality::to_json(quality_of(m));
+    const auto &o = mesh.optimisation;
+    std::string extra = um::concat(
+        "\"before_optimisation\": ", um::quality::to_json(mesh.refined_quality, "  "),
+        ",\n  \"optimisation\": {\"outer_iterations\": ", o.outer_iterations, ", \"moves\": ", o.moves,
+        ", \"weight_updates\": ", o.weight_updates, ", \"flips\": ", o.flips,
+        ", \"collapses\": ", o.collapses, ", \"splits\": ", o.splits,
+        ", \"seconds_moves\": ", o.seconds_moves, ", \"seconds_weights\": ", o.seconds_weights,
+        ", \"seconds_topology\": ", o.seconds_topology, "}");
+    return um::quality::to_json(quality_of(m), "", extra);
+}
+
 }  // namespace
 
 extern "C" {
@@ -51,6 +67,19 @@ UM_API um_status um_mesh_refine(um_context *ctx, const um_spacing *spacing,
     *out = handle.release();
     return UM_OK;
     UM_API_END(um::capi::is_live(ctx, HandleKind::context) ? ctx->state.get() : nullptr)
+}
+
+UM_API um_status um_mesh_optimise(um_mesh *m, const um_options *options) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    if (options) require_handle(options, HandleKind::options, "options");
+    um::Options defaults;
+    const um::Options &opts = options ? options->values : defaults;
+    um::mesh::RefinedMesh work = m->mesh;  // m stays as it was if anything fails
+    um::mesh::optimise_mesh(*m->context, work, opts);
+    m->mesh = std::move(work);
+    return UM_OK;
+    UM_API_END(state_or_null(m))
 }
 
 UM_API void um_mesh_destroy(um_mesh *m) {
@@ -160,8 +189,7 @@ UM_API um_status um_mesh_quality_json(const um_mesh *m, char *buf, int64_t capac
                                       int64_t *needed) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
-    um::quality::Report r = quality_of(m);
-    return um::capi::copy_out_string(m->context.get(), um::quality::to_json(r), buf, capacity, needed);
+    return um::capi::copy_out_string(m->context.get(), quality_json(m), buf, capacity, needed);
     UM_API_END(state_or_null(m))
 }
 

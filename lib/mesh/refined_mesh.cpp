@@ -104,6 +104,33 @@ void number_vertices(RefinedMesh &m) {
         }
 }
 
+geom::ArcTree gamma_arcs(const features::Network *gamma) {
+    if (!gamma || gamma->segment_count() == 0) return {};
+    std::vector<geom::ArcTree::Arc> list;
+    list.reserve(static_cast<size_t>(gamma->segment_count()));
+    for (int64_t s = 0; s < gamma->segment_count(); ++s)
+        list.push_back({gamma->segment_a(s), gamma->segment_b(s)});
+    return geom::ArcTree(std::move(list));
+}
+
+// What every stage hands on: no degenerate dual edge, compact slots, vertex
+// numbers, and Tri|Gamma with the sides for the triangulation as it is now.
+void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
+    separate_degenerate_dual_edges(ctx, m.tri);
+    m.tri.compact();
+    m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
+    number_vertices(m);
+    if (arcs.size() > 0) {
+        m.restricted = refine::restricted_edges(ctx, m.tri, arcs);
+        m.triangle_side = refine::triangle_sides(m.tri, *m.gamma);
+        m.vertex_side = refine::vertex_sides(m.tri, m.triangle_side, m.on_segment, *m.gamma);
+    } else {
+        m.restricted.clear();
+        m.triangle_side.assign(static_cast<size_t>(m.tri.triangle_slots()), refine::Side::ocean);
+        m.vertex_side.assign(static_cast<size_t>(m.tri.vertex_slots()), refine::Side::ocean);
+    }
+}
+
 }  // namespace
 
 RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
@@ -116,13 +143,8 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     m.tri = refine::icosahedron(ctx);
     int32_t next_id = 12;
 
-    geom::ArcTree arcs;
-    if (m.gamma && m.gamma->segment_count() > 0) {
-        std::vector<geom::ArcTree::Arc> list;
-        list.reserve(static_cast<size_t>(m.gamma->segment_count()));
-        for (int64_t s = 0; s < m.gamma->segment_count(); ++s)
-            list.push_back({m.gamma->segment_a(s), m.gamma->segment_b(s)});
-        arcs = geom::ArcTree(std::move(list));
+    const geom::ArcTree arcs = gamma_arcs(m.gamma.get());
+    if (arcs.size() > 0) {
         refine::BoundaryOptions bo;
         bo.alpha = options.real(UM_OPT_REFINE_ALPHA);
         bo.beta = options.real(UM_OPT_REFINE_BETA);
@@ -135,20 +157,24 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     so.rho = options.real(UM_OPT_REFINE_RHO);
     if (arcs.size() > 0) so.gamma = &arcs, so.on_gamma = &m.on_segment;
     refine::refine_surface(ctx, m.tri, hr, so, next_id);
-    separate_degenerate_dual_edges(ctx, m.tri);
-    m.tri.compact();
-    m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
-    number_vertices(m);
-
-    if (arcs.size() > 0) {
-        m.restricted = refine::restricted_edges(ctx, m.tri, arcs);
-        m.triangle_side = refine::triangle_sides(m.tri, *m.gamma);
-        m.vertex_side = refine::vertex_sides(m.tri, m.triangle_side, m.on_segment, *m.gamma);
-    } else {
-        m.triangle_side.assign(static_cast<size_t>(m.tri.triangle_slots()), refine::Side::ocean);
-        m.vertex_side.assign(static_cast<size_t>(m.tri.vertex_slots()), refine::Side::ocean);
-    }
+    finish(ctx, m, arcs);
     return m;
+}
+
+void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options) {
+    const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
+    m.refined_quality = quality::measure(ctx, m.tri, hr);
+    optim::OptimiseOptions o;
+    o.outer_iterations = static_cast<int>(options.integer(UM_OPT_OPTIM_OUTER_ITERATIONS));
+    o.inner_iterations = static_cast<int>(options.integer(UM_OPT_OPTIM_INNER_ITERATIONS));
+    o.tolerance = options.real(UM_OPT_OPTIM_TOLERANCE);
+    o.weights = options.integer(UM_OPT_OPTIM_WEIGHTS) != 0;
+    o.fix_boundary = options.integer(UM_OPT_OPTIM_FIX_BOUNDARY) != 0;
+    o.collapse_ratio = options.real(UM_OPT_OPTIM_COLLAPSE_RATIO);
+    o.split_ratio = options.real(UM_OPT_OPTIM_SPLIT_RATIO);
+    m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o);
+    m.optimised = true;
+    finish(ctx, m, gamma_arcs(m.gamma.get()));
 }
 
 }  // namespace um::mesh

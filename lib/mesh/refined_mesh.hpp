@@ -12,6 +12,8 @@
 #include "core/options.hpp"
 #include "features/network.hpp"
 #include "hfun/spacing.hpp"
+#include "optim/optimise.hpp"
+#include "quality/metrics.hpp"
 #include "refine/restricted.hpp"
 #include "refine/sides.hpp"
 #include "refine/surface.hpp"
@@ -32,6 +34,11 @@ struct RefinedMesh {
     std::vector<refine::RestrictedEdge> restricted;  // .arc is a Gamma segment index
     std::vector<refine::Side> vertex_side, triangle_side;
     int64_t filtered = 0;  // bad restricted edges left: features below the spacing
+    // Set by optimise_mesh: the quality of the mesh as refined, and what the
+    // optimisation did.
+    bool optimised = false;
+    quality::Report refined_quality;
+    optim::OptimiseStats optimisation;
 
     int64_t vertex_count() const { return static_cast<int64_t>(slot_of_vertex.size()); }
 };
@@ -41,6 +48,13 @@ struct RefinedMesh {
 // give alpha, beta, rho and the sphere radius.
 RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
                         std::shared_ptr<const features::Network> gamma, const Options &options);
+
+// The weighted primal-dual optimisation (paper section 6) of a refined mesh,
+// in place, with the N, M, tolerance, weight, boundary and collapse/split
+// options; then the restricted edges and sides are found again for the
+// moved mesh. Throws (UM_CANCELLED from the progress callback among others)
+// with m part-optimised: callers that must keep m intact work on a copy.
+void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options);
 
 // The spacing in radians on the unit sphere, checked (finite, > 0) where read.
 refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m);

@@ -118,15 +118,19 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
     return r;
 }
 
-std::string to_json(const Report &r) {
-    return concat("{\n  \"triangles\": ", r.triangles, ",\n  \"edges\": ", r.edges,
-                  ",\n  \"area_length_ratio\": ", json_summary(r.area_length),
-                  ",\n  \"primal_dual\": ", json_summary(r.primal_dual),
-                  ",\n  \"angle_min_deg\": ", json_summary(r.angle_min),
-                  ",\n  \"angle_max_deg\": ", json_summary(r.angle_max),
-                  ",\n  \"edge_spacing_ratio\": ", json_summary(r.spacing_ratio),
-                  ",\n  \"obtuse_triangles\": ", r.obtuse,
-                  ",\n  \"not_well_centred\": ", r.not_well_centred, "\n}\n");
+std::string to_json(const Report &r, const std::string &indent,
+                    const std::string &extra_members) {
+    const std::string nl = "\n" + indent + "  ";
+    std::string text = concat("{", nl, "\"triangles\": ", r.triangles, ",", nl, "\"edges\": ", r.edges,
+                  ",", nl, "\"area_length_ratio\": ", json_summary(r.area_length),
+                  ",", nl, "\"primal_dual\": ", json_summary(r.primal_dual),
+                  ",", nl, "\"angle_min_deg\": ", json_summary(r.angle_min),
+                  ",", nl, "\"angle_max_deg\": ", json_summary(r.angle_max),
+                  ",", nl, "\"edge_spacing_ratio\": ", json_summary(r.spacing_ratio),
+                  ",", nl, "\"obtuse_triangles\": ", r.obtuse,
+                  ",", nl, "\"not_well_centred\": ", r.not_well_centred);
+    if (!extra_members.empty()) text += concat(",", nl, extra_members);
+    return text + concat("\n", indent, "}", indent.empty() ? "\n" : "");
 }
 
 }  // namespace um::quality

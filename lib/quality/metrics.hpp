@@ -46,7 +46,10 @@ struct Report {
 // thread count). h may be empty: then h_r is not computed.
 Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h);
 
-// The report as JSON text (for quality.json).
-std::string to_json(const Report &r);
+// The report as JSON text (for quality.json): an object whose lines after
+// the first start with `indent` (to nest it in another report), with
+// `extra_members` (JSON "key": value text) appended as its last members.
+std::string to_json(const Report &r, const std::string &indent = "",
+                    const std::string &extra_members = "");
 
 }  // namespace um::quality

@@ -540,6 +540,45 @@ std::vector<int32_t> Triangulation::set_weight(int32_t v, double weight) {
     return replace_point(v, lifted_scale(weight) * geom::normalized(q_[v]));
 }
 
+int64_t Triangulation::restore_regularity(std::vector<int32_t> triangles) {
+    int64_t flips = 0;
+    std::vector<int32_t> &stack = triangles;
+    std::reverse(stack.begin(), stack.end());  // the first given is looked at first
+    for (int round = 0;; ++round) {
+        std::vector<int32_t> knotted;  // apexes of non-regular edges no flip can mend
+        while (!stack.empty()) {
+            const int32_t t = stack.back();
+            stack.pop_back();
+            if (is_free(t)) continue;
+            for (int k = 0; k < 3; ++k) {
+                if (is_locally_regular(t, k)) continue;
+                const int32_t u = tris_[t].n[k];
+                if (flip(t, k)) {
+                    ++flips;
+                    stack.push_back(u), stack.push_back(t);
+                    break;  // t is a new triangle: look at it again from the start
+                }
+                knotted.push_back(tris_[t].v[k]);
+            }
+        }
+        std::sort(knotted.begin(), knotted.end());
+        knotted.erase(std::unique(knotted.begin(), knotted.end()), knotted.end());
+        if (knotted.empty()) return flips;
+        if (round == 8)
+            fail(UM_ERR_INTERNAL, "restoring regularity left ", knotted.size(),
+                 " edges that no flip can mend");
+        // Re-inserting a vertex is exact for any configuration around it.
+        for (int32_t v : knotted) {
+            if (vertex_tri_[v] < 0) continue;
+            replace_point(v, q_[v]);
+            if (vertex_tri_[v] >= 0)
+                for (int32_t t : star(v)) stack.push_back(t);
+            else
+                stack.push_back(live_triangle_near(0));
+        }
+    }
+}
+
 // ------------------------------------------------------------------ queries
 
 int64_t Triangulation::vertex_count() const {

@@ -123,6 +123,20 @@ public:
     // seen from the centre; returns false (and changes nothing) otherwise.
     bool flip(int32_t t, int k);
 
+    // Geometry-only updates (the optimisation sweeps) ----------------------
+    // Stores a new lifted point for vertex v without touching the topology,
+    // so the triangulation may stop being regular until restore_regularity()
+    // runs. Writes only v's slot: calls for different vertices may run
+    // concurrently (nothing else may read v meanwhile).
+    void set_lifted(int32_t v, const Vec3 &lifted) { q_[v] = lifted; }
+    // Lawson flips until every edge is locally regular, starting from the
+    // edges of `triangles` (those around the points that changed) and
+    // following every flip. An edge that is not regular but cannot be
+    // flipped (its quad is not convex seen from the centre) has its apex
+    // re-inserted exactly, which settles such knots (the apex may become
+    // hidden). Serial, in a fixed order: deterministic. Returns the flips made.
+    int64_t restore_regularity(std::vector<int32_t> triangles);
+
 private:
     enum class InsertResult { inserted, hidden, duplicate };
 

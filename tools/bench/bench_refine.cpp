@@ -1,7 +1,10 @@
-// bench_refine: times the refinement stage (um_mesh_refine: boundary
-// refinement along the features, then surface refinement) on the three cases
-// of the issue "Geometry, spacing functions and restricted refinement", with
-// 1 and 2 threads, printing cells, time per phase and peak memory.
+// bench_refine: times the whole pipeline, refinement (um_mesh_refine:
+// boundary refinement along the features, then surface refinement) and the
+// weighted optimisation (um_mesh_optimise), on the three cases of the issues
+// "Geometry, spacing functions and restricted refinement" and "Weighted
+// primal-dual optimisation", with 1 and 2 threads, printing cells, time per
+// phase, peak memory and the quality metrics before and after optimising
+// (--no-optimise: refinement only).
 //
 //   (a) uniform 30 km, global, no features;
 //   (b) coast_global_l + rivers_global_l at 60 km;
@@ -30,8 +33,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+struct Quality {
+    double qt_min = 0, qp_min = 0, angle_max = 0, obtuse_pct = 0;
+    int64_t not_well_centred = 0;
+};
+
 struct Result {
-    double total_s = 0, boundary_s = 0, surface_s = 0;
+    double total_s = 0, boundary_s = 0, surface_s = 0, optimise_s = 0;
+    Quality before, after;
     int64_t cells = 0, triangles = 0, restricted = 0, filtered = 0;
     double peak_mb = 0;
     int ok = 0;
@@ -61,6 +70,18 @@ long max_rss_kb() {
     rusage u{};
     getrusage(RUSAGE_SELF, &u);
     return u.ru_maxrss;
+}
+
+Quality quality_of(um_mesh *m) {
+    Quality q;
+    int64_t obtuse = 0, nt = 0;
+    um_mesh_quality_summary(m, "area_length_ratio", &q.qt_min, nullptr, nullptr, nullptr);
+    um_mesh_quality_summary(m, "primal_dual", &q.qp_min, nullptr, nullptr, nullptr);
+    um_mesh_quality_summary(m, "angle_max_deg", nullptr, nullptr, nullptr, &q.angle_max);
+    um_mesh_quality_counts(m, &obtuse, &q.not_well_centred);
+    um_mesh_counts(m, nullptr, &nt, nullptr, nullptr);
+    q.obtuse_pct = 100.0 * double(obtuse) / double(nt > 0 ? nt : 1);
+    return q;
 }
 
 void check(um_status s, um_context *ctx, const char *what) {
@@ -122,7 +143,7 @@ void add_global_coast_outside_box(um_context *ctx, um_features *dst, const std::
     um_features_destroy(all);
 }
 
-Result run_case(const std::string &name, const std::string &data, int threads) {
+Result run_case(const std::string &name, const std::string &data, int threads, bool optimise) {
     Result r;
     um_context *ctx = nullptr;
     um_context_create(&ctx);
@@ -151,15 +172,25 @@ Result run_case(const std::string &name, const std::string &data, int threads) {
     um_mesh *m = nullptr;
     um_status s = um_mesh_refine(ctx, h, f, nullptr, &m);
     auto t1 = Clock::now();
-    r.total_s = std::chrono::duration<double>(t1 - t0).count();
+    double refine_s = std::chrono::duration<double>(t1 - t0).count();
     if (!phases.stage.empty()) phases.seconds[phases.stage] += std::chrono::duration<double>(t1 - phases.last).count();
     r.boundary_s = phases.seconds["refine boundary"];
-    r.surface_s = phases.seconds["refine surface"];
+    r.surface_s = refine_s - r.boundary_s;
+    if (s == UM_OK && optimise) {
+        um_context_set_progress(ctx, nullptr, nullptr);  // the quality reports are not timed
+        r.before = quality_of(m);
+        auto t2 = Clock::now();
+        s = um_mesh_optimise(m, nullptr);
+        r.optimise_s = std::chrono::duration<double>(Clock::now() - t2).count();
+    }
+    r.total_s = refine_s + r.optimise_s;
     r.peak_mb = (max_rss_kb() - base_kb) / 1024.0;
     if (s != UM_OK) {
         std::snprintf(r.error, sizeof r.error, "%s", um_context_last_error(ctx));
     } else {
         um_mesh_counts(m, &r.cells, &r.triangles, &r.restricted, &r.filtered);
+        r.after = quality_of(m);
+        if (!optimise) r.before = r.after;
         r.ok = 1;
     }
     um_mesh_destroy(m);
@@ -169,13 +200,13 @@ Result run_case(const std::string &name, const std::string &data, int threads) {
     return r;
 }
 
-Result in_child(const std::string &name, const std::string &data, int threads) {
+Result in_child(const std::string &name, const std::string &data, int threads, bool optimise) {
     int fd[2];
     if (pipe(fd) != 0) std::exit(2);
     pid_t pid = fork();
     if (pid == 0) {
         close(fd[0]);
-        Result r = run_case(name, data, threads);
+        Result r = run_case(name, data, threads, optimise);
         ssize_t w = write(fd[1], &r, sizeof r);
         _exit(w == static_cast<ssize_t>(sizeof r) ? 0 : 1);
     }
@@ -197,8 +228,21 @@ Result in_child(const std::string &name, const std::string &data, int threads) {
 int main(int argc, char **argv) {
     std::string data = UNIMESH_DATA_DIR;
     std::vector<std::string> cases = {"uniform-30km", "coast-rivers-60km", "midatlantic"};
+    std::vector<int> thread_counts = {1, 2};
+    bool optimise = true;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--data") && i + 1 < argc) data = argv[++i];
+        else if (!std::strcmp(argv[i], "--no-optimise")) optimise = false;
+        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) {
+            thread_counts.clear();
+            for (const char *p = argv[++i]; *p;) {
+                char *end = nullptr;
+                long t = std::strtol(p, &end, 10);
+                if (end == p || t < 1) { std::fprintf(stderr, "bench_refine: bad --threads\n"); return 2; }
+                thread_counts.push_back(static_cast<int>(t));
+                p = *end == ',' ? end + 1 : end;
+            }
+        }
         else if (!std::strcmp(argv[i], "--cases") && i + 1 < argc) {
             cases.clear();
             std::string list = argv[++i];
@@ -208,29 +252,41 @@ int main(int argc, char **argv) {
                 if (e > b) cases.push_back(list.substr(b, e - b));
             }
         } else {
-            std::fprintf(stderr, "usage: bench_refine [--cases uniform-30km,coast-rivers-60km,midatlantic] [--data DIR]\n");
+            std::fprintf(stderr, "usage: bench_refine [--cases uniform-30km,coast-rivers-60km,midatlantic] "
+                                 "[--threads 1,2] [--no-optimise] [--data DIR]\n");
             return 2;
         }
     }
-    std::printf("# bench_refine: um_mesh_refine (boundary + surface refinement), unimesh %s\n", um_version_string());
-    std::printf("# each run in its own child; peak_MB = growth of its max RSS during the refinement\n");
-    std::printf("%-18s %3s %9s %9s %9s %9s %9s %10s %9s %8s %7s\n", "case", "thr", "cells", "triangles",
-                "restrict", "filtered", "boundary", "surface+", "total_s", "peak_MB", "B/cell");
+    std::printf("# bench_refine: um_mesh_refine%s, unimesh %s\n", optimise ? " + um_mesh_optimise" : "",
+                um_version_string());
+    std::printf("# each run in its own child; peak_MB = growth of its max RSS during the run\n");
+    std::printf("%-18s %3s %8s %8s %8s %8s %8s %8s %8s %7s  %-34s  %-34s\n", "case", "thr", "cells",
+                "restrict", "boundary", "surface", "optimise", "total_s", "peak_MB", "B/cell",
+                "before: QTmin QPmin maxang obt% nwc", "after: QTmin QPmin maxang obt% nwc");
     int failures = 0;
+    auto quality_text = [](const Quality &q) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.3f %.3f %6.1f %6.3f %5lld", q.qt_min, q.qp_min, q.angle_max,
+                      q.obtuse_pct, (long long)q.not_well_centred);
+        return std::string(buf);
+    };
     for (const auto &c : cases)
-        for (int threads : {1, 2}) {
-            Result r = in_child(c, data, threads);
+        for (int threads : thread_counts) {
+            Result r = in_child(c, data, threads, optimise);
             if (!r.ok) {
                 std::printf("%-18s %3d FAILED: %s\n", c.c_str(), threads, r.error);
                 ++failures;
                 continue;
             }
-            std::printf("%-18s %3d %9lld %9lld %9lld %9lld %9.3f %10.3f %9.3f %8.1f %7.0f\n", c.c_str(),
-                        threads, (long long)r.cells, (long long)r.triangles, (long long)r.restricted,
-                        (long long)r.filtered, r.boundary_s, r.total_s - r.boundary_s, r.total_s,
-                        r.peak_mb, r.peak_mb * 1048576.0 / double(r.cells));
+            std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %8.3f %8.3f %8.1f %7.0f  %-34s  %-34s\n",
+                        c.c_str(), threads, (long long)r.cells, (long long)r.restricted, r.boundary_s,
+                        r.surface_s, r.optimise_s, r.total_s, r.peak_mb,
+                        r.peak_mb * 1048576.0 / double(r.cells), quality_text(r.before).c_str(),
+                        quality_text(r.after).c_str());
             std::fflush(stdout);
         }
-    std::printf("# boundary = boundary refinement; surface+ = surface refinement and the tags\n");
+    std::printf("# boundary = boundary refinement; surface = surface refinement and the tags;\n"
+                "# QT = area-length ratio, QP = primal-dual, obt%% = %% of triangles with an angle > 90,\n"
+                "# nwc = triangles not containing their orthocentre\n");
     return failures ? 1 : 0;
 }

@@ -221,6 +221,15 @@ contains
     call check(any(triangle_sides == UM_SIDE_LAND) .and. any(triangle_sides == UM_SIDE_OCEAN) &
         .and. all(triangle_sides == UM_SIDE_LAND .or. triangle_sides == UM_SIDE_OCEAN), &
         'triangles on both sides')
+
+    ! The optimisation keeps the ring's vertices on the ring and the sphere closed.
+    call um_mesh_optimise(mesh)  ! no ierr: an error would reach the abort hook
+    call check_surface(mesh, lon, lat, 'optimised ring mesh')
+    call um_mesh_get_vertex_parts(mesh, parts)
+    call check(any(parts == 1), 'optimised: vertices on part 1')
+    call check(all(lat(pack([(i, i = 1, size(parts))], parts == 1)) > ring_lat - 1e-9_real64 &
+        .and. lat(pack([(i, i = 1, size(parts))], parts == 1)) < ring_lat + arc_bulge), &
+        'optimised: ring vertices still on the ring')
     call um_mesh_destroy(mesh)
     call um_spacing_destroy(h)
   end subroutine test_mesh_with_ring

@@ -259,6 +259,23 @@ class MeshTests(unittest.TestCase):
         self.assertIn(Side.OCEAN, triangle_sides)
         mesh.close()
 
+    def test_optimise_in_place(self):
+        with Mesh.refine(self.ctx, Spacing.constant(self.ctx, 600.0)) as mesh:
+            before = mesh.quality_summary("area_length_ratio")
+            _, not_well_centred = mesh.quality_counts()
+            self.assertGreater(not_well_centred, 0)
+            self.assertIs(mesh.optimise(unimesh.Options(self.ctx, optim_outer_iterations=6)), mesh)
+            self.check_closed_surface(mesh)
+            self.assertGreater(mesh.quality_summary("area_length_ratio").min, before.min)
+            self.assertEqual(mesh.quality_counts()[1], 0)
+            report = json.loads(mesh.quality_json())
+            self.assertIn("before_optimisation", report)
+            self.assertGreaterEqual(report["optimisation"]["outer_iterations"], 1)
+            with self.assertRaises(UnimeshError) as caught:
+                mesh.optimise(unimesh.Options(self.ctx, optim_weights=1, optim_split_ratio=0.5))
+            self.assertEqual(caught.exception.status, Status.ERR_INVALID_ARGUMENT)
+            self.assertIn("optim_split_ratio", str(caught.exception))
+
     def test_mesh_keeps_a_callback_spacing_alive(self):
         spacing = Spacing.callback(self.ctx, lambda lon, lat: COARSE_KM)
         mesh = Mesh.refine(self.ctx, spacing)

@@ -903,6 +903,14 @@ class Mesh(_Handle):
     def _check(self, status):
         _check_with_callback(self._context, self._callback, status)
 
+    def optimise(self, options=None):
+        """The weighted primal-dual optimisation, in place (see
+        um_mesh_optimise); options None = the defaults. Returns self. On an
+        error (raised) the mesh is left as it was."""
+        self._check(C.um_mesh_optimise(self._handle,
+                                       None if options is None else options._handle))
+        return self
+
     def counts(self):
         """MeshCounts(n_vertices, n_triangles, n_restricted_edges, n_filtered)."""
         counts = c_int64(0), c_int64(0), c_int64(0), c_int64(0)

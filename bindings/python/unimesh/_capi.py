@@ -103,6 +103,7 @@ SIGNATURES = (
     ("um_spacing_evaluate", status_t, (handle_t, c_int64, _f64p, _f64p, _f64p)),
     # mesh
     ("um_mesh_refine", status_t, (handle_t, handle_t, handle_t, handle_t, handle_out_t)),
+    ("um_mesh_optimise", status_t, (handle_t, handle_t)),
     ("um_mesh_destroy", None, (handle_t,)),
     ("um_mesh_counts", status_t, (handle_t, _i64p, _i64p, _i64p, _i64p)),
     ("um_mesh_copy_vertices", status_t, (handle_t, _f64p, _f64p, c_int64)),

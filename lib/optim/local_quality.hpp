@@ -1,0 +1,47 @@
+// The costs the optimisation decides with (paper section 6.1, DESIGN.md
+// section 5), evaluated on one triangle from its three lifted points. They
+// are the reported metrics (quality/metrics.hpp) with chords for arcs and
+// the planar chord triangle for the spherical one: the two agree to O(h^2)
+// relative (1e-5 at 30 km), and chords need no atan2 in the hot loop.
+#pragma once
+
+#include "geom/sphere.hpp"
+
+namespace um::optim {
+
+using geom::Vec3;
+
+// A generator as the sweeps hold it: unit direction x and lifted length s
+// (q = s x, s = 1 / (1 - w/2)), so that neither is recomputed per visit.
+struct Generator {
+    Vec3 x;
+    double s = 1;
+    Vec3 lifted() const { return s * x; }
+};
+
+struct TriangleCost {
+    double area_length;  // Q^T: 4 sqrt(3) A / (l1^2 + l2^2 + l3^2)
+    double primal_dual;  // Q^P, eq. 1
+};
+
+// Q^T and Q^P of the triangle (a, b, c), counter-clockwise seen from outside.
+// Q^T is negative when the triangle is inverted.
+TriangleCost triangle_cost(const Generator &a, const Generator &b, const Generator &c);
+// Each of the two alone (what a vertex move and a weight update look at).
+double area_length_ratio(const Vec3 &a, const Vec3 &b, const Vec3 &c);
+double primal_dual(const Generator &a, const Generator &b, const Generator &c);
+
+// dQ^P / dw_a: the derivative of the triangle's Q^P in the weight of its
+// first vertex (analytic; eq. 5's ascent direction), with Q^P itself.
+double primal_dual_weight_derivative(const Generator &a, const Generator &b, const Generator &c,
+                                     double *primal_dual_out = nullptr);
+
+// Where the dual arc of the primal edge (i, j) crosses it, as the share of
+// the way from x_i: the edge orthocentre is p ~ alpha x_i + beta x_j with
+// alpha = s_j - s_i cos d, beta = s_i - s_j cos d; this returns
+// beta / (alpha + beta), in (0, 1) exactly when the crossing lies between
+// the two generators (each generator inside its own power cell, as seen
+// from the other: neither can be hidden by the other).
+double edge_crossing_share(const Generator &i, const Generator &j);
+
+}  // namespace um::optim

@@ -1,0 +1,556 @@
+#include "optim/optimise.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "core/error.hpp"
+#include "geom/predicates.hpp"
+#include "optim/local_quality.hpp"
+#include "optim/slide.hpp"
+#include "optim/star_graph.hpp"
+
+namespace um::optim {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+constexpr int kHalvings = 5;  // line searches try steps 1, 1/2, ..., 1/32
+// Edge orthocentres must stay this far inside their primal edge (as a share
+// of it): the generator stays in its own power cell and no weight can hide
+// a vertex (issue "Weighted primal-dual optimisation", item 3).
+constexpr double kCrossingMargin = 0.05;
+
+// Worst and mean of a star's triangle scores.
+struct LocalQuality {
+    double worst = std::numeric_limits<double>::infinity();
+    double mean = 0;
+};
+
+// BETTER of Algorithm 1: the worst local quality improves, or stays and the
+// mean improves, each by more than the tolerance.
+bool better(const LocalQuality &now, const LocalQuality &before, double tolerance) {
+    if (now.worst > before.worst + tolerance) return true;
+    return now.worst >= before.worst && now.mean > before.mean + tolerance;
+}
+
+class Optimiser {
+public:
+    Optimiser(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
+              const features::Network *gamma, const refine::SpacingRadians &h,
+              const OptimiseOptions &o)
+        : ctx_(ctx), tri_(tri), on_segment_(on_segment), gamma_(gamma), h_(h), o_(o) {}
+
+    OptimiseStats run();
+
+private:
+    // Per-slot state -------------------------------------------------------
+    void load_generators();
+    void store_generators();
+    void grow_slots();
+
+    // Sweeps ---------------------------------------------------------------
+    enum class Sweep { moves, weights };
+    int64_t sweep(const StarGraph &g, Sweep kind, bool forward);
+    bool update_position(const StarGraph &g, int32_t v);
+    bool update_weight(const StarGraph &g, int32_t v);
+    bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
+    LocalQuality star_quality(const StarGraph &g, int32_t v, const Generator &at, bool shape) const;
+    bool star_is_valid(const StarGraph &g, int32_t v, const Generator &at) const;
+    Vec3 odt_target(const StarGraph &g, int32_t v) const;
+
+    // Topology -------------------------------------------------------------
+    int64_t restore_regularity(int32_t since);
+    void mark_changed_links(const StarGraph &before, const StarGraph &after);
+    int64_t collapse_short_edges();
+    int64_t split_long_edges();
+    int64_t improve_valence();
+    int32_t insert_between(int32_t a, int32_t b);
+    struct EdgeRatio {
+        double ratio;
+        int32_t a, b;
+    };
+    std::vector<EdgeRatio> edge_ratios() const;
+    bool lock_neighbourhood(int32_t v, std::vector<uint8_t> &locked) const;
+
+    // Stopping ---------------------------------------------------------------
+    struct Summary {
+        double qt_min, qt_mean, qp_min, qp_mean;
+    };
+    Summary summarise() const;
+
+    Context &ctx_;
+    tri::Triangulation &tri_;
+    std::vector<int32_t> &on_segment_;
+    const features::Network *gamma_;
+    const refine::SpacingRadians &h_;
+    OptimiseOptions o_;
+
+    std::vector<Generator> gen_;
+    std::vector<double> h_at_;  // spacing at each generator (radians)
+    // Stamps of the sweep clock: when a vertex last changed (position,
+    // weight or link) and when an update of it last failed. A vertex whose
+    // closed star has not changed since its last failure is skipped.
+    std::vector<int32_t> changed_at_, move_failed_at_, weight_failed_at_;
+    int32_t clock_ = 1;
+    int32_t next_id_ = 0;
+    OptimiseStats stats_;
+};
+
+// ----------------------------------------------------------- per-slot state
+
+void Optimiser::grow_slots() {
+    const size_t n = static_cast<size_t>(tri_.vertex_slots());
+    gen_.resize(n);
+    h_at_.resize(n, 0);
+    changed_at_.resize(n, clock_);
+    move_failed_at_.resize(n, 0);
+    weight_failed_at_.resize(n, 0);
+    on_segment_.resize(n, -1);
+}
+
+void Optimiser::load_generators() {
+    grow_slots();
+    ctx_.parallel_for(tri_.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v) {
+            const int32_t vi = static_cast<int32_t>(v);
+            if (!tri_.in_triangulation(vi)) continue;
+            const Vec3 &q = tri_.lifted(vi);
+            const double s = geom::norm(q);
+            gen_[v] = {(1.0 / s) * q, s};
+            h_at_[v] = h_(gen_[v].x);
+        }
+    });
+}
+
+void Optimiser::store_generators() {
+    ctx_.parallel_for(tri_.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v)
+            if (tri_.in_triangulation(static_cast<int32_t>(v)))
+                tri_.set_lifted(static_cast<int32_t>(v), gen_[v].lifted());
+    });
+}
+
+// ------------------------------------------------------------------ sweeps
+
+int64_t Optimiser::sweep(const StarGraph &g, Sweep kind, bool forward) {
+    const auto &colours = g.colours();
+    const int n_colours = static_cast<int>(colours.size());
+    int64_t accepted = 0;
+    for (int i = 0; i < n_colours; ++i) {
+        const std::vector<int32_t> &list = colours[forward ? i : n_colours - 1 - i];
+        std::vector<uint8_t> took(list.size(), 0);
+        ctx_.parallel_for(static_cast<int64_t>(list.size()), 256, [&](int64_t b, int64_t e) {
+            for (int64_t k = b; k < e; ++k)
+                took[k] = kind == Sweep::moves ? update_position(g, list[k]) : update_weight(g, list[k]);
+        });
+        for (uint8_t t : took) accepted += t;
+        ++clock_;  // the next colour sees this one's changes as newer than its failures
+    }
+    return accepted;
+}
+
+bool Optimiser::nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const {
+    if (changed_at_[v] >= tried) return false;
+    const int32_t *link = g.link(v);
+    for (int k = 0; k < g.degree(v); ++k)
+        if (changed_at_[link[k]] >= tried) return false;
+    return true;
+}
+
+// The star's worst and mean score: Q^T for moves (the shape), Q^P for
+// weights (the staggering).
+LocalQuality Optimiser::star_quality(const StarGraph &g, int32_t v, const Generator &at,
+                                     bool shape) const {
+    const int32_t *link = g.link(v);
+    const int m = g.degree(v);
+    LocalQuality q;
+    double sum = 0;
+    for (int k = 0; k < m; ++k) {
+        const Generator &a = gen_[link[k]], &b = gen_[link[(k + 1) % m]];
+        const double score = shape ? area_length_ratio(at.x, a.x, b.x) : primal_dual(at, a, b);
+        q.worst = std::min(q.worst, score);
+        sum += score;
+    }
+    q.mean = sum / m;
+    return q;
+}
+
+// The star stays a valid piece of triangulated sphere (every triangle
+// counter-clockwise, exactly) and every spoke's crossing with its dual edge
+// stays inside it.
+bool Optimiser::star_is_valid(const StarGraph &g, int32_t v, const Generator &at) const {
+    const int32_t *link = g.link(v);
+    const int m = g.degree(v);
+    const Vec3 q = at.lifted();
+    for (int k = 0; k < m; ++k) {
+        const Generator &a = gen_[link[k]], &b = gen_[link[(k + 1) % m]];
+        if (geom::orient_origin(q.data(), a.lifted().data(), b.lifted().data()) <= 0) return false;
+        const double share = edge_crossing_share(at, a);
+        if (!(share > kCrossingMargin && share < 1 - kCrossingMargin)) return false;
+    }
+    return true;
+}
+
+// Eq. 7-8: the mean of the star's orthocentres weighted by spacing-weighted
+// areas A_j / hbar_j^2.
+Vec3 Optimiser::odt_target(const StarGraph &g, int32_t v) const {
+    const int32_t *link = g.link(v);
+    const int m = g.degree(v);
+    const Generator &c = gen_[v];
+    Vec3 sum{};
+    for (int k = 0; k < m; ++k) {
+        const int32_t i = link[k], j = link[(k + 1) % m];
+        const Generator &a = gen_[i], &b = gen_[j];
+        const double area = 0.5 * geom::norm(geom::cross(a.x - c.x, b.x - c.x));
+        const double hbar = (h_at_[v] + h_at_[i] + h_at_[j]) / 3;
+        const Vec3 ortho =
+            geom::normalized(geom::cross(a.lifted() - c.lifted(), b.lifted() - c.lifted()));
+        sum = sum + (area / (hbar * hbar)) * ortho;
+    }
+    return geom::normalized(sum);
+}
+
+bool Optimiser::update_position(const StarGraph &g, int32_t v) {
+    const bool on_gamma = on_segment_[v] >= 0;
+    if (g.degree(v) < 3 || (on_gamma && (o_.fix_boundary || !gamma_))) return false;
+    if (nothing_changed_since(g, v, move_failed_at_[v])) return false;
+    const Generator here = gen_[v];
+    const LocalQuality before = star_quality(g, v, here, true);
+    const Vec3 target = odt_target(g, v);
+    double step = 1;
+    for (int m = 0; m <= kHalvings; ++m, step *= 0.5) {
+        Generator moved = here;
+        moved.x = geom::normalized((1 - step) * here.x + step * target);
+        int64_t segment = on_segment_[v];
+        if (on_gamma) {
+            PointOnGamma p = slide_along(*gamma_, segment, moved.x);
+            moved.x = p.x, segment = p.segment;
+        }
+        if (!star_is_valid(g, v, moved)) continue;
+        if (!better(star_quality(g, v, moved, true), before, o_.tolerance)) continue;
+        gen_[v] = moved;
+        on_segment_[v] = static_cast<int32_t>(segment);
+        h_at_[v] = h_(moved.x);
+        changed_at_[v] = clock_;
+        return true;
+    }
+    move_failed_at_[v] = clock_;
+    return false;
+}
+
+// Eq. 4-6: ascend the Q^P of the worst adjacent triangle, starting from the
+// first-order step that would lift it to the star's mean.
+bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
+    if (g.degree(v) < 3) return false;
+    if (nothing_changed_since(g, v, weight_failed_at_[v])) return false;
+    const int32_t *link = g.link(v);
+    const int m = g.degree(v);
+    const Generator here = gen_[v];
+    LocalQuality before;
+    double sum = 0;
+    int worst_k = 0;
+    for (int k = 0; k < m; ++k) {
+        const double q = primal_dual(here, gen_[link[k]], gen_[link[(k + 1) % m]]);
+        if (q < before.worst) before.worst = q, worst_k = k;
+        sum += q;
+    }
+    before.mean = sum / m;
+    const double slope =
+        primal_dual_weight_derivative(here, gen_[link[worst_k]], gen_[link[(worst_k + 1) % m]]);
+    const double gain = before.mean - before.worst;
+    if (slope != 0 && gain > 0) {
+        const double w = 2.0 * (1.0 - 1.0 / here.s);
+        double dw = gain / slope;  // eq. 6
+        for (int i = 0; i <= kHalvings; ++i, dw *= 0.5) {
+            Generator weighted = here;
+            weighted.s = tri::lifted_scale(w + dw);
+            if (!(weighted.s > 0) || !std::isfinite(weighted.s)) continue;
+            if (!star_is_valid(g, v, weighted)) continue;
+            const LocalQuality now = star_quality(g, v, weighted, false);
+            if (!(now.worst > before.worst + o_.tolerance)) continue;
+            gen_[v] = weighted;
+            changed_at_[v] = clock_;
+            return true;
+        }
+    }
+    weight_failed_at_[v] = clock_;
+    return false;
+}
+
+// ---------------------------------------------------------------- topology
+
+// Flips from the triangles around every vertex that changed since `since`.
+int64_t Optimiser::restore_regularity(int32_t since) {
+    std::vector<int32_t> seeds;
+    for (int32_t t = 0; t < tri_.triangle_slots(); ++t) {
+        if (tri_.is_free(t)) continue;
+        for (int k = 0; k < 3; ++k)
+            if (changed_at_[tri_.vertex(t, k)] >= since) {
+                seeds.push_back(t);
+                break;
+            }
+    }
+    return tri_.restore_regularity(std::move(seeds));
+}
+
+// A vertex whose link changed (by flips, collapses or splits) counts as
+// changed, so that it and its neighbours are tried again.
+void Optimiser::mark_changed_links(const StarGraph &before, const StarGraph &after) {
+    for (int32_t v = 0; v < after.vertex_slots(); ++v) {
+        const int m = after.degree(v);
+        if (v >= before.vertex_slots() || before.degree(v) != m) {
+            changed_at_[v] = clock_;
+            continue;
+        }
+        if (m == 0) continue;
+        const int32_t *a = before.link(v), *b = after.link(v);
+        int shift = 0;
+        while (shift < m && b[shift] != a[0]) ++shift;
+        bool same = shift < m;
+        for (int k = 0; same && k < m; ++k) same = a[k] == b[(k + shift) % m];
+        if (!same) changed_at_[v] = clock_;
+    }
+}
+
+std::vector<Optimiser::EdgeRatio> Optimiser::edge_ratios() const {
+    std::vector<EdgeRatio> out;
+    for (int32_t t = 0; t < tri_.triangle_slots(); ++t) {
+        if (tri_.is_free(t)) continue;
+        for (int k = 0; k < 3; ++k) {
+            if (tri_.neighbour(t, k) < t) continue;  // each edge once
+            const int32_t a = tri_.vertex(t, (k + 1) % 3), b = tri_.vertex(t, (k + 2) % 3);
+            const double l = geom::norm(gen_[a].x - gen_[b].x);
+            out.push_back({l / (0.5 * (h_at_[a] + h_at_[b])), std::min(a, b), std::max(a, b)});
+        }
+    }
+    return out;
+}
+
+// Claims v and its neighbours for this pass's one change around them; false
+// if any is already claimed.
+bool Optimiser::lock_neighbourhood(int32_t v, std::vector<uint8_t> &locked) const {
+    std::vector<int32_t> around{v};
+    for (int32_t t : tri_.star(v))
+        for (int k = 0; k < 3; ++k) around.push_back(tri_.vertex(t, k));
+    for (int32_t u : around)
+        if (locked[u]) return false;
+    for (int32_t u : around) locked[u] = 1;
+    return true;
+}
+
+// Section 6.4: an edge much shorter than h loses a vertex (the one off Gamma,
+// or the later slot), the other moving to the edge's midpoint when it is free
+// to move. Shortest first, one change per neighbourhood per pass.
+int64_t Optimiser::collapse_short_edges() {
+    if (o_.collapse_ratio <= 0) return 0;
+    std::vector<EdgeRatio> edges = edge_ratios();
+    edges.erase(std::remove_if(edges.begin(), edges.end(),
+                               [&](const EdgeRatio &e) { return e.ratio >= o_.collapse_ratio; }),
+                edges.end());
+    std::sort(edges.begin(), edges.end(), [](const EdgeRatio &x, const EdgeRatio &y) {
+        return x.ratio != y.ratio ? x.ratio < y.ratio : (x.a != y.a ? x.a < y.a : x.b < y.b);
+    });
+    std::vector<uint8_t> locked(static_cast<size_t>(tri_.vertex_slots()), 0);
+    int64_t done = 0;
+    for (const EdgeRatio &e : edges) {
+        if (!tri_.in_triangulation(e.a) || !tri_.in_triangulation(e.b)) continue;
+        const bool a_on = on_segment_[e.a] >= 0, b_on = on_segment_[e.b] >= 0;
+        if (a_on && b_on) continue;  // Gamma keeps its vertices
+        const int32_t gone = a_on ? e.b : (b_on ? e.a : e.b), kept = gone == e.a ? e.b : e.a;
+        if (!lock_neighbourhood(e.a, locked) || !lock_neighbourhood(e.b, locked)) continue;
+        const Vec3 mid = geom::normalized(gen_[e.a].x + gen_[e.b].x);
+        tri_.remove(gone);
+        if (on_segment_[kept] < 0) {
+            for (int32_t u : tri_.move(kept, mid)) changed_at_[u] = clock_;
+            if (tri_.in_triangulation(kept)) gen_[kept].x = tri_.direction(kept);
+            h_at_[kept] = h_(gen_[kept].x);
+        }
+        changed_at_[kept] = clock_;
+        ++done;
+    }
+    return done;
+}
+
+// Section 6.4: an edge much longer than h gets a vertex at its midpoint,
+// with the mean of its ends' weights. Longest first, one change per
+// neighbourhood per pass.
+int64_t Optimiser::split_long_edges() {
+    std::vector<EdgeRatio> edges = edge_ratios();
+    edges.erase(std::remove_if(edges.begin(), edges.end(),
+                               [&](const EdgeRatio &e) { return e.ratio <= o_.split_ratio; }),
+                edges.end());
+    std::sort(edges.begin(), edges.end(), [](const EdgeRatio &x, const EdgeRatio &y) {
+        return x.ratio != y.ratio ? x.ratio > y.ratio : (x.a != y.a ? x.a < y.a : x.b < y.b);
+    });
+    std::vector<uint8_t> locked(static_cast<size_t>(tri_.vertex_slots()), 0);
+    int64_t done = 0;
+    for (const EdgeRatio &e : edges) {
+        if (!tri_.in_triangulation(e.a) || !tri_.in_triangulation(e.b)) continue;
+        if (!lock_neighbourhood(e.a, locked) || !lock_neighbourhood(e.b, locked)) continue;
+        done += insert_between(e.a, e.b) >= 0;
+        locked.resize(static_cast<size_t>(tri_.vertex_slots()), 1);
+    }
+    return done;
+}
+
+// A new vertex at the midpoint of (a, b), with the mean of their weights;
+// its slot, or -1 if it came out hidden (it is then removed again).
+int32_t Optimiser::insert_between(int32_t a, int32_t b) {
+    const Vec3 mid = geom::normalized(gen_[a].x + gen_[b].x);
+    const double w = 0.5 * (tri_.weight(a) + tri_.weight(b));
+    std::vector<int32_t> buried;
+    const int32_t v = tri_.insert(mid, w, next_id_++, &buried, tri_.star(a).front());
+    for (int32_t u : buried) changed_at_[u] = clock_;
+    grow_slots();
+    if (!tri_.in_triangulation(v)) {
+        tri_.remove(v);
+        return -1;
+    }
+    gen_[v] = {mid, tri::lifted_scale(w)};
+    h_at_[v] = h_(mid);
+    changed_at_[v] = clock_;
+    for (int32_t t : tri_.star(v))
+        for (int k = 0; k < 3; ++k) changed_at_[tri_.vertex(t, k)] = clock_;
+    return v;
+}
+
+// Vertices of degree 4 or less crowd their neighbours (their power cells are
+// small) and those of degree 8 or more leave a gap: the first are removed,
+// the second get a new neighbour halfway along their longest spoke. Vertices
+// on Gamma are left alone. One change per neighbourhood per pass, in slot
+// order.
+int64_t Optimiser::improve_valence() {
+    std::vector<uint8_t> locked(static_cast<size_t>(tri_.vertex_slots()), 0);
+    int64_t done = 0;
+    const int32_t n = tri_.vertex_slots();
+    for (int32_t v = 0; v < n; ++v) {
+        if (!tri_.in_triangulation(v) || on_segment_[v] >= 0) continue;
+        std::vector<int32_t> st = tri_.star(v);
+        const int degree = static_cast<int>(st.size());
+        if (degree > 4 && degree < 8) continue;
+        if (!lock_neighbourhood(v, locked)) continue;
+        if (degree <= 4) {
+            for (int32_t t : st)  // before removal frees these triangles
+                for (int k = 0; k < 3; ++k) changed_at_[tri_.vertex(t, k)] = clock_;
+            tri_.remove(v);
+            ++done, ++stats_.collapses;
+            continue;
+        }
+        int32_t far = -1;
+        double far_l = -1;
+        for (int32_t t : st)
+            for (int k = 0; k < 3; ++k) {
+                const int32_t u = tri_.vertex(t, k);
+                const double l = geom::norm(gen_[u].x - gen_[v].x);
+                if (u != v && l > far_l) far_l = l, far = u;
+            }
+        if (insert_between(v, far) >= 0) ++done, ++stats_.splits;
+        locked.resize(static_cast<size_t>(tri_.vertex_slots()), 1);
+    }
+    return done;
+}
+
+// ---------------------------------------------------------------- stopping
+
+Optimiser::Summary Optimiser::summarise() const {
+    const int32_t n = tri_.triangle_slots();
+    std::vector<TriangleCost> cost(static_cast<size_t>(n), TriangleCost{2, 2});
+    ctx_.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t t = b; t < e; ++t) {
+            const int32_t ti = static_cast<int32_t>(t);
+            if (tri_.is_free(ti)) continue;
+            cost[t] = triangle_cost(gen_[tri_.vertex(ti, 0)], gen_[tri_.vertex(ti, 1)],
+                                    gen_[tri_.vertex(ti, 2)]);
+        }
+    });
+    Summary s{2, 0, 2, 0};
+    int64_t live = 0;
+    for (int32_t t = 0; t < n; ++t) {  // in slot order: the same sums for any thread count
+        if (tri_.is_free(t)) continue;
+        ++live;
+        s.qt_min = std::min(s.qt_min, cost[t].area_length), s.qt_mean += cost[t].area_length;
+        s.qp_min = std::min(s.qp_min, cost[t].primal_dual), s.qp_mean += cost[t].primal_dual;
+    }
+    s.qt_mean /= double(std::max<int64_t>(live, 1)), s.qp_mean /= double(std::max<int64_t>(live, 1));
+    return s;
+}
+
+// ----------------------------------------------------------------- schedule
+
+OptimiseStats Optimiser::run() {
+    for (int32_t v = 0; v < tri_.vertex_slots(); ++v) next_id_ = std::max(next_id_, tri_.id(v) + 1);
+    load_generators();
+    Summary last = summarise();
+    std::unique_ptr<StarGraph> graph = std::make_unique<StarGraph>(ctx_, tri_);
+    // The first half of the outer iterations shapes the triangles (moves,
+    // flips, valence repairs, weights held); the second half adds the weight
+    // ascent for the staggering. Weights first would lock the topology in:
+    // a weighted triangulation keeps badly shaped triangles regular (and
+    // well-centred), so no flip would ever mend them.
+    const int shape_iterations = o_.weights ? o_.outer_iterations / 2 : o_.outer_iterations;
+    for (int n = 0; n < o_.outer_iterations; ++n) {
+        ctx_.progress("optimise", double(n) / o_.outer_iterations);
+        const bool shape_phase = n < shape_iterations;
+        const int32_t outer_start = clock_;
+        int64_t changes = 0;
+        for (int m = 0; m < o_.inner_iterations; ++m) {
+            const bool forward = m % 2 == 0;
+            auto t0 = Clock::now();
+            int64_t moved = sweep(*graph, Sweep::moves, forward);
+            stats_.seconds_moves += seconds_since(t0);
+            t0 = Clock::now();
+            int64_t weighted = o_.weights && !shape_phase ? sweep(*graph, Sweep::weights, forward) : 0;
+            stats_.seconds_weights += seconds_since(t0);
+            stats_.moves += moved, stats_.weight_updates += weighted;
+            changes += moved + weighted;
+            if (moved + weighted == 0) break;
+        }
+        auto t0 = Clock::now();
+        store_generators();
+        const int64_t flips = restore_regularity(outer_start);
+        const int64_t collapsed = collapse_short_edges();
+        const int64_t split = split_long_edges();
+        const int64_t valence = shape_phase ? improve_valence() : 0;
+        stats_.flips += flips, stats_.collapses += collapsed, stats_.splits += split;
+        load_generators();
+        auto next = std::make_unique<StarGraph>(ctx_, tri_);
+        mark_changed_links(*graph, *next);
+        graph = std::move(next);
+        ++clock_;
+        stats_.seconds_topology += seconds_since(t0);
+        ++stats_.outer_iterations;
+
+        const Summary now = summarise();
+        const bool settled = std::abs(now.qt_min - last.qt_min) <= o_.tolerance &&
+                             std::abs(now.qt_mean - last.qt_mean) <= o_.tolerance &&
+                             std::abs(now.qp_min - last.qp_min) <= o_.tolerance &&
+                             std::abs(now.qp_mean - last.qp_mean) <= o_.tolerance;
+        last = now;
+        const int64_t topology = flips + collapsed + split + valence;
+        const bool quiet = changes + topology == 0 || (settled && topology == 0);
+        if (quiet && shape_phase && n + 1 < shape_iterations) {
+            n = shape_iterations - 1;  // shaped: go on to the staggering
+        } else if (quiet && !shape_phase) {
+            break;
+        }
+    }
+    ctx_.progress("optimise", 1.0);
+    return stats_;
+}
+
+}  // namespace
+
+OptimiseStats optimise(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
+                       const features::Network *gamma, const refine::SpacingRadians &h,
+                       const OptimiseOptions &options) {
+    Optimiser o(ctx, tri, on_segment, gamma, h, options);
+    return o.run();
+}
+
+}  // namespace um::optim

@@ -1,0 +1,52 @@
+// The weighted primal-dual optimisation (paper section 6, Algorithm 1):
+// N outer iterations of M inner sweeps of vertex moves (weighted ODT towards
+// orthocentres, eq. 7-8) and weight ascent on the worst adjacent Q^P (eq.
+// 4-6), then flips restoring regularity, then edge collapse and refinement.
+//
+// Sweeps are graph-coloured (optim/star_graph.hpp): the vertices of one
+// colour update in parallel with the topology held fixed, colours in
+// sequence, forward on even inner iterations and in reverse on odd ones
+// (symmetric Gauss-Seidel over each pair). Every decision reads only data
+// no other update of its colour writes, and every reduction runs in a fixed
+// order, so the result is bit-identical for any thread count.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/context.hpp"
+#include "features/network.hpp"
+#include "refine/surface.hpp"
+#include "tri/triangulation.hpp"
+
+namespace um::optim {
+
+struct OptimiseOptions {
+    int outer_iterations = 16;  // N
+    int inner_iterations = 8;   // M
+    // Stop when an outer iteration changes no quality summary (min and mean
+    // of Q^T and Q^P) by more than this; also the smallest gain in a local
+    // worst or mean quality an update must bring to be taken.
+    double tolerance = 1e-4;
+    bool weights = true;         // weight ascent on (else only moves and topology)
+    bool fix_boundary = false;   // vertices on Gamma stay put (else they slide along it)
+    double collapse_ratio = 0.5; // collapse edges shorter than this times h
+    double split_ratio = 1.6;    // split edges longer than this times h
+};
+
+struct OptimiseStats {
+    int outer_iterations = 0;  // done (fewer than N when it stopped early)
+    int64_t moves = 0, weight_updates = 0, flips = 0, collapses = 0, splits = 0;
+    double seconds_moves = 0, seconds_weights = 0, seconds_topology = 0;
+};
+
+// Optimises tri in place. on_segment (per vertex slot: the Gamma segment a
+// vertex lies on, or -1) is kept up to date as vertices slide, vanish and
+// appear; gamma may be null when no vertex is on a segment. h is the spacing
+// in radians. Reports progress as stage "optimise" once per outer iteration
+// (cancellable: then tri is left valid but part-optimised).
+OptimiseStats optimise(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
+                       const features::Network *gamma, const refine::SpacingRadians &h,
+                       const OptimiseOptions &options);
+
+}  // namespace um::optim

@@ -1,0 +1,52 @@
+#include "optim/star_graph.hpp"
+
+#include <algorithm>
+
+namespace um::optim {
+
+StarGraph::StarGraph(Context &ctx, const tri::Triangulation &tri) {
+    const int32_t n = tri.vertex_slots();
+    offset_.assign(static_cast<size_t>(n) + 1, 0);
+    std::vector<int32_t> degree(static_cast<size_t>(n), 0);
+    for (int32_t t = 0; t < tri.triangle_slots(); ++t) {
+        if (tri.is_free(t)) continue;
+        for (int k = 0; k < 3; ++k) ++degree[tri.vertex(t, k)];
+    }
+    for (int32_t v = 0; v < n; ++v) offset_[v + 1] = offset_[v] + degree[v];
+    link_.assign(static_cast<size_t>(offset_[n]), -1);
+    // Walk each star once, counter-clockwise (what Triangulation::star gives).
+    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v) {
+            if (!tri.in_triangulation(static_cast<int32_t>(v))) continue;
+            int32_t *out = link_.data() + offset_[v];
+            for (int32_t t : tri.star(static_cast<int32_t>(v))) {
+                int k = 0;
+                while (tri.vertex(t, k) != v) ++k;
+                *out++ = tri.vertex(t, (k + 1) % 3);
+            }
+        }
+    });
+    colour();
+}
+
+void StarGraph::colour() {
+    const int32_t n = vertex_slots();
+    std::vector<int32_t> colour_of(static_cast<size_t>(n), -1);
+    std::vector<int32_t> seen_by;  // seen_by[c] == v: a neighbour of v has colour c
+    for (int32_t v = 0; v < n; ++v) {
+        if (degree(v) == 0) continue;
+        for (int k = 0; k < degree(v); ++k) {
+            int32_t c = colour_of[link(v)[k]];
+            if (c < 0) continue;
+            if (c >= static_cast<int32_t>(seen_by.size())) seen_by.resize(c + 1, -1);
+            seen_by[c] = v;
+        }
+        int32_t c = 0;
+        while (c < static_cast<int32_t>(seen_by.size()) && seen_by[c] == v) ++c;
+        colour_of[v] = c;
+        if (c >= static_cast<int32_t>(colours_.size())) colours_.resize(c + 1);
+        colours_[c].push_back(v);
+    }
+}
+
+}  // namespace um::optim

@@ -1,0 +1,41 @@
+// The vertex graph the sweeps walk (paper Algorithm 1, DESIGN.md section 4):
+// per vertex its link (the neighbours, counter-clockwise seen from outside),
+// so that its star is the fan (v, link[k], link[k+1]); and a greedy colouring
+// in vertex-slot order such that no two vertices of one colour share a
+// triangle. Within a colour, updates touch disjoint stars and read only
+// vertices of other colours, so they can run in parallel and give the same
+// result for any thread count.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/context.hpp"
+#include "tri/triangulation.hpp"
+
+namespace um::optim {
+
+class StarGraph {
+public:
+    // Links of every vertex in the triangulation (hidden and removed slots
+    // get an empty link).
+    StarGraph(Context &ctx, const tri::Triangulation &tri);
+
+    int32_t vertex_slots() const { return static_cast<int32_t>(offset_.size()) - 1; }
+    int32_t degree(int32_t v) const { return offset_[v + 1] - offset_[v]; }
+    const int32_t *link(int32_t v) const { return link_.data() + offset_[v]; }
+
+    // Greedy colouring in slot order: each vertex takes the smallest colour
+    // none of its neighbours has. colours()[c] lists the vertices of colour c
+    // in ascending slot order.
+    const std::vector<std::vector<int32_t>> &colours() const { return colours_; }
+
+private:
+    void colour();
+
+    std::vector<int32_t> offset_;  // vertex_slots + 1
+    std::vector<int32_t> link_;
+    std::vector<std::vector<int32_t>> colours_;
+};
+
+}  // namespace um::optim

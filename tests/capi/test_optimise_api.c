@@ -1,0 +1,263 @@
+/* CMocka suite: the weighted primal-dual optimisation through the C ABI
+ * (um_mesh_optimise). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "unimesh.h"
+
+#define DEG (M_PI / 180.0)
+
+static int setup_context(void **state) {
+    um_context *ctx = NULL;
+    if (um_context_create(&ctx) != UM_OK) return -1;
+    *state = ctx;
+    return 0;
+}
+static int teardown_context(void **state) {
+    um_context_destroy((um_context *)*state);
+    return 0;
+}
+
+static um_mesh *refine(um_context *ctx, double km, int with_coast) {
+    um_spacing *h = NULL;
+    um_features *f = NULL;
+    um_mesh *m = NULL;
+    assert_int_equal(um_spacing_create_constant(ctx, km, &h), UM_OK);
+    if (with_coast) {
+        assert_int_equal(um_features_create(ctx, &f), UM_OK);
+        assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_global_l.geojson", NULL, 0),
+                         UM_OK);
+    }
+    assert_int_equal(um_mesh_refine(ctx, h, f, NULL, &m), UM_OK);
+    um_features_destroy(f);
+    um_spacing_destroy(h);
+    return m;
+}
+
+typedef struct {
+    int64_t nv, nt;
+    double *lon, *lat;
+    int32_t *tri, *parts;
+} mesh_copy;
+
+static mesh_copy copy_out(um_mesh *m) {
+    mesh_copy c;
+    assert_int_equal(um_mesh_counts(m, &c.nv, &c.nt, NULL, NULL), UM_OK);
+    c.lon = malloc(c.nv * sizeof(double)), c.lat = malloc(c.nv * sizeof(double));
+    c.tri = malloc(3 * c.nt * sizeof(int32_t)), c.parts = malloc(c.nv * sizeof(int32_t));
+    assert_int_equal(um_mesh_copy_vertices(m, c.lon, c.lat, c.nv), UM_OK);
+    assert_int_equal(um_mesh_copy_triangles(m, 0, c.tri, 3 * c.nt), UM_OK);
+    assert_int_equal(um_mesh_copy_vertex_parts(m, 0, c.parts, c.nv), UM_OK);
+    return c;
+}
+
+static int same_copy(const mesh_copy *a, const mesh_copy *b) {
+    return a->nv == b->nv && a->nt == b->nt && !memcmp(a->lon, b->lon, a->nv * sizeof(double)) &&
+           !memcmp(a->lat, b->lat, a->nv * sizeof(double)) &&
+           !memcmp(a->tri, b->tri, 3 * a->nt * sizeof(int32_t)) &&
+           !memcmp(a->parts, b->parts, a->nv * sizeof(int32_t));
+}
+
+static void free_copy(mesh_copy *c) { free(c->lon), free(c->lat), free(c->tri), free(c->parts); }
+
+/* Uniform 240 km: every triangle holds its orthocentre afterwards, the worst
+ * shapes and staggering improve, the sphere stays a closed triangulation,
+ * and the report carries both meshes. */
+static void optimise_improves_uniform(void **state) {
+    um_context *ctx = *state;
+    um_mesh *m = refine(ctx, 240.0, 0);
+    int64_t obtuse0 = 0, bad0 = 0, obtuse1 = 0, bad1 = 0, nv = 0, nt = 0;
+    double qt0 = 0, qp0 = 0, qt1 = 0, qp1 = 0, amax0 = 0, amax1 = 0;
+    assert_int_equal(um_mesh_quality_counts(m, &obtuse0, &bad0), UM_OK);
+    um_mesh_quality_summary(m, "area_length_ratio", &qt0, NULL, NULL, NULL);
+    um_mesh_quality_summary(m, "primal_dual", &qp0, NULL, NULL, NULL);
+    um_mesh_quality_summary(m, "angle_max_deg", NULL, NULL, NULL, &amax0);
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
+    assert_int_equal(um_mesh_quality_counts(m, &obtuse1, &bad1), UM_OK);
+    um_mesh_quality_summary(m, "area_length_ratio", &qt1, NULL, NULL, NULL);
+    um_mesh_quality_summary(m, "primal_dual", &qp1, NULL, NULL, NULL);
+    um_mesh_quality_summary(m, "angle_max_deg", NULL, NULL, NULL, &amax1);
+    assert_true(bad0 > 0);
+    assert_int_equal(bad1, 0);
+    assert_true(obtuse1 * 10 < obtuse0);
+    assert_true(qt1 > qt0 + 0.05);
+    assert_true(qp1 > qp0);
+    assert_true(amax1 < amax0);
+    assert_int_equal(um_mesh_counts(m, &nv, &nt, NULL, NULL), UM_OK);
+    assert_int_equal(nt, 2 * nv - 4);
+    int64_t needed = 0;
+    assert_int_equal(um_mesh_quality_json(m, NULL, 0, &needed), UM_ERR_BUFFER_TOO_SMALL);
+    um_context_clear_error(ctx);
+    char *json = malloc(needed);
+    assert_int_equal(um_mesh_quality_json(m, json, needed, NULL), UM_OK);
+    assert_non_null(strstr(json, "\"before_optimisation\": {"));
+    assert_non_null(strstr(json, "\"optimisation\": {\"outer_iterations\": "));
+    free(json);
+    um_mesh_destroy(m);
+}
+
+/* The promise: bit-identical for 1, 2, 3 and 8 threads. */
+static void bit_identical_for_any_thread_count(void **state) {
+    um_context *ctx = *state;
+    mesh_copy first;
+    const int32_t threads[] = {1, 2, 3, 8};
+    for (int i = 0; i < 4; ++i) {
+        assert_int_equal(um_context_set_threads(ctx, threads[i]), UM_OK);
+        um_mesh *m = refine(ctx, 300.0, 1);
+        assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
+        mesh_copy c = copy_out(m);
+        if (i == 0) {
+            first = c;
+        } else {
+            if (!same_copy(&first, &c)) fail_msg("%d threads differ from 1", threads[i]);
+            free_copy(&c);
+        }
+        um_mesh_destroy(m);
+    }
+    free_copy(&first);
+}
+
+static double distance_to_arc(const double p[3], const double a[3], const double b[3]) {
+    double n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    double off = fabs(p[0] * n[0] + p[1] * n[1] + p[2] * n[2]) / nn;  /* sine of the distance to the circle */
+    double da = acos(fmin(1, p[0] * a[0] + p[1] * a[1] + p[2] * a[2]));
+    double db = acos(fmin(1, p[0] * b[0] + p[1] * b[1] + p[2] * b[2]));
+    double ab = acos(fmin(1, a[0] * b[0] + a[1] * b[1] + a[2] * b[2]));
+    if (da <= ab + 1e-12 && db <= ab + 1e-12) return asin(fmin(1, off));
+    return fmin(da, db);
+}
+
+static void unit(double lon, double lat, double out[3]) {
+    out[0] = cos(lat * DEG) * cos(lon * DEG), out[1] = cos(lat * DEG) * sin(lon * DEG), out[2] = sin(lat * DEG);
+}
+
+/* Vertices placed on a coastline slide along it and never leave it: each
+ * lies on a segment of the part it is tagged with, to rounding. */
+static void vertices_on_features_stay_on_them(void **state) {
+    um_context *ctx = *state;
+    um_features *f = NULL;
+    assert_int_equal(um_features_create(ctx, &f), UM_OK);
+    assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_global_l.geojson", NULL, 0), UM_OK);
+    int64_t np = 0, npt = 0;
+    um_features_counts(f, &np, &npt, NULL);
+    double *plon = malloc(npt * sizeof(double)), *plat = malloc(npt * sizeof(double));
+    int64_t *off = malloc((np + 1) * sizeof(int64_t));
+    int32_t *closed = malloc(np * sizeof(int32_t));
+    assert_int_equal(um_features_copy_points(f, plon, plat, npt), UM_OK);
+    assert_int_equal(um_features_copy_parts(f, off, closed, NULL, NULL, np + 1), UM_OK);
+    um_features_destroy(f);
+
+    um_mesh *m = refine(ctx, 240.0, 1);
+    mesh_copy before = copy_out(m);
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
+    mesh_copy c = copy_out(m);
+    int64_t on_gamma = 0, on_gamma_before = 0, moved = 0;
+    for (int64_t v = 0; v < before.nv; ++v) on_gamma_before += before.parts[v] >= 0;
+    for (int64_t v = 0; v < c.nv; ++v) {
+        const int32_t p = c.parts[v];
+        if (p < 0) continue;
+        ++on_gamma;
+        double x[3], best = 1e9;
+        unit(c.lon[v], c.lat[v], x);
+        const int64_t n = off[p + 1] - off[p];
+        for (int64_t i = 0; i < (closed[p] ? n : n - 1); ++i) {
+            double a[3], b[3];
+            unit(plon[off[p] + i], plat[off[p] + i], a);
+            unit(plon[off[p] + (i + 1) % n], plat[off[p] + (i + 1) % n], b);
+            best = fmin(best, distance_to_arc(x, a, b));
+        }
+        if (best > 1e-9) fail_msg("vertex %lld is %g rad off its part %d", (long long)v, best, p);
+        if (v < before.nv && (c.lon[v] != before.lon[v] || c.lat[v] != before.lat[v])) ++moved;
+    }
+    assert_int_equal(on_gamma, on_gamma_before);  /* Gamma keeps its vertices */
+    assert_true(moved > 0);                        /* and they did slide */
+    free_copy(&before), free_copy(&c);
+    free(plon), free(plat), free(off), free(closed);
+    um_mesh_destroy(m);
+}
+
+static int32_t cancel_in_optimise(void *user, const char *stage, double fraction) {
+    (void)user;
+    return strcmp(stage, "optimise") == 0 && fraction > 0;
+}
+
+/* Cancelling (or any failure) leaves the mesh exactly as it was, and usable. */
+static void cancelling_leaves_the_mesh_unchanged(void **state) {
+    um_context *ctx = *state;
+    um_mesh *m = refine(ctx, 400.0, 0);
+    mesh_copy before = copy_out(m);
+    assert_int_equal(um_context_set_progress(ctx, cancel_in_optimise, NULL), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_CANCELLED);
+    assert_non_null(strstr(um_context_last_error(ctx), "optimise"));
+    mesh_copy after = copy_out(m);
+    assert_true(same_copy(&before, &after));
+    um_context_clear_error(ctx);
+    assert_int_equal(um_context_set_progress(ctx, NULL, NULL), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
+    free_copy(&before), free_copy(&after);
+    um_mesh_destroy(m);
+}
+
+/* Options reach the schedule (no outer iteration: nothing moves; fixed
+ * boundary: Gamma's vertices stay put) and bad arguments are refused. */
+static void options_and_bad_arguments(void **state) {
+    um_context *ctx = *state;
+    um_options *o = NULL;
+    assert_int_equal(um_options_create(ctx, &o), UM_OK);
+    assert_int_equal(um_mesh_optimise(NULL, o), UM_ERR_NULL_ARGUMENT);
+    um_context_clear_error(ctx);
+
+    um_mesh *m = refine(ctx, 400.0, 1);
+    mesh_copy before = copy_out(m);
+    assert_int_equal(um_options_set_string(o, "optim_outer_iterations=0"), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, o), UM_OK);
+    mesh_copy same = copy_out(m);
+    assert_int_equal(same.nv, before.nv);
+    assert_memory_equal(same.lon, before.lon, before.nv * sizeof(double));
+    free_copy(&same);
+
+    assert_int_equal(um_options_set_string(o, "optim_outer_iterations=4;optim_fix_boundary=1"), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, o), UM_OK);
+    mesh_copy fixed = copy_out(m);
+    int64_t kept = 0, on_gamma = 0;
+    for (int64_t v = 0; v < before.nv; ++v) {
+        if (before.parts[v] < 0) continue;
+        ++on_gamma;
+        for (int64_t u = 0; u < fixed.nv; ++u)
+            if (fabs(fixed.lon[u] - before.lon[v]) < 1e-10 && fabs(fixed.lat[u] - before.lat[v]) < 1e-10) {
+                ++kept; /* to the rounding of a weight change */
+                break;
+            }
+    }
+    assert_true(on_gamma > 0);
+    assert_int_equal(kept, on_gamma);
+    free_copy(&fixed), free_copy(&before);
+
+    assert_int_equal(um_options_set_string(o, "optim_outer_iterations=-1"), UM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(um_context_last_error(ctx), "optim_outer_iterations"));
+    um_context_clear_error(ctx);
+    um_options_destroy(o);
+    assert_int_equal(um_mesh_optimise(m, o), UM_ERR_INVALID_HANDLE); /* destroyed options */
+    um_context_clear_error(ctx);
+    um_mesh_destroy(m);
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_ERR_INVALID_HANDLE); /* destroyed mesh */
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(optimise_improves_uniform, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(bit_identical_for_any_thread_count, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(vertices_on_features_stay_on_them, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(cancelling_leaves_the_mesh_unchanged, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(options_and_bad_arguments, setup_context, teardown_context),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,190 @@
+// Engine tests: the weighted primal-dual optimisation (paper section 6).
+#include <cmath>
+#include <cstdarg>
+#include <cstddef>
+#include <csetjmp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "optim/local_quality.hpp"
+#include "optim/optimise.hpp"
+#include "optim/slide.hpp"
+#include "optim/star_graph.hpp"
+#include "refine/surface.hpp"
+#include "tri/validate.hpp"
+
+// cmocka last: it defines a fail() macro.
+extern "C" {
+#include <cmocka.h>
+}
+
+using namespace um;
+using geom::Vec3;
+using optim::Generator;
+
+namespace {
+
+Generator generator(const Vec3 &x, double w) { return {geom::normalized(x), tri::lifted_scale(w)}; }
+
+// dQ^P/dw_a against central differences, on small random triangles with
+// random weights of the size the optimisation gives them (|w| ~ 0.1 h^2).
+void weight_derivative_matches_finite_differences(void **) {
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int checked = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const Vec3 c = geom::normalized({u(rng), u(rng), u(rng)});
+        const double h = 1e-3 * (1 + 20 * std::abs(u(rng)));  // 6 to 130 km
+        Vec3 e1 = geom::normalized(geom::cross(c, {0.3, 0.5, 0.7})), e2 = geom::cross(c, e1);
+        auto around = [&](double angle, double r) {
+            return c + (h * r * std::cos(angle)) * e1 + (h * r * std::sin(angle)) * e2;
+        };
+        const double t0 = u(rng);
+        Generator a = generator(around(t0, 0.6 + 0.2 * u(rng)), 0.1 * h * h * u(rng));
+        Generator b = generator(around(t0 + 2.1 + 0.3 * u(rng), 0.6 + 0.2 * u(rng)), 0.1 * h * h * u(rng));
+        Generator d = generator(around(t0 + 4.2 + 0.3 * u(rng), 0.6 + 0.2 * u(rng)), 0.1 * h * h * u(rng));
+        const double w = 2 * (1 - 1 / a.s);
+        double q = 0;
+        const double analytic = optim::primal_dual_weight_derivative(a, b, d, &q);
+        const double dw = 1e-4 * h * h;
+        Generator plus = a, minus = a;
+        plus.s = tri::lifted_scale(w + dw), minus.s = tri::lifted_scale(w - dw);
+        const double numeric = (optim::triangle_cost(plus, b, d).primal_dual -
+                                optim::triangle_cost(minus, b, d).primal_dual) / (2 * dw);
+        // Relative to the derivative's natural scale 1/h^2.
+        if (std::abs(analytic - numeric) * h * h > 1e-5)
+            fail_msg("trial %d: analytic %.10g, numeric %.10g (h = %g)", trial, analytic, numeric, h);
+        assert_true(std::abs(q - optim::triangle_cost(a, b, d).primal_dual) < 1e-15);
+        ++checked;
+    }
+    assert_int_equal(checked, 2000);
+}
+
+// An equilateral triangle with equal weights staggers perfectly: Q^T = Q^P = 1.
+void equilateral_triangle_scores_one(void **) {
+    const Vec3 c = geom::normalized({1, 2, 3});
+    Vec3 e1 = geom::normalized(geom::cross(c, {0, 0, 1})), e2 = geom::cross(c, e1);
+    Generator g[3];
+    for (int k = 0; k < 3; ++k) {
+        const double angle = 2 * M_PI * k / 3;
+        g[k] = generator(c + 0.01 * std::cos(angle) * e1 + 0.01 * std::sin(angle) * e2, 0.0);
+    }
+    const optim::TriangleCost q = optim::triangle_cost(g[0], g[1], g[2]);
+    assert_true(std::abs(q.area_length - 1) < 1e-9);
+    assert_true(std::abs(q.primal_dual - 1) < 1e-9);
+    // Inverted: Q^T negative.
+    assert_true(optim::triangle_cost(g[0], g[2], g[1]).area_length < 0);
+    // A heavier vertex pulls the crossing of its edges away from itself.
+    Generator heavy = g[0];
+    heavy.s = tri::lifted_scale(2e-5);
+    assert_true(optim::edge_crossing_share(heavy, g[1]) > 0.5);
+    assert_true(std::abs(optim::edge_crossing_share(g[0], g[1]) - 0.5) < 1e-9);
+}
+
+// Sliding keeps the point on the polyline and finds the nearest point along
+// it, many segments away, around corners and across the end of a ring.
+void slide_stays_on_the_polyline(void **) {
+    features::Network net;
+    std::vector<double> lon, lat;
+    // East along the equator to lon -0.1, then north along that meridian.
+    for (int i = 0; i < 200; ++i)
+        lon.push_back(i < 100 ? -10 + 0.1 * i : -0.1), lat.push_back(i < 100 ? 0 : 0.1 * (i - 99));
+    std::vector<int64_t> offsets = {0, 200};
+    std::vector<int32_t> closed = {0}, kind = {3};
+    features::PartsInput in;
+    in.n_points = 200, in.lon_deg = lon.data(), in.lat_deg = lat.data();
+    in.n_parts = 1, in.part_offsets = offsets.data(), in.closed = closed.data(), in.kind = kind.data();
+    net.add(in);
+    // From segment 5, a target beside the northward leg, 30 segments up it.
+    const Vec3 target = geom::unit_from_lonlat_deg(-0.05, 3.0);
+    optim::PointOnGamma p = optim::slide_along(net, 5, target);
+    double lo, la;
+    geom::lonlat_deg_from_unit(p.x, lo, la);
+    assert_true(p.segment > 100);
+    assert_true(geom::distance_to_arc(p.x, net.segment_a(p.segment), net.segment_b(p.segment)) < 1e-14);
+    assert_true(std::abs(lo - -0.1) < 1e-6);
+    assert_true(std::abs(la - 3.0) < 1e-3);
+    // The open end: beyond the first point it stays at the first point.
+    p = optim::slide_along(net, 3, geom::unit_from_lonlat_deg(-20, 0));
+    assert_int_equal(p.segment, 0);
+    assert_true(geom::norm(p.x - net.point(0)) < 1e-15);
+}
+
+tri::Triangulation uniform_mesh(Context &ctx, double h) {
+    tri::Triangulation tri = refine::icosahedron(ctx);
+    refine::SurfaceOptions so;
+    refine::refine_surface(ctx, tri, [h](const Vec3 &) { return h; }, so, 12);
+    tri.compact();
+    return tri;
+}
+
+// The colouring is proper: no two neighbours share a colour.
+void colouring_separates_neighbours(void **) {
+    Context ctx;
+    tri::Triangulation tri = uniform_mesh(ctx, 0.06);
+    optim::StarGraph g(ctx, tri);
+    std::vector<int> colour(static_cast<size_t>(g.vertex_slots()), -1);
+    for (size_t c = 0; c < g.colours().size(); ++c)
+        for (int32_t v : g.colours()[c]) colour[v] = static_cast<int>(c);
+    int64_t coloured = 0;
+    for (int32_t v = 0; v < g.vertex_slots(); ++v) {
+        if (g.degree(v) == 0) continue;
+        ++coloured;
+        assert_true(colour[v] >= 0);
+        for (int k = 0; k < g.degree(v); ++k) assert_int_not_equal(colour[v], colour[g.link(v)[k]]);
+    }
+    assert_int_equal(coloured, tri.vertex_count());
+    assert_true(g.colours().size() <= 12);
+}
+
+// After optimising, the triangulation is still the exact regular
+// triangulation of its points, every triangle holds its orthocentre, and
+// the worst triangle is better than before.
+void optimised_mesh_is_regular_and_better(void **) {
+    Context ctx;
+    ctx.set_threads(2);
+    const double h = 0.04;  // 255 km
+    tri::Triangulation tri = uniform_mesh(ctx, h);
+    auto worst = [](const tri::Triangulation &t) {
+        double qt = 2;
+        int64_t bad = 0;
+        for (int32_t f = 0; f < t.triangle_slots(); ++f) {
+            if (t.is_free(f)) continue;
+            Generator g[3];
+            for (int k = 0; k < 3; ++k) g[k] = {t.direction(t.vertex(f, k)), geom::norm(t.lifted(t.vertex(f, k)))};
+            qt = std::min(qt, optim::triangle_cost(g[0], g[1], g[2]).area_length);
+            const Vec3 o = t.orthocentre(f);
+            for (int k = 0; k < 3; ++k)
+                if (geom::dot(geom::cross(g[(k + 1) % 3].x, g[(k + 2) % 3].x), o) < 0) { ++bad; break; }
+        }
+        return std::make_pair(qt, bad);
+    };
+    auto before = worst(tri);
+    std::vector<int32_t> on_segment(static_cast<size_t>(tri.vertex_slots()), -1);
+    optim::OptimiseOptions o;
+    optim::OptimiseStats stats =
+        optim::optimise(ctx, tri, on_segment, nullptr, [h](const Vec3 &) { return h; }, o);
+    tri.compact();
+    const std::string problem = tri::check_triangulation(tri);
+    if (!problem.empty()) fail_msg("%s", problem.c_str());
+    auto after = worst(tri);
+    assert_true(before.second > 0);
+    assert_int_equal(after.second, 0);
+    assert_true(after.first > before.first + 0.05);
+    assert_true(stats.moves > 0 && stats.weight_updates > 0);
+    assert_true(stats.outer_iterations >= 1 && stats.outer_iterations <= o.outer_iterations);
+}
+
+}  // namespace
+
+int main() {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(weight_derivative_matches_finite_differences),
+        cmocka_unit_test(equilateral_triangle_scores_one),
+        cmocka_unit_test(slide_stays_on_the_polyline),
+        cmocka_unit_test(colouring_separates_neighbours),
+        cmocka_unit_test(optimised_mesh_is_regular_and_better),
+    };
+    return cmocka_run_group_tests(tests, nullptr, nullptr);
+}
