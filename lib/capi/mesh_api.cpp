@@ -21,9 +21,11 @@ um::Context *state_or_null(const um_mesh *m) {
 
 
 
-um::quality::Report quality_of(const um_mesh *m) {
-    return um::quality::measure(*m->context, m->mesh.tri,
-                                um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m));
+const um::quality::Report &quality_of(const um_mesh *m) {
+    if (!m->quality)
+        m->quality = um::quality::measure(*m->context, m->mesh.tri,
+                                          um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m));
+    return *m->quality;
 }
 
 // The report of the mesh as it is; after um_mesh_optimise also that of the
@@ -78,6 +80,7 @@ UM_API um_status um_mesh_optimise(um_mesh *m, const um_options *options) {
     um::mesh::RefinedMesh work = m->mesh;  // m stays as it was if anything fails
     um::mesh::optimise_mesh(*m->context, work, opts);
     m->mesh = std::move(work);
+    m->quality.reset();
     return UM_OK;
     UM_API_END(state_or_null(m))
 }
@@ -198,7 +201,7 @@ UM_API um_status um_mesh_quality_summary(const um_mesh *m, const char *metric, d
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
     require_pointer(metric, "metric");
-    um::quality::Report r = quality_of(m);
+    const um::quality::Report &r = quality_of(m);
     const std::string name = metric;
     const um::quality::Summary *s = name == "area_length_ratio"    ? &r.area_length
                                     : name == "primal_dual"        ? &r.primal_dual
@@ -221,7 +224,7 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
                                         int64_t *not_well_centred) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
-    um::quality::Report r = quality_of(m);
+    const um::quality::Report &r = quality_of(m);
     if (obtuse) *obtuse = r.obtuse;
     if (not_well_centred) *not_well_centred = r.not_well_centred;
     return UM_OK;

@@ -3,10 +3,13 @@
 // Each holds a share of its context's state, so it outlives the context.
 #pragma once
 
+#include <optional>
+
 #include "capi/api.hpp"
 #include "features/network.hpp"
 #include "hfun/spacing.hpp"
 #include "mesh/refined_mesh.hpp"
+#include "quality/metrics.hpp"
 #include "tri/triangulation.hpp"
 
 struct um_triangulation {
@@ -27,4 +30,8 @@ struct um_features {
 struct um_mesh {
     um::ContextPtr context;
     um::mesh::RefinedMesh mesh;
+    // The quality report of `mesh`, measured on first request and kept until
+    // the mesh changes (the quality calls are const; one host thread at a
+    // time per context makes the cache safe).
+    mutable std::optional<um::quality::Report> quality;
 };

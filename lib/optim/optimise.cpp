@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "geom/predicates.hpp"
 #include "optim/local_quality.hpp"
 #include "optim/slide.hpp"
@@ -15,16 +16,23 @@ namespace um::optim {
 
 namespace {
 
+std::vector<uint64_t> link_fingerprints(Context &ctx, const StarGraph &g);
+
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-constexpr int kHalvings = 5;  // line searches try steps 1, 1/2, ..., 1/32
+constexpr int kHalvings = 5;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();  // line searches try steps 1, 1/2, ..., 1/32
 // Edge orthocentres must stay this far inside their primal edge (as a share
 // of it): the generator stays in its own power cell and no weight can hide
 // a vertex (issue "Weighted primal-dual optimisation", item 3).
 constexpr double kCrossingMargin = 0.05;
+
+// An update must raise its star's worst (or mean) quality by this many
+// tolerances: smaller gains cost a sweep each and change no summary.
+constexpr double kGainOverTolerance = 10;
 
 // Worst and mean of a star's triangle scores.
 struct LocalQuality {
@@ -44,7 +52,8 @@ public:
     Optimiser(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
               const features::Network *gamma, const refine::SpacingRadians &h,
               const OptimiseOptions &o)
-        : ctx_(ctx), tri_(tri), on_segment_(on_segment), gamma_(gamma), h_(h), o_(o) {}
+        : ctx_(ctx), tri_(tri), on_segment_(on_segment), gamma_(gamma), h_(h), o_(o),
+          gain_(kGainOverTolerance * o.tolerance) {}
 
     OptimiseStats run();
 
@@ -63,19 +72,21 @@ private:
     LocalQuality star_quality(const StarGraph &g, int32_t v, const Generator &at, bool shape) const;
     bool star_is_valid(const StarGraph &g, int32_t v, const Generator &at) const;
     Vec3 odt_target(const StarGraph &g, int32_t v) const;
+    Vec3 link_centre(const StarGraph &g, int32_t v) const;
 
     // Topology -------------------------------------------------------------
     int64_t restore_regularity(int32_t since);
-    void mark_changed_links(const StarGraph &before, const StarGraph &after);
+    void mark_changed_links(const std::vector<uint64_t> &before, const std::vector<uint64_t> &after);
     int64_t collapse_short_edges();
     int64_t split_long_edges();
     int64_t improve_valence();
     int32_t insert_between(int32_t a, int32_t b);
+    void split_vertex(int32_t v, const std::vector<int32_t> &star);
     struct EdgeRatio {
         double ratio;
         int32_t a, b;
     };
-    std::vector<EdgeRatio> edge_ratios() const;
+    std::vector<EdgeRatio> edge_ratios(double below, double above) const;
     bool lock_neighbourhood(int32_t v, std::vector<uint8_t> &locked) const;
 
     // Stopping ---------------------------------------------------------------
@@ -90,6 +101,7 @@ private:
     const features::Network *gamma_;
     const refine::SpacingRadians &h_;
     OptimiseOptions o_;
+    double gain_;  // the least gain in local quality an update must bring
 
     std::vector<Generator> gen_;
     std::vector<double> h_at_;  // spacing at each generator (radians)
@@ -216,32 +228,44 @@ Vec3 Optimiser::odt_target(const StarGraph &g, int32_t v) const {
     return geom::normalized(sum);
 }
 
+// Eq. 7: towards the ODT target with halving steps, taken at the first step
+// that is BETTER. When none is (the worst triangle of the star is not the
+// one the ODT step helps), the same search towards the centre of the link
+// polygon, which evens the star's triangles out.
 bool Optimiser::update_position(const StarGraph &g, int32_t v) {
     const bool on_gamma = on_segment_[v] >= 0;
     if (g.degree(v) < 3 || (on_gamma && (o_.fix_boundary || !gamma_))) return false;
     if (nothing_changed_since(g, v, move_failed_at_[v])) return false;
     const Generator here = gen_[v];
     const LocalQuality before = star_quality(g, v, here, true);
-    const Vec3 target = odt_target(g, v);
-    double step = 1;
-    for (int m = 0; m <= kHalvings; ++m, step *= 0.5) {
-        Generator moved = here;
-        moved.x = geom::normalized((1 - step) * here.x + step * target);
-        int64_t segment = on_segment_[v];
-        if (on_gamma) {
-            PointOnGamma p = slide_along(*gamma_, segment, moved.x);
-            moved.x = p.x, segment = p.segment;
+    for (const Vec3 &target : {odt_target(g, v), link_centre(g, v)}) {
+        double step = 1;
+        for (int m = 0; m <= kHalvings; ++m, step *= 0.5) {
+            Generator moved = here;
+            moved.x = geom::normalized((1 - step) * here.x + step * target);
+            int64_t segment = on_segment_[v];
+            if (on_gamma) {
+                PointOnGamma p = slide_along(*gamma_, segment, moved.x);
+                moved.x = p.x, segment = p.segment;
+            }
+            if (!star_is_valid(g, v, moved)) continue;
+            if (!better(star_quality(g, v, moved, true), before, gain_)) continue;
+            gen_[v] = moved;
+            on_segment_[v] = static_cast<int32_t>(segment);
+            h_at_[v] = h_(moved.x);
+            changed_at_[v] = clock_;
+            return true;
         }
-        if (!star_is_valid(g, v, moved)) continue;
-        if (!better(star_quality(g, v, moved, true), before, o_.tolerance)) continue;
-        gen_[v] = moved;
-        on_segment_[v] = static_cast<int32_t>(segment);
-        h_at_[v] = h_(moved.x);
-        changed_at_[v] = clock_;
-        return true;
     }
     move_failed_at_[v] = clock_;
     return false;
+}
+
+Vec3 Optimiser::link_centre(const StarGraph &g, int32_t v) const {
+    const int32_t *link = g.link(v);
+    Vec3 sum{};
+    for (int k = 0; k < g.degree(v); ++k) sum = sum + gen_[link[k]].x;
+    return geom::normalized(sum);
 }
 
 // Eq. 4-6: ascend the Q^P of the worst adjacent triangle, starting from the
@@ -273,7 +297,7 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
             if (!(weighted.s > 0) || !std::isfinite(weighted.s)) continue;
             if (!star_is_valid(g, v, weighted)) continue;
             const LocalQuality now = star_quality(g, v, weighted, false);
-            if (!(now.worst > before.worst + o_.tolerance)) continue;
+            if (!(now.worst > before.worst + gain_)) continue;
             gen_[v] = weighted;
             changed_at_[v] = clock_;
             return true;
@@ -299,34 +323,47 @@ int64_t Optimiser::restore_regularity(int32_t since) {
     return tri_.restore_regularity(std::move(seeds));
 }
 
-// A vertex whose link changed (by flips, collapses or splits) counts as
-// changed, so that it and its neighbours are tried again.
-void Optimiser::mark_changed_links(const StarGraph &before, const StarGraph &after) {
-    for (int32_t v = 0; v < after.vertex_slots(); ++v) {
-        const int m = after.degree(v);
-        if (v >= before.vertex_slots() || before.degree(v) != m) {
-            changed_at_[v] = clock_;
-            continue;
+// A fingerprint of each vertex's link that does not depend on where the
+// cycle starts: the sum of a mix of every (neighbour, next neighbour) pair.
+std::vector<uint64_t> link_fingerprints(Context &ctx, const StarGraph &g) {
+    std::vector<uint64_t> out(static_cast<size_t>(g.vertex_slots()), 0);
+    ctx.parallel_for(g.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v) {
+            const int32_t *link = g.link(static_cast<int32_t>(v));
+            const int m = g.degree(static_cast<int32_t>(v));
+            uint64_t sum = static_cast<uint64_t>(m);
+            for (int k = 0; k < m; ++k) {
+                const uint64_t here = static_cast<uint32_t>(link[k]);
+                const uint64_t next = static_cast<uint32_t>(link[(k + 1) % m]);
+                uint64_t z = (here << 32 | next) + 0x9e3779b97f4a7c15ull;  // splitmix64
+                z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+                z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+                sum += z ^ (z >> 31);
+            }
+            out[v] = sum;
         }
-        if (m == 0) continue;
-        const int32_t *a = before.link(v), *b = after.link(v);
-        int shift = 0;
-        while (shift < m && b[shift] != a[0]) ++shift;
-        bool same = shift < m;
-        for (int k = 0; same && k < m; ++k) same = a[k] == b[(k + shift) % m];
-        if (!same) changed_at_[v] = clock_;
-    }
+    });
+    return out;
 }
 
-std::vector<Optimiser::EdgeRatio> Optimiser::edge_ratios() const {
+// A vertex whose link changed (by flips, collapses or splits) counts as
+// changed, so that it and its neighbours are tried again.
+void Optimiser::mark_changed_links(const std::vector<uint64_t> &before,
+                                   const std::vector<uint64_t> &after) {
+    for (size_t v = 0; v < after.size(); ++v)
+        if (v >= before.size() || before[v] != after[v]) changed_at_[v] = clock_;
+}
+
+// The edges whose length over the spacing is below `below` or above `above`.
+std::vector<Optimiser::EdgeRatio> Optimiser::edge_ratios(double below, double above) const {
     std::vector<EdgeRatio> out;
     for (int32_t t = 0; t < tri_.triangle_slots(); ++t) {
         if (tri_.is_free(t)) continue;
         for (int k = 0; k < 3; ++k) {
             if (tri_.neighbour(t, k) < t) continue;  // each edge once
             const int32_t a = tri_.vertex(t, (k + 1) % 3), b = tri_.vertex(t, (k + 2) % 3);
-            const double l = geom::norm(gen_[a].x - gen_[b].x);
-            out.push_back({l / (0.5 * (h_at_[a] + h_at_[b])), std::min(a, b), std::max(a, b)});
+            const double ratio = geom::norm(gen_[a].x - gen_[b].x) / (0.5 * (h_at_[a] + h_at_[b]));
+            if (ratio < below || ratio > above) out.push_back({ratio, std::min(a, b), std::max(a, b)});
         }
     }
     return out;
@@ -349,10 +386,7 @@ bool Optimiser::lock_neighbourhood(int32_t v, std::vector<uint8_t> &locked) cons
 // to move. Shortest first, one change per neighbourhood per pass.
 int64_t Optimiser::collapse_short_edges() {
     if (o_.collapse_ratio <= 0) return 0;
-    std::vector<EdgeRatio> edges = edge_ratios();
-    edges.erase(std::remove_if(edges.begin(), edges.end(),
-                               [&](const EdgeRatio &e) { return e.ratio >= o_.collapse_ratio; }),
-                edges.end());
+    std::vector<EdgeRatio> edges = edge_ratios(o_.collapse_ratio, kInfinity);
     std::sort(edges.begin(), edges.end(), [](const EdgeRatio &x, const EdgeRatio &y) {
         return x.ratio != y.ratio ? x.ratio < y.ratio : (x.a != y.a ? x.a < y.a : x.b < y.b);
     });
@@ -381,10 +415,7 @@ int64_t Optimiser::collapse_short_edges() {
 // with the mean of its ends' weights. Longest first, one change per
 // neighbourhood per pass.
 int64_t Optimiser::split_long_edges() {
-    std::vector<EdgeRatio> edges = edge_ratios();
-    edges.erase(std::remove_if(edges.begin(), edges.end(),
-                               [&](const EdgeRatio &e) { return e.ratio <= o_.split_ratio; }),
-                edges.end());
+    std::vector<EdgeRatio> edges = edge_ratios(-kInfinity, o_.split_ratio);
     std::sort(edges.begin(), edges.end(), [](const EdgeRatio &x, const EdgeRatio &y) {
         return x.ratio != y.ratio ? x.ratio > y.ratio : (x.a != y.a ? x.a < y.a : x.b < y.b);
     });
@@ -422,7 +453,7 @@ int32_t Optimiser::insert_between(int32_t a, int32_t b) {
 
 // Vertices of degree 4 or less crowd their neighbours (their power cells are
 // small) and those of degree 8 or more leave a gap: the first are removed,
-// the second get a new neighbour halfway along their longest spoke. Vertices
+// the second split in two. Vertices
 // on Gamma are left alone. One change per neighbourhood per pass, in slot
 // order.
 int64_t Optimiser::improve_valence() {
@@ -442,43 +473,85 @@ int64_t Optimiser::improve_valence() {
             ++done, ++stats_.collapses;
             continue;
         }
-        int32_t far = -1;
-        double far_l = -1;
-        for (int32_t t : st)
-            for (int k = 0; k < 3; ++k) {
-                const int32_t u = tri_.vertex(t, k);
-                const double l = geom::norm(gen_[u].x - gen_[v].x);
-                if (u != v && l > far_l) far_l = l, far = u;
-            }
-        if (insert_between(v, far) >= 0) ++done, ++stats_.splits;
+        split_vertex(v, st);
+        ++done, ++stats_.splits;
         locked.resize(static_cast<size_t>(tri_.vertex_slots()), 1);
     }
     return done;
 }
 
+// Splits a vertex of high degree into two a quarter of its longest spoke
+// either side of where it was, along that spoke: each of the two takes
+// about half of the old link (degree ~ 6 for a link of 8).
+void Optimiser::split_vertex(int32_t v, const std::vector<int32_t> &star) {
+    Vec3 far{};
+    double far_l = -1;
+    for (int32_t t : star)
+        for (int k = 0; k < 3; ++k) {
+            const int32_t u = tri_.vertex(t, k);
+            const double l = geom::norm(gen_[u].x - gen_[v].x);
+            if (u != v && l > far_l) far_l = l, far = gen_[u].x;
+        }
+    const Vec3 x = gen_[v].x, along = 0.25 * (far - x);
+    const Vec3 back = geom::normalized(x - along), ahead = geom::normalized(x + along);
+    for (int32_t u : tri_.move(v, back)) changed_at_[u] = clock_;
+    if (tri_.in_triangulation(v)) {
+        gen_[v].x = tri_.direction(v);
+        h_at_[v] = h_(gen_[v].x);
+    }
+    changed_at_[v] = clock_;
+    const double w = tri_.weight(v);
+    std::vector<int32_t> buried;
+    const int32_t hint = tri_.in_triangulation(v) ? tri_.star(v).front() : tri_.locate(ahead);
+    const int32_t added = tri_.insert(ahead, w, next_id_++, &buried, hint);
+    for (int32_t u : buried) changed_at_[u] = clock_;
+    grow_slots();
+    if (!tri_.in_triangulation(added)) {
+        tri_.remove(added);
+        return;
+    }
+    gen_[added] = {ahead, tri::lifted_scale(w)};
+    h_at_[added] = h_(ahead);
+    for (int32_t t : tri_.star(added))
+        for (int k = 0; k < 3; ++k) changed_at_[tri_.vertex(t, k)] = clock_;
+}
+
 // ---------------------------------------------------------------- stopping
 
+// Min and mean of Q^T and Q^P over the live triangles: blocks of a fixed
+// size reduced in parallel, then combined in block order, so the sums are
+// the same for any thread count.
 Optimiser::Summary Optimiser::summarise() const {
+    constexpr int64_t kBlock = 8192;
     const int32_t n = tri_.triangle_slots();
-    std::vector<TriangleCost> cost(static_cast<size_t>(n), TriangleCost{2, 2});
-    ctx_.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
-        for (int64_t t = b; t < e; ++t) {
-            const int32_t ti = static_cast<int32_t>(t);
-            if (tri_.is_free(ti)) continue;
-            cost[t] = triangle_cost(gen_[tri_.vertex(ti, 0)], gen_[tri_.vertex(ti, 1)],
-                                    gen_[tri_.vertex(ti, 2)]);
+    const int64_t n_blocks = (n + kBlock - 1) / kBlock;
+    struct Partial {
+        double qt_min = 2, qt_sum = 0, qp_min = 2, qp_sum = 0;
+        int64_t live = 0;
+    };
+    std::vector<Partial> part(static_cast<size_t>(n_blocks));
+    ctx_.parallel_for(n_blocks, 1, [&](int64_t b, int64_t e) {
+        for (int64_t blk = b; blk < e; ++blk) {
+            Partial &p = part[blk];
+            for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
+                const int32_t ti = static_cast<int32_t>(t);
+                if (tri_.is_free(ti)) continue;
+                const TriangleCost c = triangle_cost(gen_[tri_.vertex(ti, 0)], gen_[tri_.vertex(ti, 1)],
+                                                     gen_[tri_.vertex(ti, 2)]);
+                p.qt_min = std::min(p.qt_min, c.area_length), p.qt_sum += c.area_length;
+                p.qp_min = std::min(p.qp_min, c.primal_dual), p.qp_sum += c.primal_dual;
+                ++p.live;
+            }
         }
     });
-    Summary s{2, 0, 2, 0};
-    int64_t live = 0;
-    for (int32_t t = 0; t < n; ++t) {  // in slot order: the same sums for any thread count
-        if (tri_.is_free(t)) continue;
-        ++live;
-        s.qt_min = std::min(s.qt_min, cost[t].area_length), s.qt_mean += cost[t].area_length;
-        s.qp_min = std::min(s.qp_min, cost[t].primal_dual), s.qp_mean += cost[t].primal_dual;
+    Partial all;
+    for (const Partial &p : part) {
+        all.qt_min = std::min(all.qt_min, p.qt_min), all.qt_sum += p.qt_sum;
+        all.qp_min = std::min(all.qp_min, p.qp_min), all.qp_sum += p.qp_sum;
+        all.live += p.live;
     }
-    s.qt_mean /= double(std::max<int64_t>(live, 1)), s.qp_mean /= double(std::max<int64_t>(live, 1));
-    return s;
+    const double live = double(std::max<int64_t>(all.live, 1));
+    return {all.qt_min, all.qt_sum / live, all.qp_min, all.qp_sum / live};
 }
 
 // ----------------------------------------------------------------- schedule
@@ -509,6 +582,8 @@ OptimiseStats Optimiser::run() {
             stats_.seconds_weights += seconds_since(t0);
             stats_.moves += moved, stats_.weight_updates += weighted;
             changes += moved + weighted;
+            ctx_.log(UM_LOG_DEBUG, concat("optimise: inner sweep ", m + 1, ": ", moved, " moves, ",
+                                          weighted, " weight updates"));
             if (moved + weighted == 0) break;
         }
         auto t0 = Clock::now();
@@ -516,12 +591,13 @@ OptimiseStats Optimiser::run() {
         const int64_t flips = restore_regularity(outer_start);
         const int64_t collapsed = collapse_short_edges();
         const int64_t split = split_long_edges();
-        const int64_t valence = shape_phase ? improve_valence() : 0;
+        const int64_t valence = n + 1 < o_.outer_iterations ? improve_valence() : 0;
         stats_.flips += flips, stats_.collapses += collapsed, stats_.splits += split;
         load_generators();
-        auto next = std::make_unique<StarGraph>(ctx_, tri_);
-        mark_changed_links(*graph, *next);
-        graph = std::move(next);
+        const std::vector<uint64_t> links_before = link_fingerprints(ctx_, *graph);
+        graph.reset();  // one graph alive at a time
+        graph = std::make_unique<StarGraph>(ctx_, tri_);
+        mark_changed_links(links_before, link_fingerprints(ctx_, *graph));
         ++clock_;
         stats_.seconds_topology += seconds_since(t0);
         ++stats_.outer_iterations;
@@ -531,6 +607,12 @@ OptimiseStats Optimiser::run() {
                              std::abs(now.qt_mean - last.qt_mean) <= o_.tolerance &&
                              std::abs(now.qp_min - last.qp_min) <= o_.tolerance &&
                              std::abs(now.qp_mean - last.qp_mean) <= o_.tolerance;
+        ctx_.log(UM_LOG_INFO,
+                 concat("optimise: outer iteration ", n + 1, shape_phase ? " (shape)" : " (weights)",
+                        ": ", changes, " updates, ", flips, " flips, ", collapsed + split + valence,
+                        " collapses/splits; Q^T min ", now.qt_min, " mean ", now.qt_mean, ", Q^P min ",
+                        now.qp_min, " mean ", now.qp_mean, "; ", stats_.seconds_moves, " s moves, ",
+                        stats_.seconds_weights, " s weights, ", stats_.seconds_topology, " s topology"));
         last = now;
         const int64_t topology = flips + collapsed + split + valence;
         const bool quiet = changes + topology == 0 || (settled && topology == 0);

@@ -25,8 +25,8 @@ struct OptimiseOptions {
     int outer_iterations = 16;  // N
     int inner_iterations = 8;   // M
     // Stop when an outer iteration changes no quality summary (min and mean
-    // of Q^T and Q^P) by more than this; also the smallest gain in a local
-    // worst or mean quality an update must bring to be taken.
+    // of Q^T and Q^P) by more than this. An update is taken only if it raises
+    // its star's worst (or mean) quality by 10 tolerances.
     double tolerance = 1e-4;
     bool weights = true;         // weight ascent on (else only moves and topology)
     bool fix_boundary = false;   // vertices on Gamma stay put (else they slide along it)

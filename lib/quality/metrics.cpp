@@ -26,15 +26,18 @@ Summary summarise(std::vector<double> values, double lo, double hi) {
     s.histogram.assign(kBins, 0);
     if (values.empty()) return s;
     double sum = 0;
+    s.min = s.max = values.front();
     for (double v : values) {
         sum += v;
+        s.min = std::min(s.min, v), s.max = std::max(s.max, v);
         int b = static_cast<int>((v - lo) / (hi - lo) * kBins);
         ++s.histogram[std::clamp(b, 0, kBins - 1)];
     }
     s.mean = sum / double(values.size());  // summed in index order: deterministic
-    std::sort(values.begin(), values.end());
-    s.min = values.front(), s.max = values.back();
-    s.p1 = values[values.size() / 100];
+    // The 1st percentile: the value a full sort would put at size/100.
+    auto p1 = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 100);
+    std::nth_element(values.begin(), p1, values.end());
+    s.p1 = *p1;
     return s;
 }
 
@@ -98,23 +101,30 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
         }
     });
     Report r;
-    std::vector<double> qt, qp, amin, amax, hr;
     for (int32_t t = 0; t < n; ++t) {
         if (tri.is_free(t)) continue;
         ++r.triangles;
-        qt.push_back(q[t].area_length), qp.push_back(q[t].primal_dual);
-        amin.push_back(q[t].angle_min), amax.push_back(q[t].angle_max);
         r.obtuse += q[t].angle_max > 90;
         r.not_well_centred += !q[t].well_centred;
-        for (int k = 0; k < 3; ++k)
-            if (ratio[3 * size_t(t) + k] >= 0) hr.push_back(ratio[3 * size_t(t) + k]);
     }
     r.edges = 3 * r.triangles / 2;
-    r.area_length = summarise(qt, 0, 1);
-    r.primal_dual = summarise(qp, 0, 1);
-    r.angle_min = summarise(amin, 0, 180);
-    r.angle_max = summarise(amax, 0, 180);
-    r.spacing_ratio = summarise(hr, 0, 2);
+    // One metric at a time, so that only one list of values is alive.
+    auto over_triangles = [&](double TriangleQuality::*field) {
+        std::vector<double> values;
+        values.reserve(static_cast<size_t>(r.triangles));
+        for (int32_t t = 0; t < n; ++t)
+            if (!tri.is_free(t)) values.push_back(q[t].*field);
+        return values;
+    };
+    r.area_length = summarise(over_triangles(&TriangleQuality::area_length), 0, 1);
+    r.primal_dual = summarise(over_triangles(&TriangleQuality::primal_dual), 0, 1);
+    r.angle_min = summarise(over_triangles(&TriangleQuality::angle_min), 0, 180);
+    r.angle_max = summarise(over_triangles(&TriangleQuality::angle_max), 0, 180);
+    std::vector<double> hr;
+    if (h) hr.reserve(static_cast<size_t>(r.edges));
+    for (double x : ratio)
+        if (x >= 0) hr.push_back(x);
+    r.spacing_ratio = summarise(std::move(hr), 0, 2);
     return r;
 }
 

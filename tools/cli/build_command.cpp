@@ -50,6 +50,11 @@ um_spacing *make_spacing(um_context *ctx, const BuildArgs &a) {
     return h;
 }
 
+void print_log(void *, int32_t, const char *message) {
+    if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-40s\r", "");
+    std::fprintf(stderr, "%s\n", message);
+}
+
 std::string quality_json(um_context *ctx, um_mesh *m) {
     int64_t needed = 0;
     um_mesh_quality_json(m, nullptr, 0, &needed);
@@ -95,6 +100,7 @@ int run_build(const BuildArgs &a) {
         if (um_context_create(&ctx) != UM_OK) throw Failure{"cannot create a context"};
         check(um_context_set_threads(ctx, a.threads), ctx, "--threads");
         um_context_set_progress(ctx, report_progress, &stage);
+        if (a.verbose) um_context_set_log(ctx, print_log, nullptr, UM_LOG_INFO);
         check(um_options_create(ctx, &opts), ctx, "options");
         if (!a.options.empty()) check(um_options_set_string(opts, a.options.c_str()), ctx, "--option");
         h = make_spacing(ctx, a);

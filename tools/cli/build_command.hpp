@@ -14,6 +14,7 @@ struct BuildArgs {
     std::string options;  // "name=value;..." for um_options_set_string
     std::string out_dir = "out";
     bool progress_bar = false;
+    bool verbose = false;  // the library's info messages on stderr
 };
 
 // 0 when every file was written; prints one-line errors to stderr.

@@ -33,6 +33,7 @@ int main(int argc, char **argv) {
     file->excludes(preset);
     build->add_option("--threads", b.threads, "threads (0 = all cores)")->check(CLI::Range(0, 1024));
     build->add_flag("--no-optimise", b.no_optimise, "skip the primal-dual optimisation");
+    build->add_flag("--verbose", b.verbose, "print the library's progress messages (per optimisation iteration)");
     build->add_option("--option", b.options, "library options, \"name=value;...\" (e.g. refine_beta=0.1)");
     build->add_option("--out", b.out_dir, "output directory (mesh.nc, graph.info, mesh.vtu, quality.json)");
     CLI11_PARSE(app, argc, argv);
