@@ -37,6 +37,20 @@ double area_length_ratio(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
     return 4 * std::sqrt(3.0) * area / (norm2(a - b) + norm2(b - c) + norm2(c - a));
 }
 
+double shape_score(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+    const Vec3 ab = b - a, bc = c - b, ca = a - c;
+    const double lab = norm2(ab), lbc = norm2(bc), lca = norm2(ca);
+    const Vec3 outward = a + b + c;
+    const double area = 0.5 * geom::dot(geom::cross(ab, c - a), outward) / geom::norm(outward);
+    const double q = 4 * std::sqrt(3.0) * area / (lab + lbc + lca);
+    // The largest angle is opposite the longest edge.
+    double cos_max;
+    if (lab >= lbc && lab >= lca) cos_max = -geom::dot(bc, ca) / std::sqrt(lbc * lca);
+    else if (lbc >= lca) cos_max = -geom::dot(ca, ab) / std::sqrt(lca * lab);
+    else cos_max = -geom::dot(ab, bc) / std::sqrt(lab * lbc);
+    return std::min(q, kObtuseOffset + cos_max);
+}
+
 double primal_dual(const Generator &a, const Generator &b, const Generator &c) {
     const double lab = norm2(a.x - b.x), lbc = norm2(b.x - c.x), lca = norm2(c.x - a.x);
     const Vec3 ortho = geom::normalized(geom::cross(b.lifted() - a.lifted(), c.lifted() - a.lifted()));

@@ -31,6 +31,13 @@ TriangleCost triangle_cost(const Generator &a, const Generator &b, const Generat
 double area_length_ratio(const Vec3 &a, const Vec3 &b, const Vec3 &c);
 double primal_dual(const Generator &a, const Generator &b, const Generator &c);
 
+// The score a vertex move improves: Q^T, capped by kObtuseOffset + cos of
+// the largest angle, so that a triangle near or past a right angle scores
+// by its angle (Q^T barely tells 85 from 95 degrees; MPAS needs acute
+// triangles), while for acute ones it is Q^T alone.
+constexpr double kObtuseOffset = 0.8;
+double shape_score(const Vec3 &a, const Vec3 &b, const Vec3 &c);
+
 // dQ^P / dw_a: the derivative of the triangle's Q^P in the weight of its
 // first vertex (analytic; eq. 5's ascent direction), with Q^P itself.
 double primal_dual_weight_derivative(const Generator &a, const Generator &b, const Generator &c,

@@ -175,7 +175,7 @@ bool Optimiser::nothing_changed_since(const StarGraph &g, int32_t v, int32_t tri
     return true;
 }
 
-// The star's worst and mean score: Q^T for moves (the shape), Q^P for
+// The star's worst and mean score: the shape score for moves, Q^P for
 // weights (the staggering).
 LocalQuality Optimiser::star_quality(const StarGraph &g, int32_t v, const Generator &at,
                                      bool shape) const {
@@ -185,7 +185,7 @@ LocalQuality Optimiser::star_quality(const StarGraph &g, int32_t v, const Genera
     double sum = 0;
     for (int k = 0; k < m; ++k) {
         const Generator &a = gen_[link[k]], &b = gen_[link[(k + 1) % m]];
-        const double score = shape ? area_length_ratio(at.x, a.x, b.x) : primal_dual(at, a, b);
+        const double score = shape ? shape_score(at.x, a.x, b.x) : primal_dual(at, a, b);
         q.worst = std::min(q.worst, score);
         sum += score;
     }
@@ -238,24 +238,37 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
     if (nothing_changed_since(g, v, move_failed_at_[v])) return false;
     const Generator here = gen_[v];
     const LocalQuality before = star_quality(g, v, here, true);
+    // Tries the move to x (slid onto Gamma when v is on it); true if taken.
+    auto try_move = [&](const Vec3 &x) {
+        Generator moved = here;
+        moved.x = x;
+        int64_t segment = on_segment_[v];
+        if (on_gamma) {
+            PointOnGamma p = slide_along(*gamma_, segment, moved.x);
+            moved.x = p.x, segment = p.segment;
+        }
+        if (!star_is_valid(g, v, moved)) return false;
+        if (!better(star_quality(g, v, moved, true), before, gain_)) return false;
+        gen_[v] = moved;
+        on_segment_[v] = static_cast<int32_t>(segment);
+        h_at_[v] = h_(moved.x);
+        changed_at_[v] = clock_;
+        return true;
+    };
     for (const Vec3 &target : {odt_target(g, v), link_centre(g, v)}) {
         double step = 1;
-        for (int m = 0; m <= kHalvings; ++m, step *= 0.5) {
-            Generator moved = here;
-            moved.x = geom::normalized((1 - step) * here.x + step * target);
-            int64_t segment = on_segment_[v];
-            if (on_gamma) {
-                PointOnGamma p = slide_along(*gamma_, segment, moved.x);
-                moved.x = p.x, segment = p.segment;
-            }
-            if (!star_is_valid(g, v, moved)) continue;
-            if (!better(star_quality(g, v, moved, true), before, gain_)) continue;
-            gen_[v] = moved;
-            on_segment_[v] = static_cast<int32_t>(segment);
-            h_at_[v] = h_(moved.x);
-            changed_at_[v] = clock_;
-            return true;
-        }
+        for (int m = 0; m <= kHalvings; ++m, step *= 0.5)
+            if (try_move(geom::normalized((1 - step) * here.x + step * target))) return true;
+    }
+    if (on_gamma) {
+        // Along the feature both ways: the two targets above are projected
+        // onto it and may both point where the worst triangle gets worse.
+        const int64_t s = on_segment_[v];
+        const Vec3 tangent = geom::normalized(gamma_->segment_b(s) - gamma_->segment_a(s));
+        double step = 0.25 * h_at_[v];
+        for (int m = 0; m < 3; ++m, step *= 0.5)
+            for (double sign : {1.0, -1.0})
+                if (try_move(geom::normalized(here.x + (sign * step) * tangent))) return true;
     }
     move_failed_at_[v] = clock_;
     return false;
