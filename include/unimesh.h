@@ -594,6 +594,37 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * and > 0 at a generator. */
 UM_API um_status um_mesh_write_mpas(const um_mesh *m, const char *path);
 
+/* The same staggered mesh in memory, variable by variable, so that a model
+ * builds its arrays without a file. Every variable of the file is there by
+ * its netCDF name (e.g. "cellsOnEdge", "edgesOnCell", "dcEdge", "dvEdge",
+ * "areaCell", "weightsOnEdge", the tags "cellOceanMask", "edgeFeatureKind",
+ * ...). The mesh is built on the first call and kept with m (about as much
+ * memory as the file) until um_mesh_release_mpas, um_mesh_optimise or
+ * um_mesh_destroy.
+ *
+ * A variable of n_rows x n_columns values (n_columns = 1 for one
+ * dimension) is copied row after row: out[r * n_columns + c] is the file's
+ * var(r, c), which a Fortran caller sees as var(c + 1, r + 1), MPAS's own
+ * layout (e.g. cellsOnEdge(2, nEdges)). Index variables (cellsOnEdge,
+ * edgesOnCell, ..., indexToCellID) get base added: base 1 gives the file's
+ * 1-based values with 0 padding, base 0 gives 0-based values with -1
+ * padding; other integers (nEdgesOnCell, the tags) are copied as they are.
+ * type: UM_MPAS_REAL (copy with um_mesh_copy_mpas_real) or UM_MPAS_INT
+ * (um_mesh_copy_mpas_int). Errors: UM_ERR_INVALID_ARGUMENT for a name that
+ * is not a variable of this mesh or a copy of the other type (naming both),
+ * UM_ERR_BUFFER_TOO_SMALL when capacity < n_rows * n_columns. */
+enum { UM_MPAS_REAL = 1, UM_MPAS_INT = 2 };
+UM_API um_status um_mesh_mpas_dimensions(const um_mesh *m, int64_t *n_cells, int64_t *n_edges,
+                                         int64_t *n_vertices, int64_t *max_edges);
+UM_API um_status um_mesh_mpas_variable(const um_mesh *m, const char *name, int32_t *type,
+                                       int64_t *n_rows, int64_t *n_columns);
+UM_API um_status um_mesh_copy_mpas_real(const um_mesh *m, const char *name, double *out,
+                                        int64_t capacity);
+UM_API um_status um_mesh_copy_mpas_int(const um_mesh *m, const char *name, int32_t base,
+                                       int32_t *out, int64_t capacity);
+/* Frees the staggered mesh kept by the calls above (m stays valid). */
+UM_API um_status um_mesh_release_mpas(um_mesh *m);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

@@ -72,6 +72,7 @@ module unimesh
   public :: UM_FEATURE_COASTLINE, UM_FEATURE_LAKE, UM_FEATURE_RIVER, UM_FEATURE_WATERSHED, &
       UM_FEATURE_OTHER
   public :: UM_SIDE_OCEAN, UM_SIDE_LAND, UM_SIDE_COASTAL
+  public :: UM_MPAS_REAL, UM_MPAS_INT
 
   ! ------------------------------------------------------------------ handles
 
@@ -158,6 +159,16 @@ module unimesh
   public :: um_mesh_refine, um_mesh_optimise, um_mesh_destroy, um_mesh_counts, um_mesh_get_vertices, &
       um_mesh_get_triangles, um_mesh_get_vertex_parts, um_mesh_get_restricted_edges, &
       um_mesh_get_vertex_sides, um_mesh_get_triangle_sides
+  public :: um_mesh_write_mpas, um_mesh_mpas_dimensions, um_mesh_get_mpas, um_mesh_release_mpas
+
+  ! An MPAS variable by its netCDF name into an allocatable array: rank 1
+  ! for variables of one dimension (areaCell(nCells)), rank 2 in MPAS's own
+  ! layout for the others (cellsOnEdge(2, nEdges)); real(real64) for reals,
+  ! default integers (indices 1-based, 0 padding) for the rest.
+  interface um_mesh_get_mpas
+    module procedure mesh_get_mpas_real_1d, mesh_get_mpas_real_2d, mesh_get_mpas_int_1d, &
+        mesh_get_mpas_int_2d
+  end interface um_mesh_get_mpas
 
   ! Where the ABI takes int64 the routine accepts default integers (the
   ! common case) and int64 (for values a default integer cannot hold).
@@ -1260,6 +1271,176 @@ contains
     if (size_a /= size_b) problem = name_a // ' has ' // int_text(size_a) // ' elements and ' &
         // name_b // ' has ' // int_text(size_b) // ': they must have one per point'
   end function size_problem
+
+  !> Writes the MPAS mesh file (netCDF) of the mesh.
+  subroutine um_mesh_write_mpas(mesh, path, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=*), intent(in) :: path
+    integer, optional, intent(out) :: ierr
+    call finish(c_um_mesh_write_mpas(mesh%ptr, to_c(path)), mesh%ctx, 'um_mesh_write_mpas', ierr)
+  end subroutine um_mesh_write_mpas
+
+  !> Dimensions of the MPAS staggered mesh (built on first use and kept with
+  !> the mesh until um_mesh_release_mpas).
+  subroutine um_mesh_mpas_dimensions(mesh, n_cells, n_edges, n_vertices, max_edges, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    integer, optional, intent(out) :: n_cells, n_edges, n_vertices, max_edges
+    integer, optional, intent(out) :: ierr
+    integer(c_int64_t) :: c, e, v, m
+    c = 0
+    e = 0
+    v = 0
+    m = 0
+    call finish(c_um_mesh_mpas_dimensions(mesh%ptr, c, e, v, m), mesh%ctx, &
+        'um_mesh_mpas_dimensions', ierr)
+    if (present(n_cells)) n_cells = int(c)
+    if (present(n_edges)) n_edges = int(e)
+    if (present(n_vertices)) n_vertices = int(v)
+    if (present(max_edges)) max_edges = int(m)
+  end subroutine um_mesh_mpas_dimensions
+
+  !> Frees the staggered mesh kept for um_mesh_get_mpas.
+  subroutine um_mesh_release_mpas(mesh, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    integer, optional, intent(out) :: ierr
+    call finish(c_um_mesh_release_mpas(mesh%ptr), mesh%ctx, 'um_mesh_release_mpas', ierr)
+  end subroutine um_mesh_release_mpas
+
+  !> The shape of an MPAS variable, checked against the type and rank asked
+  !> for; status /= UM_OK with message set when they disagree.
+  subroutine mpas_shape(mesh, name, want_type, rank, n_rows, n_columns, status, message)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=*), intent(in) :: name
+    integer(c_int32_t), intent(in) :: want_type
+    integer, intent(in) :: rank
+    integer(c_int64_t), intent(out) :: n_rows, n_columns
+    integer(c_int32_t), intent(out) :: status
+    character(len=:), allocatable, intent(out) :: message
+    integer(c_int32_t) :: type
+    message = ''
+    n_rows = 0
+    n_columns = 0
+    status = c_um_mesh_mpas_variable(mesh%ptr, to_c(name), type, n_rows, n_columns)
+    if (status /= UM_OK) return
+    if (type /= want_type) then
+      status = UM_ERR_INVALID_ARGUMENT
+      if (type == UM_MPAS_REAL) then
+        message = 'MPAS variable ' // trim(name) // ' holds reals: pass a real(real64) array'
+      else
+        message = 'MPAS variable ' // trim(name) // ' holds integers: pass an integer array'
+      end if
+    else if (rank == 1 .and. n_columns /= 1) then
+      status = UM_ERR_INVALID_ARGUMENT
+      message = 'MPAS variable ' // trim(name) // ' has two dimensions: pass a rank-2 array'
+    end if
+  end subroutine mpas_shape
+
+  !> finish() with the shape check's own message when it made one.
+  subroutine finish_mpas(status, mesh, routine, ierr, message)
+    integer(c_int32_t), intent(in) :: status
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=*), intent(in) :: routine, message
+    integer, optional, intent(out) :: ierr
+    if (len(message) > 0) then
+      call finish(status, mesh%ctx, routine, ierr, message)
+    else
+      call finish(status, mesh%ctx, routine, ierr)
+    end if
+  end subroutine finish_mpas
+
+  subroutine mesh_get_mpas_real_1d(mesh, name, values, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=*), intent(in) :: name
+    real(real64), allocatable, intent(out) :: values(:)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_mesh_get_mpas'
+    integer(c_int64_t) :: rows, columns
+    integer(c_int32_t) :: status
+    character(len=:), allocatable :: message
+    integer :: alloc_status
+    call mpas_shape(mesh, name, UM_MPAS_REAL, 1, rows, columns, status, message)
+    if (status == UM_OK) then
+      allocate (values(rows), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, mesh%ctx, routine, ierr, no_memory(rows))
+        return
+      end if
+      status = c_um_mesh_copy_mpas_real(mesh%ptr, to_c(name), values, rows)
+      if (status /= UM_OK) deallocate (values)
+    end if
+    call finish_mpas(status, mesh, routine, ierr, message)
+  end subroutine mesh_get_mpas_real_1d
+
+  subroutine mesh_get_mpas_real_2d(mesh, name, values, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=*), intent(in) :: name
+    real(real64), allocatable, intent(out) :: values(:, :)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_mesh_get_mpas'
+    integer(c_int64_t) :: rows, columns
+    integer(c_int32_t) :: status
+    character(len=:), allocatable :: message
+    integer :: alloc_status
+    call mpas_shape(mesh, name, UM_MPAS_REAL, 2, rows, columns, status, message)
+    if (status == UM_OK) then
+      allocate (values(columns, rows), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, mesh%ctx, routine, ierr, no_memory(rows * columns))
+        return
+      end if
+      status = c_um_mesh_copy_mpas_real(mesh%ptr, to_c(name), values, rows * columns)
+      if (status /= UM_OK) deallocate (values)
+    end if
+    call finish_mpas(status, mesh, routine, ierr, message)
+  end subroutine mesh_get_mpas_real_2d
+
+  subroutine mesh_get_mpas_int_1d(mesh, name, values, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=*), intent(in) :: name
+    integer, allocatable, intent(out) :: values(:)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_mesh_get_mpas'
+    integer(c_int64_t) :: rows, columns
+    integer(c_int32_t) :: status
+    character(len=:), allocatable :: message
+    integer(c_int32_t), allocatable :: buffer(:)
+    integer :: alloc_status
+    call mpas_shape(mesh, name, UM_MPAS_INT, 1, rows, columns, status, message)
+    if (status == UM_OK) then
+      allocate (buffer(rows), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, mesh%ctx, routine, ierr, no_memory(rows))
+        return
+      end if
+      status = c_um_mesh_copy_mpas_int(mesh%ptr, to_c(name), 1_c_int32_t, buffer, rows)
+      if (status == UM_OK) values = int(buffer)
+    end if
+    call finish_mpas(status, mesh, routine, ierr, message)
+  end subroutine mesh_get_mpas_int_1d
+
+  subroutine mesh_get_mpas_int_2d(mesh, name, values, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=*), intent(in) :: name
+    integer, allocatable, intent(out) :: values(:, :)
+    integer, optional, intent(out) :: ierr
+    character(len=*), parameter :: routine = 'um_mesh_get_mpas'
+    integer(c_int64_t) :: rows, columns
+    integer(c_int32_t) :: status
+    character(len=:), allocatable :: message
+    integer(c_int32_t), allocatable :: buffer(:, :)
+    integer :: alloc_status
+    call mpas_shape(mesh, name, UM_MPAS_INT, 2, rows, columns, status, message)
+    if (status == UM_OK) then
+      allocate (buffer(columns, rows), stat=alloc_status)
+      if (alloc_status /= 0) then
+        call finish(UM_ERR_OUT_OF_MEMORY, mesh%ctx, routine, ierr, no_memory(rows * columns))
+        return
+      end if
+      status = c_um_mesh_copy_mpas_int(mesh%ptr, to_c(name), 1_c_int32_t, buffer, rows * columns)
+      if (status == UM_OK) values = int(buffer)
+    end if
+    call finish_mpas(status, mesh, routine, ierr, message)
+  end subroutine mesh_get_mpas_int_2d
 
   function no_memory(n_elements) result(message)
     integer(int64), intent(in) :: n_elements

@@ -98,6 +98,8 @@ module unimesh_cint
   integer(c_int32_t), parameter :: UM_SIDE_OCEAN = 0
   integer(c_int32_t), parameter :: UM_SIDE_LAND = 1
   integer(c_int32_t), parameter :: UM_SIDE_COASTAL = 2
+  integer(c_int32_t), parameter :: UM_MPAS_REAL = 1
+  integer(c_int32_t), parameter :: UM_MPAS_INT = 2
 
   ! ---------------------------------------------------------- callback types
   ! The header's function-pointer typedefs, for writing callbacks in Fortran:
@@ -672,6 +674,46 @@ module unimesh_cint
       type(c_ptr), value :: m
       character(kind=c_char), intent(in) :: path(*)
     end function c_um_mesh_write_mpas
+
+    integer(c_int32_t) function c_um_mesh_mpas_dimensions(m, n_cells, n_edges, n_vertices, &
+        max_edges) bind(c, name="um_mesh_mpas_dimensions")
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: m
+      integer(c_int64_t), intent(out) :: n_cells, n_edges, n_vertices, max_edges
+    end function c_um_mesh_mpas_dimensions
+
+    integer(c_int32_t) function c_um_mesh_mpas_variable(m, name, type, n_rows, n_columns) &
+        bind(c, name="um_mesh_mpas_variable")
+      import :: c_int32_t, c_int64_t, c_ptr, c_char
+      type(c_ptr), value :: m
+      character(kind=c_char), intent(in) :: name(*)
+      integer(c_int32_t), intent(out) :: type
+      integer(c_int64_t), intent(out) :: n_rows, n_columns
+    end function c_um_mesh_mpas_variable
+
+    integer(c_int32_t) function c_um_mesh_copy_mpas_real(m, name, out, capacity) &
+        bind(c, name="um_mesh_copy_mpas_real")
+      import :: c_int32_t, c_int64_t, c_ptr, c_char, c_double
+      type(c_ptr), value :: m
+      character(kind=c_char), intent(in) :: name(*)
+      real(c_double), intent(out) :: out(*)
+      integer(c_int64_t), value :: capacity
+    end function c_um_mesh_copy_mpas_real
+
+    integer(c_int32_t) function c_um_mesh_copy_mpas_int(m, name, base, out, capacity) &
+        bind(c, name="um_mesh_copy_mpas_int")
+      import :: c_int32_t, c_int64_t, c_ptr, c_char
+      type(c_ptr), value :: m
+      character(kind=c_char), intent(in) :: name(*)
+      integer(c_int32_t), value :: base
+      integer(c_int32_t), intent(out) :: out(*)
+      integer(c_int64_t), value :: capacity
+    end function c_um_mesh_copy_mpas_int
+
+    integer(c_int32_t) function c_um_mesh_release_mpas(m) bind(c, name="um_mesh_release_mpas")
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: m
+    end function c_um_mesh_release_mpas
   end interface
 
 end module unimesh_cint

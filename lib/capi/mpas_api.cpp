@@ -1,13 +1,19 @@
 // MPAS output through the C ABI: the staggered mesh of a um_mesh, written as
 // an MPAS mesh file.
+#include <algorithm>
+#include <cstring>
+
 #include "capi/api.hpp"
 #include "capi/objects.hpp"
+#include "dual/mpas_fields.hpp"
 #include "dual/mpas_mesh.hpp"
 #include "io/mpas_writer.hpp"
 
 using um::fail;
 using um::capi::HandleKind;
 using um::capi::require_handle;
+using um::capi::check_base;
+using um::capi::check_capacity;
 using um::capi::require_pointer;
 
 namespace {
@@ -16,9 +22,101 @@ um::Context *mesh_context(const um_mesh *m) {
     return um::capi::is_live(m, HandleKind::mesh) ? m->context.get() : nullptr;
 }
 
+const um::dual::MpasMesh &mpas_of(const um_mesh *m) {
+    if (!m->mpas)
+        m->mpas = std::make_unique<um::dual::MpasMesh>(um::dual::build_mpas_mesh(*m->context, m->mesh));
+    return *m->mpas;
+}
+
+// The variable called name, checked to be of the given type (0: any).
+um::dual::MpasField field_of(const um::dual::MpasMesh &mpas, const char *name, int32_t type) {
+    require_pointer(name, "name");
+    for (const um::dual::MpasField &f : um::dual::mpas_fields(mpas)) {
+        if (std::strcmp(f.name, name) != 0) continue;
+        const int32_t is = f.kind == um::dual::MpasKind::real ? UM_MPAS_REAL : UM_MPAS_INT;
+        if (type != 0 && type != is)
+            fail(UM_ERR_INVALID_ARGUMENT, "MPAS variable '", name, "' holds ",
+                 is == UM_MPAS_REAL ? "reals: use um_mesh_copy_mpas_real" : "integers: use um_mesh_copy_mpas_int");
+        return f;
+    }
+    fail(UM_ERR_INVALID_ARGUMENT, "name = '", name, "' is not an MPAS variable of this mesh");
+}
+
 }  // namespace
 
 extern "C" {
+
+UM_API um_status um_mesh_mpas_dimensions(const um_mesh *m, int64_t *n_cells, int64_t *n_edges,
+                                         int64_t *n_vertices, int64_t *max_edges) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    const um::dual::MpasMesh &mpas = mpas_of(m);
+    if (n_cells) *n_cells = mpas.n_cells;
+    if (n_edges) *n_edges = mpas.n_edges;
+    if (n_vertices) *n_vertices = mpas.n_vertices;
+    if (max_edges) *max_edges = mpas.max_edges;
+    return UM_OK;
+    UM_API_END(mesh_context(m))
+}
+
+UM_API um_status um_mesh_mpas_variable(const um_mesh *m, const char *name, int32_t *type,
+                                       int64_t *n_rows, int64_t *n_columns) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    require_pointer(name, "name");
+    const um::dual::MpasMesh &mpas = mpas_of(m);
+    const um::dual::MpasField f = field_of(mpas, name, 0);
+    if (type) *type = f.kind == um::dual::MpasKind::real ? UM_MPAS_REAL : UM_MPAS_INT;
+    if (n_rows) *n_rows = f.rows(mpas);
+    if (n_columns) *n_columns = f.columns(mpas);
+    return UM_OK;
+    UM_API_END(mesh_context(m))
+}
+
+UM_API um_status um_mesh_copy_mpas_real(const um_mesh *m, const char *name, double *out,
+                                        int64_t capacity) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    require_pointer(name, "name");
+    const um::dual::MpasMesh &mpas = mpas_of(m);
+    const um::dual::MpasField f = field_of(mpas, name, UM_MPAS_REAL);
+    const int64_t n = f.rows(mpas) * f.columns(mpas);
+    check_capacity(capacity, n, name);
+    require_pointer(out, "out");
+    std::copy(f.reals->begin(), f.reals->begin() + n, out);
+    return UM_OK;
+    UM_API_END(mesh_context(m))
+}
+
+UM_API um_status um_mesh_copy_mpas_int(const um_mesh *m, const char *name, int32_t base,
+                                       int32_t *out, int64_t capacity) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    require_pointer(name, "name");
+    check_base(base);
+    const um::dual::MpasMesh &mpas = mpas_of(m);
+    const um::dual::MpasField f = field_of(mpas, name, UM_MPAS_INT);
+    const int64_t n = f.rows(mpas) * f.columns(mpas);
+    check_capacity(capacity, n, name);
+    require_pointer(out, "out");
+    for (int64_t i = 0; i < n; ++i) {
+        switch (f.kind) {
+            case um::dual::MpasKind::index: out[i] = (*f.ints)[i] + base; break;  // kNone -> base - 1
+            case um::dual::MpasKind::id: out[i] = static_cast<int32_t>(i) + base; break;
+            default: out[i] = (*f.ints)[i]; break;
+        }
+    }
+    return UM_OK;
+    UM_API_END(mesh_context(m))
+}
+
+UM_API um_status um_mesh_release_mpas(um_mesh *m) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    m->mpas.reset();
+    return UM_OK;
+    UM_API_END(mesh_context(m))
+}
 
 UM_API um_status um_mesh_write_mpas(const um_mesh *m, const char *path) {
     UM_API_BEGIN

@@ -3,9 +3,11 @@
 // Each holds a share of its context's state, so it outlives the context.
 #pragma once
 
+#include <memory>
 #include <optional>
 
 #include "capi/api.hpp"
+#include "dual/mpas_mesh.hpp"
 #include "features/network.hpp"
 #include "hfun/spacing.hpp"
 #include "mesh/refined_mesh.hpp"
@@ -34,4 +36,7 @@ struct um_mesh {
     // the mesh changes (the quality calls are const; one host thread at a
     // time per context makes the cache safe).
     mutable std::optional<um::quality::Report> quality;
+    // The MPAS staggered mesh of `mesh`, built on the first copy-out and kept
+    // until released or the mesh changes.
+    mutable std::unique_ptr<um::dual::MpasMesh> mpas;
 };

@@ -333,6 +333,76 @@ MpasMesh build_mpas_mesh(Context &ctx, const tri::Triangulation &tri, const Mpas
     return m;
 }
 
+namespace {
+
+// The ocean mesh takes the ocean cells and the coastal ones with at least
+// as many corners on the ocean side as on the land side; the land + river
+// mesh takes every other cell, so the two are exact complements.
+void add_cell_masks(MpasMesh &m) {
+    if (m.cell_side.empty()) return;
+    m.cell_ocean_mask.assign(static_cast<size_t>(m.n_cells), 0);
+    m.cell_land_mask.assign(static_cast<size_t>(m.n_cells), 0);
+    for (int32_t c = 0; c < m.n_cells; ++c) {
+        bool ocean = m.cell_side[c] == UM_SIDE_OCEAN;
+        if (m.cell_side[c] == UM_SIDE_COASTAL) {
+            int balance = 0;  // corners on the ocean side minus those on land
+            for (int32_t j = 0; j < m.n_edges_on_cell[c]; ++j) {
+                const int32_t v = m.vertices_on_cell[static_cast<size_t>(c) * m.max_edges + j];
+                balance += m.vertex_side.empty() || m.vertex_side[v] == UM_SIDE_OCEAN ? 1 : -1;
+            }
+            ocean = balance >= 0;
+        }
+        m.cell_ocean_mask[c] = ocean ? 1 : 0;
+        m.cell_land_mask[c] = ocean ? 0 : 1;
+    }
+}
+
+// Per MPAS edge, the feature of the restricted edge it is (if any) and, for
+// rivers, which way the river crosses the cell face.
+void add_edge_features(const mesh::RefinedMesh &refined, MpasMesh &m) {
+    m.edge_feature_kind.assign(static_cast<size_t>(m.n_edges), 0);
+    m.edge_feature_id.assign(static_cast<size_t>(m.n_edges), -1);
+    m.edge_river_downstream.assign(static_cast<size_t>(m.n_edges), 0);
+    // Restricted edges by their two vertex slots, sorted for lookup.
+    struct Key {
+        uint64_t slots;
+        int32_t restricted;
+        bool operator<(const Key &o) const { return slots < o.slots; }
+    };
+    auto key = [](int32_t a, int32_t b) {
+        return uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b));
+    };
+    const tri::Triangulation &tri = refined.tri;
+    std::vector<Key> keys;
+    keys.reserve(refined.restricted.size());
+    for (size_t r = 0; r < refined.restricted.size(); ++r) {
+        const auto &e = refined.restricted[r];
+        keys.push_back({key(tri.vertex(e.triangle, (e.edge + 1) % 3), tri.vertex(e.triangle, (e.edge + 2) % 3)),
+                        static_cast<int32_t>(r)});
+    }
+    std::sort(keys.begin(), keys.end());
+    const features::Network &gamma = *refined.gamma;
+    for (int32_t e = 0; e < m.n_edges; ++e) {
+        const int32_t c1 = m.cells_on_edge[2 * size_t(e)], c2 = m.cells_on_edge[2 * size_t(e) + 1];
+        const int32_t s1 = refined.slot_of_vertex[m.cell_source_vertex[c1]];
+        const int32_t s2 = refined.slot_of_vertex[m.cell_source_vertex[c2]];
+        const Key probe{key(s1, s2), 0};
+        auto it = std::lower_bound(keys.begin(), keys.end(), probe);
+        if (it == keys.end() || it->slots != probe.slots) continue;
+        const int64_t segment = refined.restricted[it->restricted].arc;
+        const features::Part &part = gamma.part(gamma.segment_part(segment));
+        m.edge_feature_kind[e] = static_cast<int32_t>(part.kind);
+        m.edge_feature_id[e] = part.id;
+        if (part.kind == features::Kind::river) {
+            const Vec3 flow = gamma.segment_b(segment) - gamma.segment_a(segment);
+            const Vec3 across = tri.direction(s2) - tri.direction(s1);
+            m.edge_river_downstream[e] = geom::dot(flow, across) >= 0 ? 1 : -1;
+        }
+    }
+}
+
+}  // namespace
+
 MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined) {
     MpasMeshInput input;
     input.slot_of_vertex = refined.slot_of_vertex;
@@ -358,6 +428,8 @@ MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined) {
         for (int32_t v = 0; v < m.n_vertices; ++v)
             m.vertex_side[v] = static_cast<int32_t>(refined.triangle_side[m.vertex_source_triangle[v]]);
     }
+    add_cell_masks(m);
+    if (refined.gamma) add_edge_features(refined, m);
     return m;
 }
 

@@ -77,8 +77,14 @@ struct MpasMesh {
     std::vector<int32_t> cell_source_vertex, vertex_source_triangle;
 
     // Unified tags (empty when not known): UM_SIDE_* of each cell (its
-    // generator) and of each vertex (its orthocentre).
+    // generator) and of each vertex (its orthocentre); the cell masks of the
+    // ocean mesh and of the land + river mesh (each cell in exactly one);
+    // per edge the feature its dual crosses (UM_FEATURE_*, 0 none), that
+    // feature part's id (-1 none) and, for rivers, the downstream direction
+    // relative to cellsOnEdge (+1 from cell 1 to cell 2, -1 back, 0 none).
     std::vector<int32_t> cell_side, vertex_side;
+    std::vector<int32_t> cell_ocean_mask, cell_land_mask;
+    std::vector<int32_t> edge_feature_kind, edge_feature_id, edge_river_downstream;
 
     int32_t max_edges2() const { return 2 * max_edges; }
 };

@@ -10,6 +10,7 @@
 #include <netcdf.h>
 
 #include "core/error.hpp"
+#include "dual/mpas_fields.hpp"
 #include "io/netcdf_lock.hpp"
 
 namespace um::io {
@@ -18,94 +19,9 @@ namespace {
 
 using dual::MpasMesh;
 
-enum Dim { nCells, nEdges, nVertices, maxEdges, maxEdges2, TWO, vertexDegree, Time, kDimCount };
-const char *const kDimNames[kDimCount] = {"nCells", "nEdges",       "nVertices", "maxEdges",
-                                          "maxEdges2", "TWO", "vertexDegree", "Time"};
-
-// How an array goes into the file.
-enum class Kind {
-    real,     // double as is
-    integer,  // int32 as is
-    index,    // 0-based index, kNone padding -> 1-based, 0 padding
-    id        // no array: 1..N along the first dimension (indexTo*ID)
-};
-
-struct Field {
-    const char *name;
-    std::vector<Dim> dims;
-    Kind kind;
-    const std::vector<double> *reals;
-    const std::vector<int32_t> *ints;
-    const char *long_name;
-    const char *units;  // nullptr: dimensionless or an index
-};
-
-// The side tags: flag attributes as CF's flag_values / flag_meanings.
-constexpr int kSideFlags[3] = {UM_SIDE_OCEAN, UM_SIDE_LAND, UM_SIDE_COASTAL};
-constexpr const char *kSideMeanings = "ocean land coastal";
-
-std::vector<Field> fields_of(const MpasMesh &m) {
-    const std::vector<double> *no_reals = nullptr;
-    const std::vector<int32_t> *no_ints = nullptr;
-    auto real = [&](const char *name, std::vector<Dim> dims, const std::vector<double> &a,
-                    const char *long_name, const char *units) {
-        return Field{name, std::move(dims), Kind::real, &a, no_ints, long_name, units};
-    };
-    auto integer = [&](const char *name, std::vector<Dim> dims, const std::vector<int32_t> &a,
-                       Kind kind, const char *long_name) {
-        return Field{name, std::move(dims), kind, no_reals, &a, long_name, nullptr};
-    };
-    auto id = [&](const char *name, Dim dim, const char *long_name) {
-        return Field{name, {dim}, Kind::id, no_reals, no_ints, long_name, nullptr};
-    };
-    const Kind I = Kind::index, N = Kind::integer;
-    std::vector<Field> f = {
-        real("latCell", {nCells}, m.lat_cell, "latitude of the cell generator", "radians"),
-        real("lonCell", {nCells}, m.lon_cell, "longitude of the cell generator", "radians"),
-        real("xCell", {nCells}, m.x_cell, "x of the cell generator", "m"),
-        real("yCell", {nCells}, m.y_cell, "y of the cell generator", "m"),
-        real("zCell", {nCells}, m.z_cell, "z of the cell generator", "m"),
-        id("indexToCellID", nCells, "global cell index"),
-        real("latEdge", {nEdges}, m.lat_edge, "latitude of the edge orthocentre", "radians"),
-        real("lonEdge", {nEdges}, m.lon_edge, "longitude of the edge orthocentre", "radians"),
-        real("xEdge", {nEdges}, m.x_edge, "x of the edge orthocentre", "m"),
-        real("yEdge", {nEdges}, m.y_edge, "y of the edge orthocentre", "m"),
-        real("zEdge", {nEdges}, m.z_edge, "z of the edge orthocentre", "m"),
-        id("indexToEdgeID", nEdges, "global edge index"),
-        real("latVertex", {nVertices}, m.lat_vertex, "latitude of the orthocentre (power vertex)", "radians"),
-        real("lonVertex", {nVertices}, m.lon_vertex, "longitude of the orthocentre (power vertex)", "radians"),
-        real("xVertex", {nVertices}, m.x_vertex, "x of the orthocentre (power vertex)", "m"),
-        real("yVertex", {nVertices}, m.y_vertex, "y of the orthocentre (power vertex)", "m"),
-        real("zVertex", {nVertices}, m.z_vertex, "z of the orthocentre (power vertex)", "m"),
-        id("indexToVertexID", nVertices, "global vertex index"),
-        integer("nEdgesOnCell", {nCells}, m.n_edges_on_cell, N, "number of edges of the cell"),
-        integer("nEdgesOnEdge", {nEdges}, m.n_edges_on_edge, N, "number of edges in the TRSK stencil"),
-        integer("cellsOnCell", {nCells, maxEdges}, m.cells_on_cell, I, "cells across edgesOnCell, counter-clockwise"),
-        integer("edgesOnCell", {nCells, maxEdges}, m.edges_on_cell, I, "edges of the cell, counter-clockwise"),
-        integer("verticesOnCell", {nCells, maxEdges}, m.vertices_on_cell, I, "vertices of the cell, counter-clockwise"),
-        integer("edgesOnEdge", {nEdges, maxEdges2}, m.edges_on_edge, I, "TRSK stencil edges"),
-        real("weightsOnEdge", {nEdges, maxEdges2}, m.weights_on_edge, "TRSK weights (Thuburn et al. 2009)", nullptr),
-        integer("cellsOnEdge", {nEdges, TWO}, m.cells_on_edge, I, "cells of the edge, normal from 1 to 2"),
-        integer("verticesOnEdge", {nEdges, TWO}, m.vertices_on_edge, I, "vertices of the edge, tangent from 1 to 2"),
-        integer("cellsOnVertex", {nVertices, vertexDegree}, m.cells_on_vertex, I, "cells of the vertex, counter-clockwise"),
-        integer("edgesOnVertex", {nVertices, vertexDegree}, m.edges_on_vertex, I, "edges of the vertex, counter-clockwise"),
-        real("areaCell", {nCells}, m.area_cell, "area of the power cell", "m2"),
-        real("areaTriangle", {nVertices}, m.area_triangle, "area of the triangle of cell generators", "m2"),
-        real("kiteAreasOnVertex", {nVertices, vertexDegree}, m.kite_areas_on_vertex, "area of the triangle inside each cell (signed)", "m2"),
-        real("dcEdge", {nEdges}, m.dc_edge, "great-circle distance between the two cell generators", "m"),
-        real("dvEdge", {nEdges}, m.dv_edge, "great-circle distance between the two vertices", "m"),
-        real("angleEdge", {nEdges}, m.angle_edge, "angle of the edge normal counter-clockwise from east", "radians"),
-        real("meshDensity", {nCells}, m.mesh_density, "mesh density (min cell width / cell width)^4", nullptr),
-        integer("boundaryVertex", {nVertices}, m.boundary_vertex, N, "1 where the vertex has fewer than vertexDegree cells"),
-    };
-    if (!m.cell_side.empty())
-        f.push_back(integer("cellSide", {nCells}, m.cell_side, N,
-                            "side of the closed coastlines of the cell generator"));
-    if (!m.vertex_side.empty())
-        f.push_back(integer("vertexSide", {nVertices}, m.vertex_side, N,
-                            "side of the closed coastlines of the vertex (orthocentre)"));
-    return f;
-}
+using dual::MpasDim;
+using dual::MpasField;
+using dual::MpasKind;
 
 // ----------------------------------------------------------------- file_id
 
@@ -195,30 +111,18 @@ private:
     int id_ = -1;
 };
 
-size_t dim_length(const MpasMesh &m, Dim d) {
-    switch (d) {
-        case nCells: return static_cast<size_t>(m.n_cells);
-        case nEdges: return static_cast<size_t>(m.n_edges);
-        case nVertices: return static_cast<size_t>(m.n_vertices);
-        case maxEdges: return static_cast<size_t>(m.max_edges);
-        case maxEdges2: return static_cast<size_t>(m.max_edges2());
-        case TWO: return 2;
-        case vertexDegree: return static_cast<size_t>(dual::kVertexDegree);
-        case Time: return NC_UNLIMITED;
-        default: return 0;
-    }
+size_t dim_length(const MpasMesh &m, MpasDim d) {
+    return static_cast<size_t>(dual::mpas_dim_length(m, d));
 }
 
-size_t row_width(const MpasMesh &m, const Field &f) {
-    return f.dims.size() > 1 ? dim_length(m, f.dims[1]) : 1;
-}
+size_t row_width(const MpasMesh &m, const MpasField &f) { return static_cast<size_t>(f.columns(m)); }
 
 // 64-bit offset files hold fixed-size variables of up to 2^32 - 4 bytes;
 // larger meshes (weightsOnEdge passes it at about 8 M cells) need CDF-5.
-int format_for(const MpasMesh &m, const std::vector<Field> &fields, uint64_t limit) {
-    for (const Field &f : fields) {
-        uint64_t bytes = f.kind == Kind::real ? 8 : 4;
-        for (Dim d : f.dims) bytes *= dim_length(m, d);
+int format_for(const MpasMesh &m, const std::vector<MpasField> &fields, uint64_t limit) {
+    for (const MpasField &f : fields) {
+        uint64_t bytes = f.kind == MpasKind::real ? 8 : 4;
+        for (MpasDim d : f.dims) bytes *= dim_length(m, d);
         if (bytes > limit) return NC_64BIT_DATA;
     }
     return NC_64BIT_OFFSET;
@@ -229,24 +133,27 @@ void put_text(const NcOutput &nc, int var, const char *name, const std::string &
              "writing attribute ", name);
 }
 
-void define(const NcOutput &nc, const MpasMesh &m, const std::vector<Field> &fields,
+void define(const NcOutput &nc, const MpasMesh &m, const std::vector<MpasField> &fields,
             std::vector<int> &var_ids) {
-    int dim_ids[kDimCount];
-    for (int d = 0; d < kDimCount; ++d)
-        nc.check(nc_def_dim(nc.id(), kDimNames[d], dim_length(m, static_cast<Dim>(d)), &dim_ids[d]),
-                 "defining dimension ", kDimNames[d]);
-    for (const Field &f : fields) {
+    int dim_ids[dual::kMpasDimCount];
+    for (int d = 0; d < dual::kMpasDimCount; ++d) {
+        const MpasDim dim = static_cast<MpasDim>(d);
+        const size_t length = dim == MpasDim::Time ? NC_UNLIMITED : dim_length(m, dim);
+        nc.check(nc_def_dim(nc.id(), dual::mpas_dim_name(dim), length, &dim_ids[d]),
+                 "defining dimension ", dual::mpas_dim_name(dim));
+    }
+    for (const MpasField &f : fields) {
         int dims[2], var = -1;
-        for (size_t k = 0; k < f.dims.size(); ++k) dims[k] = dim_ids[f.dims[k]];
-        nc_type type = f.kind == Kind::real ? NC_DOUBLE : NC_INT;
+        for (size_t k = 0; k < f.dims.size(); ++k) dims[k] = dim_ids[static_cast<int>(f.dims[k])];
+        nc_type type = f.kind == MpasKind::real ? NC_DOUBLE : NC_INT;
         nc.check(nc_def_var(nc.id(), f.name, type, static_cast<int>(f.dims.size()), dims, &var),
                  "defining variable ", f.name);
         put_text(nc, var, "long_name", f.long_name);
         if (f.units) put_text(nc, var, "units", f.units);
-        if (std::strcmp(f.name, "cellSide") == 0 || std::strcmp(f.name, "vertexSide") == 0) {
-            nc.check(nc_put_att_int(nc.id(), var, "flag_values", NC_INT, 3, kSideFlags),
+        if (f.n_flags > 0) {
+            nc.check(nc_put_att_int(nc.id(), var, "flag_values", NC_INT, f.n_flags, f.flag_values),
                      "writing attribute flag_values of ", f.name);
-            put_text(nc, var, "flag_meanings", kSideMeanings);
+            put_text(nc, var, "flag_meanings", f.flag_meanings);
         }
         var_ids.push_back(var);
     }
@@ -262,7 +169,7 @@ void define(const NcOutput &nc, const MpasMesh &m, const std::vector<Field> &fie
 
 // Writes a variable in blocks of rows, so that the 1-based copy of a large
 // index array never needs a second full-size buffer.
-void put_field(const NcOutput &nc, const MpasMesh &m, const Field &f, int var) {
+void put_field(const NcOutput &nc, const MpasMesh &m, const MpasField &f, int var) {
     const size_t rows = dim_length(m, f.dims[0]), width = row_width(m, f);
     const size_t block = std::max<size_t>(1, (size_t(1) << 20) / std::max<size_t>(width, 1));
     std::vector<int32_t> buffer;
@@ -270,14 +177,14 @@ void put_field(const NcOutput &nc, const MpasMesh &m, const Field &f, int var) {
         const size_t r1 = std::min(rows, r0 + block);
         size_t start[2] = {r0, 0}, count[2] = {r1 - r0, width};
         int status;
-        if (f.kind == Kind::real) {
+        if (f.kind == MpasKind::real) {
             status = nc_put_vara_double(nc.id(), var, start, count, f.reals->data() + r0 * width);
-        } else if (f.kind == Kind::integer) {
+        } else if (f.kind == MpasKind::integer) {
             status = nc_put_vara_int(nc.id(), var, start, count, f.ints->data() + r0 * width);
         } else {
             buffer.resize((r1 - r0) * width);
             for (size_t i = 0; i < buffer.size(); ++i)
-                buffer[i] = f.kind == Kind::id ? static_cast<int32_t>(r0 + i + 1)
+                buffer[i] = f.kind == MpasKind::id ? static_cast<int32_t>(r0 + i + 1)
                                                : (*f.ints)[r0 * width + i] + 1;  // kNone -> 0
             status = nc_put_vara_int(nc.id(), var, start, count, buffer.data());
         }
@@ -290,11 +197,11 @@ void put_field(const NcOutput &nc, const MpasMesh &m, const Field &f, int var) {
 std::string mpas_file_id(const MpasMesh &m) {
     Hash hash;
     hash.bytes(&m.radius_m, sizeof m.radius_m);
-    for (const Field &f : fields_of(m)) {
+    for (const MpasField &f : dual::mpas_fields(m)) {
         hash.bytes(f.name, std::strlen(f.name));
         if (f.reals) hash.bytes(f.reals->data(), f.reals->size() * sizeof(double));
         if (f.ints) hash.bytes(f.ints->data(), f.ints->size() * sizeof(int32_t));
-        if (f.kind == Kind::id) hash.word(dim_length(m, f.dims[0]));
+        if (f.kind == MpasKind::id) hash.word(dim_length(m, f.dims[0]));
     }
     // Final avalanche, then 10 base-36 digits (36^10 < 2^52).
     uint64_t h = hash.h;
@@ -306,10 +213,10 @@ std::string mpas_file_id(const MpasMesh &m) {
 }
 
 void write_mpas_mesh(const MpasMesh &m, const std::string &path, uint64_t variable_limit) {
-    const std::vector<Field> fields = fields_of(m);
-    for (const Field &f : fields) {
+    const std::vector<MpasField> fields = dual::mpas_fields(m);
+    for (const MpasField &f : fields) {
         size_t n = 1;
-        for (Dim d : f.dims) n *= dim_length(m, d);
+        for (MpasDim d : f.dims) n *= dim_length(m, d);
         size_t have = f.reals ? f.reals->size() : f.ints ? f.ints->size() : n;
         if (have != n)
             fail(UM_ERR_INTERNAL, "MPAS mesh: variable ", f.name, " has ", have,

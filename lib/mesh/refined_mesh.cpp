@@ -161,9 +161,10 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     return m;
 }
 
-void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options) {
+void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
+                   const quality::Report *refined_quality) {
     const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
-    m.refined_quality = quality::measure(ctx, m.tri, hr);
+    m.refined_quality = refined_quality ? *refined_quality : quality::measure(ctx, m.tri, hr);
     optim::OptimiseOptions o;
     o.outer_iterations = static_cast<int>(options.integer(UM_OPT_OPTIM_OUTER_ITERATIONS));
     o.inner_iterations = static_cast<int>(options.integer(UM_OPT_OPTIM_INNER_ITERATIONS));

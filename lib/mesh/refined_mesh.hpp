@@ -52,9 +52,12 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
 // The weighted primal-dual optimisation (paper section 6) of a refined mesh,
 // in place, with the N, M, tolerance, weight, boundary and collapse/split
 // options; then the restricted edges and sides are found again for the
-// moved mesh. Throws (UM_CANCELLED from the progress callback among others)
-// with m part-optimised: callers that must keep m intact work on a copy.
-void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options);
+// moved mesh. refined_quality is the quality report of m as it is, when
+// the caller has it (else it is measured here). Throws (UM_CANCELLED from
+// the progress callback among others) with m part-optimised: callers that
+// must keep m intact work on a copy.
+void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
+                   const quality::Report *refined_quality = nullptr);
 
 // The spacing in radians on the unit sphere, checked (finite, > 0) where read.
 refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m);

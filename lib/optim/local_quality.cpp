@@ -40,8 +40,9 @@ double area_length_ratio(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
 double shape_score(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
     const Vec3 ab = b - a, bc = c - b, ca = a - c;
     const double lab = norm2(ab), lbc = norm2(bc), lca = norm2(ca);
-    const Vec3 outward = a + b + c;
-    const double area = 0.5 * geom::dot(geom::cross(ab, c - a), outward) / geom::norm(outward);
+    // The chord triangle's area signed against a (unit): off by O(l^2)
+    // relative, far below what separates two trial positions.
+    const double area = 0.5 * geom::dot(geom::cross(ab, c - a), a);
     const double q = 4 * std::sqrt(3.0) * area / (lab + lbc + lca);
     // The largest angle is opposite the longest edge.
     double cos_max;

@@ -23,8 +23,8 @@ double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-constexpr int kHalvings = 5;
-constexpr double kInfinity = std::numeric_limits<double>::infinity();  // line searches try steps 1, 1/2, ..., 1/32
+constexpr int kHalvings = 5;  // line searches try steps 1, 1/2, ..., 1/32
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Edge orthocentres must stay this far inside their primal edge (as a share
 // of it): the generator stays in its own power cell and no weight can hide
 // a vertex (issue "Weighted primal-dual optimisation", item 3).
@@ -69,7 +69,9 @@ private:
     bool update_position(const StarGraph &g, int32_t v);
     bool update_weight(const StarGraph &g, int32_t v);
     bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
-    LocalQuality star_quality(const StarGraph &g, int32_t v, const Generator &at, bool shape) const;
+    // With a floor, stops (mean unset) as soon as a triangle scores below it.
+    LocalQuality star_quality(const StarGraph &g, int32_t v, const Generator &at, bool shape,
+                              double floor = -kInfinity) const;
     bool star_is_valid(const StarGraph &g, int32_t v, const Generator &at) const;
     Vec3 odt_target(const StarGraph &g, int32_t v) const;
     Vec3 link_centre(const StarGraph &g, int32_t v) const;
@@ -177,8 +179,8 @@ bool Optimiser::nothing_changed_since(const StarGraph &g, int32_t v, int32_t tri
 
 // The star's worst and mean score: the shape score for moves, Q^P for
 // weights (the staggering).
-LocalQuality Optimiser::star_quality(const StarGraph &g, int32_t v, const Generator &at,
-                                     bool shape) const {
+LocalQuality Optimiser::star_quality(const StarGraph &g, int32_t v, const Generator &at, bool shape,
+                                     double floor) const {
     const int32_t *link = g.link(v);
     const int m = g.degree(v);
     LocalQuality q;
@@ -187,6 +189,7 @@ LocalQuality Optimiser::star_quality(const StarGraph &g, int32_t v, const Genera
         const Generator &a = gen_[link[k]], &b = gen_[link[(k + 1) % m]];
         const double score = shape ? shape_score(at.x, a.x, b.x) : primal_dual(at, a, b);
         q.worst = std::min(q.worst, score);
+        if (q.worst < floor) return q;  // cannot be BETTER than a star whose worst is floor
         sum += score;
     }
     q.mean = sum / m;
@@ -247,8 +250,9 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
             PointOnGamma p = slide_along(*gamma_, segment, moved.x);
             moved.x = p.x, segment = p.segment;
         }
+        // The cheaper test first: most trials fail on quality.
+        if (!better(star_quality(g, v, moved, true, before.worst), before, gain_)) return false;
         if (!star_is_valid(g, v, moved)) return false;
-        if (!better(star_quality(g, v, moved, true), before, gain_)) return false;
         gen_[v] = moved;
         on_segment_[v] = static_cast<int32_t>(segment);
         h_at_[v] = h_(moved.x);
@@ -308,9 +312,9 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
             Generator weighted = here;
             weighted.s = tri::lifted_scale(w + dw);
             if (!(weighted.s > 0) || !std::isfinite(weighted.s)) continue;
-            if (!star_is_valid(g, v, weighted)) continue;
-            const LocalQuality now = star_quality(g, v, weighted, false);
+            const LocalQuality now = star_quality(g, v, weighted, false, before.worst + gain_);
             if (!(now.worst > before.worst + gain_)) continue;
+            if (!star_is_valid(g, v, weighted)) continue;
             gen_[v] = weighted;
             changed_at_[v] = clock_;
             return true;
@@ -473,13 +477,21 @@ int64_t Optimiser::improve_valence() {
     std::vector<uint8_t> locked(static_cast<size_t>(tri_.vertex_slots()), 0);
     int64_t done = 0;
     const int32_t n = tri_.vertex_slots();
+    std::vector<uint8_t> degree(static_cast<size_t>(n), 0);  // saturates: only <= 4 and >= 8 matter
+    for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
+        if (!tri_.is_free(t))
+            for (int k = 0; k < 3; ++k) {
+                uint8_t &d = degree[tri_.vertex(t, k)];
+                if (d < 255) ++d;
+            }
     for (int32_t v = 0; v < n; ++v) {
         if (!tri_.in_triangulation(v) || on_segment_[v] >= 0) continue;
-        std::vector<int32_t> st = tri_.star(v);
-        const int degree = static_cast<int>(st.size());
-        if (degree > 4 && degree < 8) continue;
+        if (degree[v] > 4 && degree[v] < 8) continue;
+        std::vector<int32_t> st = tri_.star(v);  // now: earlier changes may have altered it
+        const int degree_now = static_cast<int>(st.size());
+        if (degree_now > 4 && degree_now < 8) continue;
         if (!lock_neighbourhood(v, locked)) continue;
-        if (degree <= 4) {
+        if (degree_now <= 4) {
             for (int32_t t : st)  // before removal frees these triangles
                 for (int k = 0; k < 3; ++k) changed_at_[tri_.vertex(t, k)] = clock_;
             tri_.remove(v);

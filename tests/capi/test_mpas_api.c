@@ -135,6 +135,111 @@ static void global_coastline_480km(void **state) {
     um_mesh_destroy(m);
 }
 
+/* Every variable of the written file, copied out through the C API, is the
+ * same (reals bit for bit, indices with base 1); the tags hold their
+ * promises: masks complement each other, every restricted edge carries its
+ * feature, rivers and only rivers have a downstream direction. */
+static void copy_out_matches_the_file(void **state) {
+    um_context *ctx = *state;
+    um_mesh *m = refine(ctx, 480.0, UNIMESH_DATA_DIR "/coast_global_l.geojson");
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
+    char path[2048];
+    output_path(path, sizeof path, "test_mpas_copy_out.nc");
+    assert_int_equal(um_mesh_write_mpas(m, path), UM_OK);
+
+    int nc = -1, n_vars = 0;
+    assert_int_equal(nc_open(path, NC_NOWRITE, &nc), NC_NOERR);
+    assert_int_equal(nc_inq_nvars(nc, &n_vars), NC_NOERR);
+    int checked = 0;
+    for (int var = 0; var < n_vars; ++var) {
+        char name[NC_MAX_NAME + 1];
+        nc_type type;
+        int n_dims, dims[NC_MAX_VAR_DIMS];
+        assert_int_equal(nc_inq_var(nc, var, name, &type, &n_dims, dims, NULL), NC_NOERR);
+        size_t n = 1;
+        for (int d = 0; d < n_dims; ++d) {
+            size_t len;
+            nc_inq_dimlen(nc, dims[d], &len);
+            n *= len;
+        }
+        int32_t kind = 0;
+        int64_t rows = 0, columns = 0;
+        assert_int_equal(um_mesh_mpas_variable(m, name, &kind, &rows, &columns), UM_OK);
+        assert_int_equal((size_t)(rows * columns), n);
+        if (type == NC_DOUBLE) {
+            assert_int_equal(kind, UM_MPAS_REAL);
+            double *file = malloc(n * sizeof(double)), *copy = malloc(n * sizeof(double));
+            assert_int_equal(nc_get_var_double(nc, var, file), NC_NOERR);
+            assert_int_equal(um_mesh_copy_mpas_real(m, name, copy, (int64_t)n), UM_OK);
+            if (memcmp(file, copy, n * sizeof(double)) != 0) fail_msg("%s differs from the file", name);
+            free(file), free(copy);
+        } else {
+            assert_int_equal(kind, UM_MPAS_INT);
+            int *file = malloc(n * sizeof(int));
+            int32_t *copy = malloc(n * sizeof(int32_t));
+            assert_int_equal(nc_get_var_int(nc, var, file), NC_NOERR);
+            assert_int_equal(um_mesh_copy_mpas_int(m, name, 1, copy, (int64_t)n), UM_OK);
+            for (size_t i = 0; i < n; ++i)
+                if (file[i] != copy[i]) fail_msg("%s[%zu]: file %d, copy %d", name, i, file[i], copy[i]);
+            free(file), free(copy);
+        }
+        ++checked;
+    }
+    nc_close(nc);
+    assert_true(checked > 40);
+
+    int64_t n_cells = 0, n_edges = 0, n_restricted = 0;
+    assert_int_equal(um_mesh_mpas_dimensions(m, &n_cells, &n_edges, NULL, NULL), UM_OK);
+    assert_int_equal(um_mesh_counts(m, NULL, NULL, &n_restricted, NULL), UM_OK);
+    int32_t *ocean = malloc(n_cells * sizeof(int32_t)), *land = malloc(n_cells * sizeof(int32_t));
+    assert_int_equal(um_mesh_copy_mpas_int(m, "cellOceanMask", 0, ocean, n_cells), UM_OK);
+    assert_int_equal(um_mesh_copy_mpas_int(m, "cellLandMask", 0, land, n_cells), UM_OK);
+    int64_t n_ocean = 0;
+    for (int64_t c = 0; c < n_cells; ++c) {
+        assert_int_equal(ocean[c] + land[c], 1);
+        n_ocean += ocean[c];
+    }
+    assert_true(n_ocean > n_cells / 2 && n_ocean < n_cells);
+    int32_t *kind = malloc(n_edges * sizeof(int32_t)), *down = malloc(n_edges * sizeof(int32_t));
+    assert_int_equal(um_mesh_copy_mpas_int(m, "edgeFeatureKind", 0, kind, n_edges), UM_OK);
+    assert_int_equal(um_mesh_copy_mpas_int(m, "edgeRiverDownstream", 0, down, n_edges), UM_OK);
+    int64_t tagged = 0;
+    for (int64_t e = 0; e < n_edges; ++e) {
+        tagged += kind[e] != 0;
+        assert_int_equal(down[e] != 0, kind[e] == UM_FEATURE_RIVER);
+    }
+    assert_int_equal(tagged, n_restricted);
+    /* 0-based copies: indices one less, padding -1. */
+    int64_t max_edges = 0;
+    um_mesh_mpas_dimensions(m, NULL, NULL, NULL, &max_edges);
+    int32_t *one = malloc(n_cells * max_edges * sizeof(int32_t)), *zero = malloc(n_cells * max_edges * sizeof(int32_t));
+    assert_int_equal(um_mesh_copy_mpas_int(m, "edgesOnCell", 1, one, n_cells * max_edges), UM_OK);
+    assert_int_equal(um_mesh_copy_mpas_int(m, "edgesOnCell", 0, zero, n_cells * max_edges), UM_OK);
+    for (int64_t i = 0; i < n_cells * max_edges; ++i) assert_int_equal(zero[i], one[i] - 1);
+
+    /* Misuse: unknown names, the other type, short buffers, bad bases. */
+    double x = 0;
+    assert_int_equal(um_mesh_copy_mpas_real(m, "noSuchVariable", &x, 1), UM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(um_context_last_error(ctx), "noSuchVariable"));
+    um_context_clear_error(ctx);
+    assert_int_equal(um_mesh_copy_mpas_real(m, "cellsOnEdge", &x, 1), UM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(um_context_last_error(ctx), "um_mesh_copy_mpas_int"));
+    um_context_clear_error(ctx);
+    assert_int_equal(um_mesh_copy_mpas_real(m, "areaCell", &x, 1), UM_ERR_BUFFER_TOO_SMALL);
+    um_context_clear_error(ctx);
+    assert_int_equal(um_mesh_copy_mpas_int(m, "cellsOnEdge", 2, zero, 1), UM_ERR_INVALID_ARGUMENT);
+    um_context_clear_error(ctx);
+    assert_int_equal(um_mesh_mpas_variable(m, NULL, NULL, NULL, NULL), UM_ERR_NULL_ARGUMENT);
+    um_context_clear_error(ctx);
+    assert_int_equal(um_mesh_release_mpas(m), UM_OK);
+    assert_int_equal(um_mesh_copy_mpas_real(m, "areaCell", &x, 1), UM_ERR_BUFFER_TOO_SMALL); /* rebuilt */
+    um_context_clear_error(ctx);
+    free(ocean), free(land), free(kind), free(down), free(one), free(zero);
+    um_mesh_destroy(m);
+    assert_int_equal(um_mesh_release_mpas(m), UM_ERR_INVALID_HANDLE);
+    um_context_clear_error(ctx);
+}
+
 static char *read_file(const char *path, long *size) {
     FILE *f = fopen(path, "rb");
     assert_non_null(f);
@@ -225,6 +330,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(uniform_500km, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(global_coastline_480km, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(same_bytes_for_any_thread_count, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(copy_out_matches_the_file, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(misuse_and_errors, setup_context, teardown_context),
         cmocka_unit_test(mesh_outlives_context),
     };

@@ -276,6 +276,37 @@ class MeshTests(unittest.TestCase):
             self.assertEqual(caught.exception.status, Status.ERR_INVALID_ARGUMENT)
             self.assertIn("optim_split_ratio", str(caught.exception))
 
+    def test_mpas_variables_match_the_file(self):
+        try:
+            import netCDF4  # noqa: F401  (Debian's python3-netcdf4)
+        except ImportError:
+            self.skipTest("netCDF4 is not installed")
+        gamma = Features(self.ctx)
+        gamma.add(*ring(), closed=True, kind=FeatureKind.COASTLINE)
+        with Mesh.refine(self.ctx, Spacing.constant(self.ctx, 600.0), gamma) as mesh, \
+                tempfile.TemporaryDirectory() as tmp:
+            mesh.optimise()
+            path = os.path.join(tmp, "mesh.nc")
+            mesh.write_mpas(path)
+            dims = mesh.mpas_dimensions()
+            with netCDF4.Dataset(path) as nc:
+                self.assertEqual(dims.n_cells, len(nc.dimensions["nCells"]))
+                self.assertEqual(dims.max_edges, len(nc.dimensions["maxEdges"]))
+                for name, var in nc.variables.items():
+                    mine = mesh.mpas_variable(name, base=1)
+                    theirs = var[:].data
+                    self.assertEqual(mine.shape, theirs.shape, name)
+                    numpy.testing.assert_array_equal(mine, theirs, err_msg=name)
+            ocean, land = mesh.mpas_variable("cellOceanMask"), mesh.mpas_variable("cellLandMask")
+            numpy.testing.assert_array_equal(ocean + land, 1)
+            cells_on_edge = mesh.mpas_variable("cellsOnEdge")  # base 0
+            self.assertEqual(cells_on_edge.min(), 0)
+            self.assertEqual(cells_on_edge.max(), dims.n_cells - 1)
+            with self.assertRaises(UnimeshError) as caught:
+                mesh.mpas_variable("noSuchVariable")
+            self.assertIn("noSuchVariable", str(caught.exception))
+            mesh.release_mpas()
+
     def test_mesh_keeps_a_callback_spacing_alive(self):
         spacing = Spacing.callback(self.ctx, lambda lon, lat: COARSE_KM)
         mesh = Mesh.refine(self.ctx, spacing)

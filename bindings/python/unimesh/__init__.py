@@ -34,7 +34,7 @@ __all__ = [
     "VERSION_MAJOR", "VERSION_MINOR", "VERSION_PATCH", "VERSION_NUMBER", "VERSION_STRING",
     "Status", "Option", "OptionType", "FeatureKind", "Side", "LogLevel", "ErrorMode", "OptionInfo", "UnimeshError",
     "Context", "Options", "Triangulation", "TriangulationCounts", "Features", "FeaturesCounts",
-    "FeatureParts", "Spacing", "Mesh", "MeshCounts", "QualitySummary", "QualityCounts",
+    "FeatureParts", "Spacing", "Mesh", "MeshCounts", "QualitySummary", "QualityCounts", "MpasType", "MpasDimensions",
     "version", "version_number",
     "version_string", "status_string", "status_class", "option_info", "option_name",
     "option_key", "library_path", "missing_functions",
@@ -116,6 +116,15 @@ class Side(enum.IntEnum):
     COASTAL = 2
 
 
+class MpasType(enum.IntEnum):
+    """Value types of the MPAS variables (UM_MPAS_*)."""
+    REAL = 1
+    INT = 2
+
+
+MPAS_REAL = MpasType.REAL
+
+
 class LogLevel(enum.IntEnum):
     DEBUG = 10
     INFO = 20
@@ -137,6 +146,7 @@ FeatureParts = namedtuple("FeatureParts", "offsets closed kind part_id")
 MeshCounts = namedtuple("MeshCounts", "n_vertices n_triangles n_restricted_edges n_filtered")
 QualitySummary = namedtuple("QualitySummary", "min p1 mean max")
 QualityCounts = namedtuple("QualityCounts", "obtuse not_well_centred")
+MpasDimensions = namedtuple("MpasDimensions", "n_cells n_edges n_vertices max_edges")
 
 
 def _enum_or_int(enum_type, value):
@@ -997,6 +1007,36 @@ class Mesh(_Handle):
     def write_mpas(self, path):
         """Writes the MPAS mesh file (netCDF) of this mesh."""
         self._check(C.um_mesh_write_mpas(self._handle, os.fsencode(path)))
+
+    def mpas_dimensions(self):
+        """MpasDimensions(n_cells, n_edges, n_vertices, max_edges) of the
+        staggered mesh (built on first use and kept; see release_mpas)."""
+        values = c_int64(0), c_int64(0), c_int64(0), c_int64(0)
+        self._check(C.um_mesh_mpas_dimensions(self._handle, *(byref(v) for v in values)))
+        return MpasDimensions(*(v.value for v in values))
+
+    def mpas_variable(self, name, base=0):
+        """An MPAS variable by its netCDF name, as the file holds it: float64
+        or int32, shape (n_rows,) or (n_rows, n_columns). Index variables get
+        base added (0: 0-based with -1 padding; 1: MPAS's 1-based with 0)."""
+        kind, rows, columns = c_int32(0), c_int64(0), c_int64(0)
+        encoded = name.encode() if isinstance(name, str) else name
+        self._check(C.um_mesh_mpas_variable(self._handle, encoded, byref(kind), byref(rows),
+                                            byref(columns)))
+        shape = (rows.value,) if columns.value == 1 else (rows.value, columns.value)
+        if kind.value == MPAS_REAL:
+            out = _arrays.output_array(c_double, shape)
+            self._check(C.um_mesh_copy_mpas_real(self._handle, encoded,
+                                                 _arrays.pointer(out, c_double), out.size))
+        else:
+            out = _arrays.output_array(c_int32, shape)
+            self._check(C.um_mesh_copy_mpas_int(self._handle, encoded, _base(base),
+                                                _arrays.pointer(out, c_int32), out.size))
+        return out
+
+    def release_mpas(self):
+        """Frees the staggered mesh kept by mpas_dimensions / mpas_variable."""
+        self._check(C.um_mesh_release_mpas(self._handle))
 
     def __repr__(self):
         if self.closed:
