@@ -1,5 +1,6 @@
 #include "build_command.hpp"
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -80,6 +81,26 @@ void print_quality(const char *what, um_mesh *m) {
     std::fflush(stdout);
 }
 
+// quality.png: the Figure 10 histograms, drawn by tools/plot_quality.py
+// (Debian's matplotlib). A missing Python or matplotlib costs the picture,
+// not the mesh: a warning, and the exit status stays that of the mesh files.
+// Debian's own Python (where setup.sh installs python3-matplotlib) first.
+bool plot_quality(const std::string &json, const std::string &png) {
+    const char *script = UNIMESH_PLOT_SCRIPT;
+    const char *python = access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
+    pid_t pid = fork();
+    if (pid == 0) {
+        execlp(python, python, script, json.c_str(), png.c_str(), static_cast<char *>(nullptr));
+        _exit(127);
+    }
+    int status = -1;
+    if (pid > 0) waitpid(pid, &status, 0);
+    if (pid > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
+    std::fprintf(stderr, "unimesh build: warning: no %s (%s %s failed; is python3-matplotlib "
+                         "installed?)\n", png.c_str(), python, script);
+    return false;
+}
+
 void write_text(const std::string &path, const std::string &text) {
     std::ofstream f(path, std::ios::binary);
     f << text;
@@ -134,6 +155,7 @@ int run_build(const BuildArgs &a) {
             throw Failure{extra_error};
         const std::string quality = quality_json(ctx, m);
         write_text(dir + "quality.json", quality);
+        const bool plotted = plot_quality(dir + "quality.json", dir + "quality.png");
 
         int64_t nv = 0, nt = 0, nr = 0, nf = 0;
         um_mesh_counts(m, &nv, &nt, &nr, &nf);
@@ -142,8 +164,9 @@ int run_build(const BuildArgs &a) {
                     (long long)nv, (long long)nt, (long long)nr, (long long)nf, refine_s,
                     a.no_optimise ? 0.0 : optimise_s);
         print_quality(a.no_optimise ? "refined" : "optimised", m);
-        std::printf("wrote %smesh.nc, %sgraph.info, %smesh.vtu, %squality.json\n", dir.c_str(),
-                    dir.c_str(), dir.c_str(), dir.c_str());
+        std::printf("wrote %smesh.nc, %sgraph.info, %smesh.vtu, %squality.json%s%s\n", dir.c_str(),
+                    dir.c_str(), dir.c_str(), dir.c_str(), plotted ? ", " : "",
+                    plotted ? (dir + "quality.png").c_str() : "");
     } catch (const Failure &e) {
         if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-40s\r", "");
         std::fprintf(stderr, "unimesh build: %s\n", e.message.c_str());

@@ -5,6 +5,8 @@
 #include <CLI/CLI.hpp>
 
 #include "build_command.hpp"
+#include "case_file.hpp"
+#include "mesh_file_commands.hpp"
 #include "unimesh.h"
 
 namespace {
@@ -22,6 +24,9 @@ int main(int argc, char **argv) {
     auto *version = app.add_subcommand("version", "print the version");
     auto *build = app.add_subcommand("build", "refine a mesh to features and a spacing, write it");
     BuildArgs b;
+    std::string case_file;
+    build->add_option("--case", case_file, "case file (TOML): geometry, spacing, options, ...; flags win")
+        ->check(CLI::ExistingFile);
     build->add_option("--geometry", b.geometry, "GeoJSON features (coastlines, lakes, rivers); repeatable")
         ->check(CLI::ExistingFile);
     auto *km = build->add_option("--spacing-km", b.spacing_km, "constant spacing h, km");
@@ -36,8 +41,42 @@ int main(int argc, char **argv) {
     build->add_flag("--verbose", b.verbose, "print the library's progress messages (per optimisation iteration)");
     build->add_option("--option", b.options, "library options, \"name=value;...\" (e.g. refine_beta=0.1)");
     build->add_option("--out", b.out_dir, "output directory (mesh.nc, graph.info, mesh.vtu, quality.json)");
-    CLI11_PARSE(app, argc, argv);
+    auto *check = app.add_subcommand("check", "check an MPAS mesh file against the mesh contract");
+    std::string check_path;
+    check->add_option("MESH.nc", check_path, "MPAS mesh file")->required()->check(CLI::ExistingFile);
+    auto *quality = app.add_subcommand("quality", "the Figure 10 quality metrics of an MPAS mesh file");
+    std::string quality_path;
+    bool quality_json = false;
+    quality->add_option("MESH.nc", quality_path, "MPAS mesh file")->required()->check(CLI::ExistingFile);
+    quality->add_flag("--json", quality_json, "one JSON object instead of the table");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError &e) {
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+        // One line, naming the flag and the value, as every other error.
+        std::fprintf(stderr, "unimesh: %s (see unimesh %s--help)\n", e.what(),
+                     build->parsed() ? "build " : "");
+        return 2;
+    }
+    if (check->parsed()) return run_check(check_path);
+    if (quality->parsed()) return run_quality(quality_path, quality_json);
     if (version->parsed()) return print_version();
-    if (build->parsed()) return run_build(b);
+    if (build->parsed()) {
+        if (!case_file.empty()) {
+            GivenFlags given;
+            given.geometry = build->count("--geometry") > 0;
+            given.spacing = build->count("--spacing-km") + build->count("--spacing-file") +
+                                build->count("--spacing-preset") > 0;
+            given.threads = build->count("--threads") > 0;
+            given.no_optimise = build->count("--no-optimise") > 0;
+            given.out = build->count("--out") > 0;
+            std::string error;
+            if (!read_case_file(case_file, given, b, &error)) {
+                std::fprintf(stderr, "unimesh build: %s\n", error.c_str());
+                return 1;
+            }
+        }
+        return run_build(b);
+    }
     return 2;
 }

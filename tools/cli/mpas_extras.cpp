@@ -1,6 +1,6 @@
 #include "mpas_extras.hpp"
 
-#include <netcdf.h>
+#include "nc_read.hpp"
 
 #include <cstdint>
 #include <fstream>
@@ -8,41 +8,20 @@
 
 namespace {
 
-struct NcFile {
-    int id = -1;
-    ~NcFile() {
-        if (id >= 0) nc_close(id);
-    }
-};
-
 bool fail(std::string *error, const std::string &message) {
     *error = message;
     return false;
 }
 
-bool dim(const NcFile &f, const char *name, size_t *n) {
-    int d = 0;
-    return nc_inq_dimid(f.id, name, &d) == NC_NOERR && nc_inq_dimlen(f.id, d, n) == NC_NOERR;
-}
-
-template <class T>
-bool var(const NcFile &f, const char *name, std::vector<T> &out, size_t n) {
-    int v = 0;
-    out.resize(n);
-    if (nc_inq_varid(f.id, name, &v) != NC_NOERR) return false;
-    if constexpr (sizeof(T) == 4) return nc_get_var_int(f.id, v, reinterpret_cast<int *>(out.data())) == NC_NOERR;
-    else return nc_get_var_double(f.id, v, reinterpret_cast<double *>(out.data())) == NC_NOERR;
-}
-
 }  // namespace
 
 bool write_graph_info(const std::string &mesh_nc, const std::string &path, std::string *error) {
-    NcFile f;
-    if (nc_open(mesh_nc.c_str(), NC_NOWRITE, &f.id) != NC_NOERR) return fail(error, "cannot read " + mesh_nc);
+    NcFile f(mesh_nc);
+    if (!f.ok()) return fail(error, "cannot read " + mesh_nc);
     size_t n_cells = 0, n_edges = 0, max_edges = 0;
     std::vector<int32_t> n_on, cells_on;
-    if (!dim(f, "nCells", &n_cells) || !dim(f, "nEdges", &n_edges) || !dim(f, "maxEdges", &max_edges) ||
-        !var(f, "nEdgesOnCell", n_on, n_cells) || !var(f, "cellsOnCell", cells_on, n_cells * max_edges))
+    if (!f.dim("nCells", &n_cells) || !f.dim("nEdges", &n_edges) || !f.dim("maxEdges", &max_edges) ||
+        !f.var("nEdgesOnCell", n_on, n_cells) || !f.var("cellsOnCell", cells_on, n_cells * max_edges))
         return fail(error, mesh_nc + " lacks nCells, nEdges, maxEdges, nEdgesOnCell or cellsOnCell");
     std::ofstream out(path);
     out << n_cells << ' ' << n_edges << '\n';
@@ -57,17 +36,17 @@ bool write_graph_info(const std::string &mesh_nc, const std::string &path, std::
 }
 
 bool write_cells_vtu(const std::string &mesh_nc, const std::string &path, std::string *error) {
-    NcFile f;
-    if (nc_open(mesh_nc.c_str(), NC_NOWRITE, &f.id) != NC_NOERR) return fail(error, "cannot read " + mesh_nc);
+    NcFile f(mesh_nc);
+    if (!f.ok()) return fail(error, "cannot read " + mesh_nc);
     size_t n_cells = 0, n_vertices = 0, max_edges = 0;
     std::vector<int32_t> n_on, verts_on, side;
     std::vector<double> x, y, z, area;
-    if (!dim(f, "nCells", &n_cells) || !dim(f, "nVertices", &n_vertices) || !dim(f, "maxEdges", &max_edges) ||
-        !var(f, "nEdgesOnCell", n_on, n_cells) || !var(f, "verticesOnCell", verts_on, n_cells * max_edges) ||
-        !var(f, "xVertex", x, n_vertices) || !var(f, "yVertex", y, n_vertices) ||
-        !var(f, "zVertex", z, n_vertices) || !var(f, "areaCell", area, n_cells))
+    if (!f.dim("nCells", &n_cells) || !f.dim("nVertices", &n_vertices) || !f.dim("maxEdges", &max_edges) ||
+        !f.var("nEdgesOnCell", n_on, n_cells) || !f.var("verticesOnCell", verts_on, n_cells * max_edges) ||
+        !f.var("xVertex", x, n_vertices) || !f.var("yVertex", y, n_vertices) ||
+        !f.var("zVertex", z, n_vertices) || !f.var("areaCell", area, n_cells))
         return fail(error, mesh_nc + " lacks the cell polygons (verticesOnCell, x/y/zVertex, areaCell)");
-    const bool has_side = var(f, "cellSide", side, n_cells);
+    const bool has_side = f.var("cellSide", side, n_cells);
     std::ofstream out(path);
     out.precision(17);
     out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "

@@ -1,0 +1,103 @@
+"""The unimesh command-line tool as a mesh builder runs it: build from flags
+and from a case file (every promised file written, exit 0), check and
+quality on what it wrote, and one-line errors with a non-zero exit for bad
+flags, files and case files.
+
+    UNIMESH_CLI=build/tools/unimesh UNIMESH_DATA=data python3 -m unittest test_cli
+"""
+import json
+import os
+import subprocess
+import tempfile
+import unittest
+
+CLI = os.environ["UNIMESH_CLI"]
+DATA = os.environ["UNIMESH_DATA"]
+COAST = os.path.join(DATA, "coast_global_l.geojson")
+RIVERS = os.path.join(DATA, "rivers_global_l.geojson")
+FILES = ("mesh.nc", "graph.info", "mesh.vtu", "quality.json")
+
+
+def run(*args):
+    return subprocess.run([CLI, *args], capture_output=True, text=True, timeout=600)
+
+
+class Build(unittest.TestCase):
+    def test_flags_write_every_file_and_check_passes(self):
+        with tempfile.TemporaryDirectory() as out:
+            r = run("build", "--geometry", COAST, "--geometry", RIVERS, "--spacing-km", "600",
+                    "--threads", "2", "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in FILES:
+                self.assertGreater(os.path.getsize(os.path.join(out, name)), 0, name)
+            self.assertIn("optimised quality", r.stdout)
+            with open(os.path.join(out, "quality.json")) as f:
+                report = json.load(f)
+            self.assertIn("before_optimisation", report)
+            mesh = os.path.join(out, "mesh.nc")
+            check = run("check", mesh)
+            self.assertEqual(check.returncode, 0, check.stdout + check.stderr)
+            self.assertNotIn("FAIL ", check.stdout)
+            quality = run("quality", "--json", mesh)
+            self.assertEqual(quality.returncode, 0, quality.stderr)
+            from_file = json.loads(quality.stdout)
+            self.assertEqual(from_file["triangles"], report["triangles"])
+            self.assertEqual(from_file["not_well_centred"], report["not_well_centred"])
+            self.assertAlmostEqual(from_file["primal_dual"]["min"], report["primal_dual"]["min"], places=9)
+
+    def test_case_file_and_flags_that_win(self):
+        with tempfile.TemporaryDirectory() as folder:
+            case = os.path.join(folder, "case.toml")
+            with open(case, "w") as f:
+                f.write(f'geometry = ["{COAST}"]\nspacing_km = 800\nthreads = 1\noptimise = false\n'
+                        'out = "from_case"\n[options]\nrefine_beta = 0.25\n')
+            r = run("build", "--case", case)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in FILES:
+                self.assertTrue(os.path.exists(os.path.join(folder, "from_case", name)), name)
+            self.assertNotIn("optimised quality", r.stdout)  # optimise = false
+            elsewhere = os.path.join(folder, "flags")
+            r = run("build", "--case", case, "--out", elsewhere, "--spacing-km", "900")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertTrue(os.path.exists(os.path.join(elsewhere, "mesh.nc")))
+
+
+class Errors(unittest.TestCase):
+    def assert_fails(self, args, *words):
+        r = run(*args)
+        self.assertNotEqual(r.returncode, 0, r.stdout)
+        message = r.stderr.strip().splitlines()[-1] if r.stderr.strip() else ""
+        for word in words:
+            self.assertIn(word, message)
+
+    def test_bad_flags_and_files(self):
+        with tempfile.TemporaryDirectory() as out:
+            self.assert_fails(["build", "--spacing-km", "-5", "--out", out], "spacing")
+            self.assert_fails(["build", "--spacing-km", "100", "--option", "refine_rho=0.5", "--out", out],
+                              "refine_rho", "0.5")
+            self.assert_fails(["build", "--spacing-km", "100", "--geometry", "/no/such.geojson"], "no/such")
+            bad = os.path.join(out, "bad.geojson")
+            with open(bad, "w") as f:
+                f.write('{"type": "FeatureCollection", "features": [')
+            self.assert_fails(["build", "--spacing-km", "500", "--geometry", bad, "--out", out], "bad.geojson")
+            self.assert_fails(["check", bad], "netCDF")
+
+    def test_bad_case_files(self):
+        with tempfile.TemporaryDirectory() as folder:
+            cases = {
+                'spacing_km = "wide"\n': "spacing_km",
+                "spacing_km = 100\ncolour = 3\n": "colour",
+                "spacing_km = [\n": "line",
+                "spacing_km = 100\n[options]\nno_such_option = 1\n": "no_such_option",
+                'spacing_km = 100\ngeometry = "one.geojson"\n': "geometry",
+            }
+            for text, word in cases.items():
+                path = os.path.join(folder, "case.toml")
+                with open(path, "w") as f:
+                    f.write(text)
+                with self.subTest(text=text):
+                    self.assert_fails(["build", "--case", path, "--out", folder], word)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,108 @@
+#include "case_file.hpp"
+
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CaseError {
+    std::string message;
+};
+
+// A path of the case file, relative to the file's own folder.
+std::string resolve(const fs::path &folder, const std::string &path) {
+    fs::path p(path);
+    return p.is_absolute() ? p.string() : (folder / p).lexically_normal().string();
+}
+
+std::string where(const toml::node &node) {
+    std::ostringstream s;
+    s << " (line " << node.source().begin.line << ")";
+    return s.str();
+}
+
+std::string string_value(const toml::node &node, const std::string &key) {
+    if (auto v = node.value<std::string>()) return *v;
+    throw CaseError{"'" + key + "' must be a string" + where(node)};
+}
+
+// An option value as um_options_set_string reads it.
+std::string option_text(const toml::node &node, const std::string &key) {
+    if (auto v = node.as_integer()) return std::to_string(v->get());
+    if (auto v = node.as_boolean()) return v->get() ? "1" : "0";
+    if (auto v = node.as_floating_point()) {
+        std::ostringstream s;
+        s.precision(17);
+        s << v->get();
+        return s.str();
+    }
+    throw CaseError{"options." + key + " must be a number or a boolean" + where(node)};
+}
+
+void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given, BuildArgs &a) {
+    static const std::set<std::string> known = {"geometry", "spacing_km", "spacing_file", "spacing_preset",
+                                                "threads", "optimise", "out", "options"};
+    for (const auto &[key, node] : t) {
+        const std::string k(key.str());
+        if (!known.count(k))
+            throw CaseError{"unknown key '" + k + "'" + where(node) +
+                            "; known: geometry, spacing_km, spacing_file, spacing_preset, threads, "
+                            "optimise, out, [options]"};
+    }
+    if (const toml::node *g = t.get("geometry"); g && !given.geometry) {
+        const toml::array *list = g->as_array();
+        if (!list) throw CaseError{"'geometry' must be an array of file names" + where(*g)};
+        a.geometry.clear();
+        for (const toml::node &item : *list) a.geometry.push_back(resolve(folder, string_value(item, "geometry")));
+    }
+    if (!given.spacing) {
+        if (const toml::node *n = t.get("spacing_km")) {
+            auto v = n->value<double>();
+            if (!v || !(*v > 0)) throw CaseError{"'spacing_km' must be a number > 0" + where(*n)};
+            a.spacing_km = *v;
+        }
+        if (const toml::node *n = t.get("spacing_file")) a.spacing_file = resolve(folder, string_value(*n, "spacing_file"));
+        if (const toml::node *n = t.get("spacing_preset")) a.spacing_preset = string_value(*n, "spacing_preset");
+    }
+    if (const toml::node *n = t.get("threads"); n && !given.threads) {
+        auto v = n->value<int64_t>();
+        if (!v || *v < 0 || *v > 1024) throw CaseError{"'threads' must be an integer in [0, 1024]" + where(*n)};
+        a.threads = static_cast<int>(*v);
+    }
+    if (const toml::node *n = t.get("optimise"); n && !given.no_optimise) {
+        auto v = n->value<bool>();
+        if (!v) throw CaseError{"'optimise' must be true or false" + where(*n)};
+        a.no_optimise = !*v;
+    }
+    if (const toml::node *n = t.get("out"); n && !given.out) a.out_dir = resolve(folder, string_value(*n, "out"));
+    if (const toml::node *n = t.get("options")) {
+        const toml::table *opts = n->as_table();
+        if (!opts) throw CaseError{"'options' must be a table" + where(*n)};
+        std::string text;
+        for (const auto &[key, value] : *opts) text += std::string(key.str()) + "=" + option_text(value, std::string(key.str())) + ";";
+        // The command line's --option comes last: it wins.
+        a.options = text + a.options;
+    }
+}
+
+}  // namespace
+
+bool read_case_file(const std::string &path, const GivenFlags &given, BuildArgs &args, std::string *error) {
+    try {
+        toml::table t = toml::parse_file(path);
+        apply(t, fs::path(path).parent_path(), given, args);
+        return true;
+    } catch (const toml::parse_error &e) {
+        std::ostringstream s;
+        s << "case file " << path << ": " << e.description() << " (line " << e.source().begin.line << ")";
+        *error = s.str();
+    } catch (const CaseError &e) {
+        *error = "case file " + path + ": " + e.message;
+    }
+    return false;
+}

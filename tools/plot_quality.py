@@ -1,0 +1,66 @@
+#!/usr/bin/env python3
+"""Histograms of the paper's Figure 10 metrics from a unimesh quality report.
+
+    plot_quality.py quality.json quality.png
+
+One panel per metric (area-length ratio Q^T, primal-dual Q^P, triangle
+angles, edge length over spacing h_r); the refined mesh ("before") and the
+optimised one ("after") overlaid when the report has both. Uses Debian's
+python3-matplotlib, without a display.
+"""
+import json
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (the backend is chosen first)
+
+PANELS = (
+    ("area_length_ratio", "area-length ratio $Q^T$", None),
+    ("primal_dual", "primal-dual $Q^P$", None),
+    ("angle_min_deg", "triangle angles (deg): min", "angle_max_deg"),
+    ("edge_spacing_ratio", "edge length / spacing $h_r$", None),
+)
+
+
+def bars(ax, summary, label, colour):
+    hist = summary["histogram"]
+    counts = hist["counts"]
+    lo, hi = hist["lo"], hist["hi"]
+    width = (hi - lo) / len(counts)
+    edges = [lo + i * width for i in range(len(counts))]
+    ax.bar(edges, counts, width=width, align="edge", alpha=0.55, color=colour, label=label)
+
+
+def main(argv):
+    if len(argv) != 3:
+        sys.stderr.write(__doc__)
+        return 2
+    with open(argv[1]) as f:
+        report = json.load(f)
+    before = report.get("before_optimisation")
+    fig, axes = plt.subplots(1, len(PANELS), figsize=(4.2 * len(PANELS), 3.4))
+    for ax, (key, title, second) in zip(axes, PANELS):
+        if before:
+            bars(ax, before[key], "refined", "tab:grey")
+            if second:
+                bars(ax, before[second], None, "tab:grey")
+        bars(ax, report[key], "optimised" if before else "mesh", "tab:blue")
+        if second:
+            bars(ax, report[second], None, "tab:blue")
+            title += " and max"
+        s = report[key]
+        ax.set_title(title, fontsize=10)
+        ax.set_yscale("log")
+        ax.set_xlabel(f"min {s['min']:.3f}, mean {s['mean']:.3f}", fontsize=8)
+        ax.legend(fontsize=8)
+    fig.suptitle(f"{report['triangles']} triangles; {report['obtuse_triangles']} obtuse, "
+                 f"{report['not_well_centred']} not containing their orthocentre", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(argv[2], dpi=110)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
