@@ -62,6 +62,16 @@ double primal_dual(const Generator &a, const Generator &b, const Generator &c) {
     return kBetaFace * face + kBetaEdge * edges / 3;
 }
 
+bool contains_orthocentre(const Generator &a, const Generator &b, const Generator &c) {
+    const Vec3 ortho = geom::cross(b.lifted() - a.lifted(), c.lifted() - a.lifted());
+    return geom::dot(geom::cross(a.x, b.x), ortho) >= 0 && geom::dot(geom::cross(b.x, c.x), ortho) >= 0 &&
+           geom::dot(geom::cross(c.x, a.x), ortho) >= 0;
+}
+
+double staggering_score(const Generator &a, const Generator &b, const Generator &c) {
+    return primal_dual(a, b, c) - (contains_orthocentre(a, b, c) ? 0.0 : kOutsidePenalty);
+}
+
 TriangleCost triangle_cost(const Generator &a, const Generator &b, const Generator &c) {
     return {area_length_ratio(a.x, b.x, c.x), primal_dual(a, b, c)};
 }

@@ -38,6 +38,17 @@ double primal_dual(const Generator &a, const Generator &b, const Generator &c);
 constexpr double kObtuseOffset = 0.8;
 double shape_score(const Vec3 &a, const Vec3 &b, const Vec3 &c);
 
+// The score a weight update improves: Q^P, less kOutsidePenalty when the
+// triangle does not contain its orthocentre, so that the worst triangle of
+// a star is one that is not well-centred whenever there is one (MPAS needs
+// them well-centred; Q^P alone can rank such a triangle above a
+// well-centred one).
+constexpr double kOutsidePenalty = 1.0;
+double staggering_score(const Generator &a, const Generator &b, const Generator &c);
+// Whether the triangle holds its orthocentre (floating point: a decision
+// of the optimiser's, not of the triangulation's structure).
+bool contains_orthocentre(const Generator &a, const Generator &b, const Generator &c);
+
 // dQ^P / dw_a: the derivative of the triangle's Q^P in the weight of its
 // first vertex (analytic; eq. 5's ascent direction), with Q^P itself.
 double primal_dual_weight_derivative(const Generator &a, const Generator &b, const Generator &c,

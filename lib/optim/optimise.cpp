@@ -177,8 +177,8 @@ bool Optimiser::nothing_changed_since(const StarGraph &g, int32_t v, int32_t tri
     return true;
 }
 
-// The star's worst and mean score: the shape score for moves, Q^P for
-// weights (the staggering).
+// The star's worst and mean score: the shape score for moves, the
+// staggering score for weights.
 LocalQuality Optimiser::star_quality(const StarGraph &g, int32_t v, const Generator &at, bool shape,
                                      double floor) const {
     const int32_t *link = g.link(v);
@@ -187,7 +187,7 @@ LocalQuality Optimiser::star_quality(const StarGraph &g, int32_t v, const Genera
     double sum = 0;
     for (int k = 0; k < m; ++k) {
         const Generator &a = gen_[link[k]], &b = gen_[link[(k + 1) % m]];
-        const double score = shape ? shape_score(at.x, a.x, b.x) : primal_dual(at, a, b);
+        const double score = shape ? shape_score(at.x, a.x, b.x) : staggering_score(at, a, b);
         q.worst = std::min(q.worst, score);
         if (q.worst < floor) return q;  // cannot be BETTER than a star whose worst is floor
         sum += score;
@@ -293,18 +293,22 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
     const int32_t *link = g.link(v);
     const int m = g.degree(v);
     const Generator here = gen_[v];
+    // The worst triangle by the staggering score; the step from plain Q^P
+    // (eq. 6 aims the worst Q^P at the star's mean Q^P).
     LocalQuality before;
-    double sum = 0;
+    double sum = 0, sum_qp = 0, worst_qp = 0;
     int worst_k = 0;
     for (int k = 0; k < m; ++k) {
-        const double q = primal_dual(here, gen_[link[k]], gen_[link[(k + 1) % m]]);
-        if (q < before.worst) before.worst = q, worst_k = k;
-        sum += q;
+        const Generator &a = gen_[link[k]], &b = gen_[link[(k + 1) % m]];
+        const double qp = primal_dual(here, a, b);
+        const double q = qp - (contains_orthocentre(here, a, b) ? 0.0 : kOutsidePenalty);
+        if (q < before.worst) before.worst = q, worst_k = k, worst_qp = qp;
+        sum += q, sum_qp += qp;
     }
     before.mean = sum / m;
     const double slope =
         primal_dual_weight_derivative(here, gen_[link[worst_k]], gen_[link[(worst_k + 1) % m]]);
-    const double gain = before.mean - before.worst;
+    const double gain = sum_qp / m - worst_qp;
     if (slope != 0 && gain > 0) {
         const double w = 2.0 * (1.0 - 1.0 / here.s);
         double dw = gain / slope;  // eq. 6
