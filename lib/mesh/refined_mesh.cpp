@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "refine/boundary.hpp"
 #include "refine/surface.hpp"
 
@@ -94,6 +95,12 @@ int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri) {
     return changed;
 }
 
+// Peak bytes per cell of the two stages, measured by tools/bench/bench_refine
+// (uniform 30 km: refinement ~140, the optimisation ~400 with its copy of
+// the mesh), with a margin.
+constexpr int64_t kRefineBytesPerCell = 200;
+constexpr int64_t kOptimiseBytesPerCell = 480;
+
 void number_vertices(RefinedMesh &m) {
     m.vertex_of_slot.assign(static_cast<size_t>(m.tri.vertex_slots()), -1);
     m.slot_of_vertex.clear();
@@ -133,8 +140,35 @@ void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
 
 }  // namespace
 
+int64_t estimated_cells(Context &ctx, const hfun::Spacing &h) {
+    // Cells of spacing h cover about (sqrt(3)/2) h^2 each (hexagons of edge
+    // h between generators); the sphere in 180 x 360 bands of equal angle.
+    constexpr int kLat = 180, kLon = 360;
+    const double radius_km = 6371.22;
+    std::vector<double> band(kLat, 0.0);
+    ctx.parallel_for(kLat, 8, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            const double lat = -90 + (i + 0.5) * 180.0 / kLat;
+            const double area = 2 * M_PI * radius_km * radius_km *
+                                (std::sin((lat + 90.0 / kLat) * M_PI / 180) - std::sin((lat - 90.0 / kLat) * M_PI / 180)) / kLon;
+            for (int j = 0; j < kLon; ++j) {
+                const double km = h.km_at_lonlat(-180 + (j + 0.5) * 360.0 / kLon, lat);
+                if (std::isfinite(km) && km > 0) band[i] += area / (0.8660254 * km * km);
+            }
+        }
+    });
+    double total = 0;
+    for (double b : band) total += b;
+    return static_cast<int64_t>(std::min(total, 1e15));
+}
+
 RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
                         std::shared_ptr<const features::Network> gamma, const Options &options) {
+    if (ctx.memory_cap() > 0) {
+        // Refused up front, before any work, when the cap cannot hold it.
+        const int64_t cells = estimated_cells(ctx, *h);
+        ctx.check_memory(cells * kRefineBytesPerCell, concat("a mesh of about ", cells, " cells").c_str());
+    }
     RefinedMesh m;
     m.radius_m = options.real(UM_OPT_SPHERE_RADIUS);
     m.gamma = std::move(gamma);
@@ -163,6 +197,8 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
 
 void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
                    const quality::Report *refined_quality) {
+    ctx.check_memory(m.vertex_count() * kOptimiseBytesPerCell,
+                     concat("optimising a mesh of ", m.vertex_count(), " cells").c_str());
     const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
     m.refined_quality = refined_quality ? *refined_quality : quality::measure(ctx, m.tri, hr);
     optim::OptimiseOptions o;

@@ -251,6 +251,35 @@ static void options_and_bad_arguments(void **state) {
     assert_int_equal(um_mesh_optimise(m, NULL), UM_ERR_INVALID_HANDLE); /* destroyed mesh */
 }
 
+/* A request the memory cap cannot hold is refused up front, with the
+ * estimate in the message, and nothing is changed. */
+static void memory_cap_refuses_up_front(void **state) {
+    um_context *ctx = *state;
+    um_spacing *h = NULL;
+    um_mesh *m = NULL;
+    assert_int_equal(um_context_set_memory_cap(ctx, 100 << 20), UM_OK);
+    assert_int_equal(um_spacing_create_constant(ctx, 1.0, &h), UM_OK); /* 1 km global: ~6e8 cells */
+    assert_int_equal(um_mesh_refine(ctx, h, NULL, NULL, &m), UM_ERR_MEMORY_CAP);
+    assert_null(m);
+    assert_non_null(strstr(um_context_last_error(ctx), "cells"));
+    assert_non_null(strstr(um_context_last_error(ctx), "MiB"));
+    um_context_clear_error(ctx);
+    um_spacing_destroy(h);
+
+    assert_int_equal(um_context_set_memory_cap(ctx, 0), UM_OK);
+    m = refine(ctx, 300.0, 0);
+    mesh_copy before = copy_out(m);
+    assert_int_equal(um_context_set_memory_cap(ctx, 1 << 20), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_ERR_MEMORY_CAP);
+    assert_non_null(strstr(um_context_last_error(ctx), "optimising"));
+    um_context_clear_error(ctx);
+    mesh_copy after = copy_out(m);
+    assert_true(same_copy(&before, &after));
+    assert_int_equal(um_context_set_memory_cap(ctx, 0), UM_OK);
+    free_copy(&before), free_copy(&after);
+    um_mesh_destroy(m);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(optimise_improves_uniform, setup_context, teardown_context),
@@ -258,6 +287,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(vertices_on_features_stay_on_them, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(cancelling_leaves_the_mesh_unchanged, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(options_and_bad_arguments, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(memory_cap_refuses_up_front, setup_context, teardown_context),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
