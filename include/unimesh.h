@@ -622,6 +622,12 @@ UM_API um_status um_mesh_copy_mpas_real(const um_mesh *m, const char *name, doub
                                         int64_t capacity);
 UM_API um_status um_mesh_copy_mpas_int(const um_mesh *m, const char *name, int32_t base,
                                        int32_t *out, int64_t capacity);
+/* The triangulation in JIGSAW's .msh format (MSHID=3;EUCLIDEAN-MESH, for
+ * interchange with the JIGSAW tools): POINT x;y;z of the generators on the
+ * sphere (m), POWER their weights (m^2), TRIA3 the triangles (0-based, the
+ * order of um_mesh_copy_triangles). UM_ERR_IO naming the file. */
+UM_API um_status um_mesh_write_jigsaw(const um_mesh *m, const char *path);
+
 /* Frees the staggered mesh kept by the calls above (m stays valid). */
 UM_API um_status um_mesh_release_mpas(um_mesh *m);
 

@@ -159,7 +159,7 @@ module unimesh
   public :: um_mesh_refine, um_mesh_optimise, um_mesh_destroy, um_mesh_counts, um_mesh_get_vertices, &
       um_mesh_get_triangles, um_mesh_get_vertex_parts, um_mesh_get_restricted_edges, &
       um_mesh_get_vertex_sides, um_mesh_get_triangle_sides
-  public :: um_mesh_write_mpas, um_mesh_mpas_dimensions, um_mesh_get_mpas, um_mesh_release_mpas
+  public :: um_mesh_write_mpas, um_mesh_write_jigsaw, um_mesh_mpas_dimensions, um_mesh_get_mpas, um_mesh_release_mpas
 
   ! An MPAS variable by its netCDF name into an allocatable array: rank 1
   ! for variables of one dimension (areaCell(nCells)), rank 2 in MPAS's own
@@ -1279,6 +1279,14 @@ contains
     integer, optional, intent(out) :: ierr
     call finish(c_um_mesh_write_mpas(mesh%ptr, to_c(path)), mesh%ctx, 'um_mesh_write_mpas', ierr)
   end subroutine um_mesh_write_mpas
+
+  !> Writes the triangulation in JIGSAW's .msh format.
+  subroutine um_mesh_write_jigsaw(mesh, path, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=*), intent(in) :: path
+    integer, optional, intent(out) :: ierr
+    call finish(c_um_mesh_write_jigsaw(mesh%ptr, to_c(path)), mesh%ctx, 'um_mesh_write_jigsaw', ierr)
+  end subroutine um_mesh_write_jigsaw
 
   !> Dimensions of the MPAS staggered mesh (built on first use and kept with
   !> the mesh until um_mesh_release_mpas).

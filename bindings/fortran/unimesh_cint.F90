@@ -710,6 +710,12 @@ module unimesh_cint
       integer(c_int64_t), value :: capacity
     end function c_um_mesh_copy_mpas_int
 
+    integer(c_int32_t) function c_um_mesh_write_jigsaw(m, path) bind(c, name="um_mesh_write_jigsaw")
+      import :: c_int32_t, c_ptr, c_char
+      type(c_ptr), value :: m
+      character(kind=c_char), intent(in) :: path(*)
+    end function c_um_mesh_write_jigsaw
+
     integer(c_int32_t) function c_um_mesh_release_mpas(m) bind(c, name="um_mesh_release_mpas")
       import :: c_int32_t, c_ptr
       type(c_ptr), value :: m

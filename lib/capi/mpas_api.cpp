@@ -7,6 +7,7 @@
 #include "capi/objects.hpp"
 #include "dual/mpas_fields.hpp"
 #include "dual/mpas_mesh.hpp"
+#include "io/jigsaw_writer.hpp"
 #include "io/mpas_writer.hpp"
 
 using um::fail;
@@ -106,6 +107,16 @@ UM_API um_status um_mesh_copy_mpas_int(const um_mesh *m, const char *name, int32
             default: out[i] = (*f.ints)[i]; break;
         }
     }
+    return UM_OK;
+    UM_API_END(mesh_context(m))
+}
+
+UM_API um_status um_mesh_write_jigsaw(const um_mesh *m, const char *path) {
+    UM_API_BEGIN
+    require_handle(m, HandleKind::mesh, "m");
+    require_pointer(path, "path");
+    if (path[0] == '\0') fail(UM_ERR_INVALID_ARGUMENT, "path is empty");
+    um::io::write_jigsaw_mesh(m->mesh, path);
     return UM_OK;
     UM_API_END(mesh_context(m))
 }

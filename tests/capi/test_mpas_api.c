@@ -240,6 +240,39 @@ static void copy_out_matches_the_file(void **state) {
     um_context_clear_error(ctx);
 }
 
+/* JIGSAW's .msh: the points, weights and triangles of the mesh, counted as
+ * the mesh counts them; unwritable paths refused with UM_ERR_IO. */
+static void jigsaw_file(void **state) {
+    um_context *ctx = *state;
+    um_mesh *m = refine(ctx, 900.0, NULL);
+    int64_t nv = 0, nt = 0;
+    assert_int_equal(um_mesh_counts(m, &nv, &nt, NULL, NULL), UM_OK);
+    char path[2048];
+    output_path(path, sizeof path, "test_jigsaw.msh");
+    assert_int_equal(um_mesh_write_jigsaw(m, path), UM_OK);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    char line[512];
+    long long points = -1, powers = -1, triangles = -1, lines = 0;
+    while (fgets(line, sizeof line, f)) {
+        ++lines;
+        sscanf(line, "POINT=%lld", &points);
+        sscanf(line, "POWER=%lld", &powers);
+        sscanf(line, "TRIA3=%lld", &triangles);
+    }
+    fclose(f);
+    assert_int_equal(points, nv);
+    assert_int_equal(powers, nv);
+    assert_int_equal(triangles, nt);
+    assert_int_equal(lines, 1 + 3 + nv + 1 + nv + 1 + nt);
+    assert_int_equal(um_mesh_write_jigsaw(m, "/no/such/dir/x.msh"), UM_ERR_IO);
+    assert_non_null(strstr(um_context_last_error(ctx), "/no/such/dir/x.msh"));
+    um_context_clear_error(ctx);
+    assert_int_equal(um_mesh_write_jigsaw(m, ""), UM_ERR_INVALID_ARGUMENT);
+    um_context_clear_error(ctx);
+    um_mesh_destroy(m);
+}
+
 static char *read_file(const char *path, long *size) {
     FILE *f = fopen(path, "rb");
     assert_non_null(f);
@@ -331,6 +364,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(global_coastline_480km, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(same_bytes_for_any_thread_count, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(copy_out_matches_the_file, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(jigsaw_file, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(misuse_and_errors, setup_context, teardown_context),
         cmocka_unit_test(mesh_outlives_context),
     };

@@ -15,7 +15,7 @@ CLI = os.environ["UNIMESH_CLI"]
 DATA = os.environ["UNIMESH_DATA"]
 COAST = os.path.join(DATA, "coast_global_l.geojson")
 RIVERS = os.path.join(DATA, "rivers_global_l.geojson")
-FILES = ("mesh.nc", "graph.info", "mesh.vtu", "quality.json")
+FILES = ("mesh.nc", "graph.info", "mesh.vtu", "triangles.vtu", "mesh.msh", "quality.json")
 
 
 def run(*args):

@@ -153,6 +153,9 @@ int run_build(const BuildArgs &a) {
             throw Failure{extra_error};
         if (!write_cells_vtu(dir + "mesh.nc", dir + "mesh.vtu", &extra_error))
             throw Failure{extra_error};
+        if (!write_triangles_vtu(dir + "mesh.nc", dir + "triangles.vtu", &extra_error))
+            throw Failure{extra_error};
+        check(um_mesh_write_jigsaw(m, (dir + "mesh.msh").c_str()), ctx, "writing " + dir + "mesh.msh");
         const std::string quality = quality_json(ctx, m);
         write_text(dir + "quality.json", quality);
         const bool plotted = plot_quality(dir + "quality.json", dir + "quality.png");
@@ -164,9 +167,9 @@ int run_build(const BuildArgs &a) {
                     (long long)nv, (long long)nt, (long long)nr, (long long)nf, refine_s,
                     a.no_optimise ? 0.0 : optimise_s);
         print_quality(a.no_optimise ? "refined" : "optimised", m);
-        std::printf("wrote %smesh.nc, %sgraph.info, %smesh.vtu, %squality.json%s%s\n", dir.c_str(),
-                    dir.c_str(), dir.c_str(), dir.c_str(), plotted ? ", " : "",
-                    plotted ? (dir + "quality.png").c_str() : "");
+        std::printf("wrote %smesh.nc, %sgraph.info, %smesh.vtu, %striangles.vtu, %smesh.msh, "
+                    "%squality.json%s%s\n", dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(),
+                    dir.c_str(), plotted ? ", " : "", plotted ? (dir + "quality.png").c_str() : "");
     } catch (const Failure &e) {
         if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-40s\r", "");
         std::fprintf(stderr, "unimesh build: %s\n", e.message.c_str());

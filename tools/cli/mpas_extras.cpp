@@ -75,3 +75,41 @@ bool write_cells_vtu(const std::string &mesh_nc, const std::string &path, std::s
     out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
     return out ? true : fail(error, "cannot write " + path);
 }
+
+bool write_triangles_vtu(const std::string &mesh_nc, const std::string &path, std::string *error) {
+    NcFile f(mesh_nc);
+    if (!f.ok()) return fail(error, "cannot read " + mesh_nc);
+    size_t n_cells = 0, n_vertices = 0;
+    std::vector<int32_t> cells_on_vertex, side;
+    std::vector<double> x, y, z, area;
+    if (!f.dim("nCells", &n_cells) || !f.dim("nVertices", &n_vertices) ||
+        !f.var("cellsOnVertex", cells_on_vertex, 3 * n_vertices) || !f.var("xCell", x, n_cells) ||
+        !f.var("yCell", y, n_cells) || !f.var("zCell", z, n_cells) || !f.var("areaTriangle", area, n_vertices))
+        return fail(error, mesh_nc + " lacks the triangles (cellsOnVertex, x/y/zCell, areaTriangle)");
+    const bool has_side = f.var("vertexSide", side, n_vertices);
+    std::ofstream out(path);
+    out.precision(17);
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+           "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
+        << n_cells << "\" NumberOfCells=\"" << n_vertices << "\">\n<Points>\n"
+        << "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (size_t c = 0; c < n_cells; ++c) out << x[c] << ' ' << y[c] << ' ' << z[c] << '\n';
+    out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    for (size_t v = 0; v < n_vertices; ++v)
+        out << cells_on_vertex[3 * v] - 1 << ' ' << cells_on_vertex[3 * v + 1] - 1 << ' '
+            << cells_on_vertex[3 * v + 2] - 1 << '\n';
+    out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+    for (size_t v = 0; v < n_vertices; ++v) out << 3 * (v + 1) << '\n';
+    out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+    for (size_t v = 0; v < n_vertices; ++v) out << "5\n";  // VTK_TRIANGLE
+    out << "</DataArray>\n</Cells>\n<CellData>\n<DataArray type=\"Float64\" Name=\"areaTriangle\" format=\"ascii\">\n";
+    for (size_t v = 0; v < n_vertices; ++v) out << area[v] << '\n';
+    out << "</DataArray>\n";
+    if (has_side) {
+        out << "<DataArray type=\"Int32\" Name=\"vertexSide\" format=\"ascii\">\n";
+        for (size_t v = 0; v < n_vertices; ++v) out << side[v] << '\n';
+        out << "</DataArray>\n";
+    }
+    out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+    return out ? true : fail(error, "cannot write " + path);
+}

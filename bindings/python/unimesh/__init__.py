@@ -1008,6 +1008,11 @@ class Mesh(_Handle):
         """Writes the MPAS mesh file (netCDF) of this mesh."""
         self._check(C.um_mesh_write_mpas(self._handle, os.fsencode(path)))
 
+    def write_jigsaw(self, path):
+        """Writes the triangulation in JIGSAW's .msh format (points, power
+        weights, triangles)."""
+        self._check(C.um_mesh_write_jigsaw(self._handle, os.fsencode(path)))
+
     def mpas_dimensions(self):
         """MpasDimensions(n_cells, n_edges, n_vertices, max_edges) of the
         staggered mesh (built on first use and kept; see release_mpas)."""

@@ -121,6 +121,7 @@ SIGNATURES = (
     ("um_mesh_mpas_variable", status_t, (handle_t, string_in_t, _i32p, _i64p, _i64p)),
     ("um_mesh_copy_mpas_real", status_t, (handle_t, string_in_t, _f64p, c_int64)),
     ("um_mesh_copy_mpas_int", status_t, (handle_t, string_in_t, c_int32, _i32p, c_int64)),
+    ("um_mesh_write_jigsaw", status_t, (handle_t, string_in_t)),
     ("um_mesh_release_mpas", status_t, (handle_t,)),
 )
 

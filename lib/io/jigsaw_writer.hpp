@@ -1,0 +1,19 @@
+// JIGSAW's .msh format (MSHID=3, EUCLIDEAN-MESH) for interchange with the
+// JIGSAW tools: the generators as 3-D points on the sphere of the mesh's
+// radius (m), their power weights (m^2) and the triangles (0-based, counter-
+// clockwise seen from outside).
+#pragma once
+
+#include <string>
+
+namespace um::mesh {
+struct RefinedMesh;
+}
+
+namespace um::io {
+
+// Writes path (created or overwritten); UM_ERR_IO naming the file, and a
+// partly written file is removed.
+void write_jigsaw_mesh(const mesh::RefinedMesh &m, const std::string &path);
+
+}  // namespace um::io
