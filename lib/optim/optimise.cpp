@@ -82,6 +82,8 @@ private:
     int64_t collapse_short_edges();
     int64_t split_long_edges();
     int64_t improve_valence();
+    int64_t flip_for_valence();
+    bool relax_into_regularity(const int32_t (&quad)[4]);
     int32_t insert_between(int32_t a, int32_t b);
     void split_vertex(int32_t v, const std::vector<int32_t> &star);
     struct EdgeRatio {
@@ -545,6 +547,92 @@ void Optimiser::split_vertex(int32_t v, const std::vector<int32_t> &star) {
         for (int k = 0; k < 3; ++k) changed_at_[tri_.vertex(t, k)] = clock_;
 }
 
+// A quad whose diagonal joins two vertices of degree 7 (or more) between two
+// of degree 5 (or less) becomes four of degree 6 when flipped - the pairs
+// of defects that smoothing alone leaves as the worst triangles of a
+// relaxed mesh. The flip is kept only if a few ODT steps of the quad's
+// vertices make the new diagonal regular (the triangulation stays the
+// regular triangulation of its points); otherwise it is undone. Vertices
+// on Gamma are left alone. Serial, in slot order, one flip per
+// neighbourhood per pass.
+int64_t Optimiser::flip_for_valence() {
+    const int32_t n = tri_.vertex_slots();
+    std::vector<int32_t> degree(static_cast<size_t>(n), 0);
+    for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
+        if (!tri_.is_free(t))
+            for (int k = 0; k < 3; ++k) ++degree[tri_.vertex(t, k)];
+    auto deviation = [&](int32_t v, int change) { return std::abs(degree[v] + change - 6); };
+    std::vector<uint8_t> locked(static_cast<size_t>(n), 0);
+    int64_t done = 0;
+    for (int32_t t = 0; t < tri_.triangle_slots(); ++t) {
+        if (tri_.is_free(t)) continue;
+        for (int k = 0; k < 3; ++k) {
+            const int32_t u = tri_.neighbour(t, k);
+            if (u < t) continue;
+            // The edge (b, c) of t, apex a; d the apex across it.
+            const int32_t a = tri_.vertex(t, k), b = tri_.vertex(t, (k + 1) % 3), c = tri_.vertex(t, (k + 2) % 3);
+            int32_t d = -1;
+            for (int j = 0; j < 3; ++j)
+                if (tri_.vertex(u, j) != b && tri_.vertex(u, j) != c) d = tri_.vertex(u, j);
+            const int32_t quad[4] = {a, b, c, d};
+            bool free = true;
+            for (int32_t v : quad) free &= on_segment_[v] < 0 && !locked[v];
+            if (!free) continue;
+            const int before = deviation(a, 0) + deviation(b, 0) + deviation(c, 0) + deviation(d, 0);
+            const int after = deviation(a, 1) + deviation(b, -1) + deviation(c, -1) + deviation(d, 1);
+            if (before - after < 3 || degree[b] <= 4 || degree[c] <= 4) continue;
+            Generator saved[4];
+            for (int i = 0; i < 4; ++i) saved[i] = gen_[quad[i]];
+            if (!tri_.flip(t, k)) continue;  // t = (a, b, d), u = (d, c, a)
+            if (!relax_into_regularity(quad)) {
+                for (int i = 0; i < 4; ++i) gen_[quad[i]] = saved[i], tri_.set_lifted(quad[i], saved[i].lifted());
+                tri_.flip(t, 1);  // the edge (d, a) of (a, b, d): back to (b, c)
+                continue;
+            }
+            ++degree[a], --degree[b], --degree[c], ++degree[d];
+            for (int32_t v : quad) {
+                h_at_[v] = h_(gen_[v].x);
+                for (int32_t s : tri_.star(v))
+                    for (int j = 0; j < 3; ++j) {
+                        locked[tri_.vertex(s, j)] = 1;
+                        changed_at_[tri_.vertex(s, j)] = clock_;
+                    }
+            }
+            ++done;
+            break;  // t changed
+        }
+    }
+    stats_.flips += done;
+    return done;
+}
+
+// Moves the four vertices towards their ODT targets in the current topology
+// (a few rounds) until every edge around them is locally regular and every
+// triangle around them still faces outwards.
+bool Optimiser::relax_into_regularity(const int32_t (&quad)[4]) {
+    for (int round = 0; round < 4; ++round) {
+        for (int32_t v : quad) {
+            Vec3 sum{};
+            for (int32_t s : tri_.star(v)) sum = sum + (0.5 * geom::norm(geom::cross(
+                                                              gen_[tri_.vertex(s, 1)].x - gen_[tri_.vertex(s, 0)].x,
+                                                              gen_[tri_.vertex(s, 2)].x - gen_[tri_.vertex(s, 0)].x))) *
+                                                       tri_.orthocentre(s);
+            gen_[v].x = geom::normalized(sum);
+            tri_.set_lifted(v, gen_[v].lifted());
+        }
+        bool good = true;
+        for (int32_t v : quad)
+            for (int32_t s : tri_.star(v)) {
+                const Vec3 qa = tri_.lifted(tri_.vertex(s, 0)), qb = tri_.lifted(tri_.vertex(s, 1)),
+                           qc = tri_.lifted(tri_.vertex(s, 2));
+                good &= geom::orient_origin(qa.data(), qb.data(), qc.data()) > 0;
+                for (int j = 0; j < 3 && good; ++j) good &= tri_.is_locally_regular(s, j);
+            }
+        if (good) return true;
+    }
+    return false;
+}
+
 // ---------------------------------------------------------------- stopping
 
 // Min and mean of Q^T and Q^P over the live triangles: blocks of a fixed
@@ -620,7 +708,7 @@ OptimiseStats Optimiser::run() {
         const int64_t flips = restore_regularity(outer_start);
         const int64_t collapsed = collapse_short_edges();
         const int64_t split = split_long_edges();
-        const int64_t valence = n + 1 < o_.outer_iterations ? improve_valence() : 0;
+        const int64_t valence = n + 1 < o_.outer_iterations ? improve_valence() + flip_for_valence() : 0;
         stats_.flips += flips, stats_.collapses += collapsed, stats_.splits += split;
         load_generators();
         const std::vector<uint64_t> links_before = link_fingerprints(ctx_, *graph);

@@ -475,25 +475,70 @@ int32_t Triangulation::remove(int32_t v) {
         return live_triangle_near(0);
     }
     // Clip ears by flipping the spoke (v, link[i]) until v has degree 3.
+    std::vector<int32_t> link_vertices;  // kept when the link was degenerate
+    const Vec3 kept = q_[v];
+    bool nudged = false;
     for (;;) {
         std::vector<int32_t> st = star(v);
         if (st.size() <= 3) break;
         std::vector<int32_t> link(st.size());
         for (size_t i = 0; i < st.size(); ++i) link[i] = tris_[st[i]].v[next(local_index(st[i], v))];
-        bool clipped = false;
-        for (size_t i = 0; i < link.size() && !clipped; ++i) {
-            if (!ear_is_hull_facet(link, i)) continue;
-            // The spoke (v, link[i]) is shared by st[i-1] = (v, link[i-1], link[i])
-            // and st[i]; in st[i-1] it is the edge opposite link[i-1]. Flipping
-            // it creates the ear (link[i-1], link[i], link[i+1]).
+        // The spoke (v, link[i]) is shared by st[i-1] = (v, link[i-1], link[i])
+        // and st[i]; in st[i-1] it is the edge opposite link[i-1]. Flipping it
+        // creates the ear (link[i-1], link[i], link[i+1]).
+        auto clip = [&](size_t i) {
             const size_t h = (i + st.size() - 1) % st.size();
-            int32_t tt = st[h];
-            int ka = local_index(tt, link[h]);
-            clipped = flip(tt, ka);
+            return flip(st[h], local_index(st[h], link[h]));
+        };
+        bool clipped = false;
+        for (size_t i = 0; i < link.size() && !clipped; ++i)
+            if (ear_is_hull_facet(link, i)) clipped = clip(i);
+        if (!clipped) {
+            // A link with points on one great circle (a grid of meridians
+            // and the equator, say) can leave every hull ear flat, or pass
+            // every diagonal through v itself. Any convex ear keeps the
+            // sphere triangulated, and v may be nudged off the diagonals -
+            // it is going anyway; Lawson flips after the removal make the
+            // region regular again.
+            for (size_t i = 0; i < link.size() && !clipped; ++i) clipped = clip(i);
+            if (!clipped && !nudged) {
+                nudged = true;
+                clipped = nudge_off_diagonals(v, link);
+            }
+            if (!clipped) fail(UM_ERR_INTERNAL, "vertex removal found no ear to clip");
+            link_vertices.insert(link_vertices.end(), link.begin(), link.end());
         }
-        if (!clipped) fail(UM_ERR_INTERNAL, "vertex removal found no ear to clip");
     }
-    return remove_degree_three(v);
+    const int32_t t = remove_degree_three(v);
+    q_[v] = kept;
+    if (!link_vertices.empty()) {
+        std::vector<int32_t> around;
+        for (int32_t u : link_vertices)
+            if (vertex_tri_[u] >= 0)
+                for (int32_t s : star(u)) around.push_back(s);
+        restore_regularity(std::move(around));
+        return live_triangle_near(t);
+    }
+    return t;
+}
+
+// Moves v a little towards one of its link vertices, keeping its star facing
+// outwards; true when it moved.
+bool Triangulation::nudge_off_diagonals(int32_t v, const std::vector<int32_t> &link) {
+    const Vec3 original = q_[v];
+    const double s = geom::norm(original);
+    const std::vector<int32_t> st = star(v);
+    for (int32_t toward : link)
+        for (double share : {1e-2, 1e-4}) {
+            q_[v] = s * geom::normalized(direction(v) + share * (direction(toward) - direction(v)));
+            bool outwards = true;
+            for (int32_t t : st)
+                outwards &= orient_origin(q_[tris_[t].v[0]].data(), q_[tris_[t].v[1]].data(),
+                                          q_[tris_[t].v[2]].data()) > 0;
+            if (outwards) return true;
+            q_[v] = original;
+        }
+    return false;
 }
 
 int32_t Triangulation::remove_degree_three(int32_t v) {

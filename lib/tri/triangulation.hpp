@@ -163,6 +163,7 @@ private:
     void free_triangle_slot(int32_t t);
     bool flippable(int32_t t, int k) const;
     int32_t remove_degree_three(int32_t v);
+    bool nudge_off_diagonals(int32_t v, const std::vector<int32_t> &link);
     bool ear_is_hull_facet(const std::vector<int32_t> &link, size_t i) const;
     int32_t reinsert(int32_t v, std::vector<int32_t> *buried, int32_t hint = 0);
     std::vector<int32_t> replace_point(int32_t v, const Vec3 &lifted);

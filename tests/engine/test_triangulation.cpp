@@ -287,6 +287,36 @@ void insert_remove_move_and_reweight(void **) {
     expect_valid(t);
 }
 
+// Removing vertices whose links lie along one great circle (a meridian
+// through the pole, a latitude-free grid of meridians): every hull ear of
+// such a link can be flat, and removal must still leave the exact regular
+// triangulation of what is left.
+void removal_with_links_on_one_great_circle(void **) {
+    std::vector<Vec3> pts;
+    for (int m = 0; m < 24; ++m)          // 24 meridians, every 10 degrees of latitude
+        for (int k = -8; k <= 8; ++k) pts.push_back(geom::unit_from_lonlat_deg(15.0 * m, 10.0 * k));
+    pts.push_back(geom::unit_from_lonlat_deg(0, 90));
+    pts.push_back(geom::unit_from_lonlat_deg(0, -90));
+    const size_t n = pts.size();
+    tri::Triangulation t = build(pts);
+    expect_complete(t, n);
+    // The poles (links: 24 points on one latitude circle, each on a meridian
+    // great circle with the pole), then a whole meridian, vertex by vertex.
+    int64_t removed = 0;
+    for (int32_t v = 0; v < t.vertex_slots(); ++v) {
+        const int32_t id = t.id(v);
+        if (id < 0 || !t.in_triangulation(v)) continue;
+        if (size_t(id) >= n - 2 || id < 17) {
+            t.remove(v);
+            ++removed;
+            expect_valid(t);
+        }
+    }
+    assert_int_equal(removed, 19);
+    assert_int_equal(t.vertex_count(), static_cast<int64_t>(n) - 19);
+    assert_int_equal(t.triangle_count(), 2 * (static_cast<int64_t>(n) - 19) - 4);
+}
+
 void flips_keep_a_valid_sphere(void **) {
     auto pts = test::random_points(500, 47);
     tri::Triangulation t = build(pts);
@@ -317,6 +347,7 @@ int main() {
         cmocka_unit_test(weights_hide_points),
         cmocka_unit_test(same_result_for_any_thread_count),
         cmocka_unit_test(insertion_order_does_not_change_the_triangles),
+        cmocka_unit_test(removal_with_links_on_one_great_circle),
         cmocka_unit_test(power_cells_and_orthocentres),
         cmocka_unit_test(weighted_edge_orthocentre_is_on_the_bisector),
         cmocka_unit_test(insert_remove_move_and_reweight),

@@ -99,7 +99,11 @@ bool read_case_file(const std::string &path, const GivenFlags &given, BuildArgs 
         return true;
     } catch (const toml::parse_error &e) {
         std::ostringstream s;
-        s << "case file " << path << ": " << e.description() << " (line " << e.source().begin.line << ")";
+        // toml++ may describe a problem over several lines: one line here.
+        std::string what(e.description());
+        for (char &c : what)
+            if (c == '\n' || c == '\r') c = ' ';
+        s << "case file " << path << ": " << what << " (line " << e.source().begin.line << ")";
         *error = s.str();
     } catch (const CaseError &e) {
         *error = "case file " + path + ": " + e.message;
