@@ -159,6 +159,7 @@ module unimesh
   public :: um_mesh_refine, um_mesh_optimise, um_mesh_destroy, um_mesh_counts, um_mesh_get_vertices, &
       um_mesh_get_triangles, um_mesh_get_vertex_parts, um_mesh_get_restricted_edges, &
       um_mesh_get_vertex_sides, um_mesh_get_triangle_sides
+  public :: um_mesh_quality_summary, um_mesh_quality_counts, um_mesh_quality_json
   public :: um_mesh_write_mpas, um_mesh_write_jigsaw, um_mesh_mpas_dimensions, um_mesh_get_mpas, um_mesh_release_mpas
 
   ! An MPAS variable by its netCDF name into an allocatable array: rank 1
@@ -1271,6 +1272,62 @@ contains
     if (size_a /= size_b) problem = name_a // ' has ' // int_text(size_a) // ' elements and ' &
         // name_b // ' has ' // int_text(size_b) // ': they must have one per point'
   end function size_problem
+
+  !> min / 1st percentile / mean / max of a quality metric of the mesh:
+  !> 'area_length_ratio', 'primal_dual', 'angle_min_deg', 'angle_max_deg' or
+  !> 'edge_spacing_ratio' (see um_mesh_quality_summary in unimesh.h).
+  subroutine um_mesh_quality_summary(mesh, metric, min, p1, mean, max, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=*), intent(in) :: metric
+    real(real64), optional, intent(out) :: min, p1, mean, max
+    integer, optional, intent(out) :: ierr
+    real(c_double) :: v(4)
+    v = 0
+    call finish(c_um_mesh_quality_summary(mesh%ptr, to_c(metric), v(1), v(2), v(3), v(4)), mesh%ctx, &
+        'um_mesh_quality_summary', ierr)
+    if (present(min)) min = v(1)
+    if (present(p1)) p1 = v(2)
+    if (present(mean)) mean = v(3)
+    if (present(max)) max = v(4)
+  end subroutine um_mesh_quality_summary
+
+  !> Triangles with an angle over 90 degrees, and those not holding their
+  !> orthocentre.
+  subroutine um_mesh_quality_counts(mesh, obtuse, not_well_centred, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    integer, optional, intent(out) :: obtuse, not_well_centred
+    integer, optional, intent(out) :: ierr
+    integer(c_int64_t) :: o, w
+    o = 0
+    w = 0
+    call finish(c_um_mesh_quality_counts(mesh%ptr, o, w), mesh%ctx, 'um_mesh_quality_counts', ierr)
+    if (present(obtuse)) obtuse = int(o)
+    if (present(not_well_centred)) not_well_centred = int(w)
+  end subroutine um_mesh_quality_counts
+
+  !> The quality report as JSON text (what quality.json holds).
+  subroutine um_mesh_quality_json(mesh, text, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=:), allocatable, intent(out) :: text
+    integer, optional, intent(out) :: ierr
+    character(kind=c_char), allocatable :: buf(:)
+    integer(c_int64_t) :: needed
+    integer(c_int32_t) :: status, before
+    text = ''
+    needed = 0
+    before = UM_OK
+    if (c_associated(mesh%ctx)) before = c_um_context_last_status(mesh%ctx)
+    ! The sizing call (capacity 0) reports the length needed; the error it
+    ! records is ours, not the caller's, and goes again.
+    status = c_um_mesh_quality_json(mesh%ptr, capacity=0_c_int64_t, needed=needed)
+    if (status == UM_ERR_BUFFER_TOO_SMALL) then
+      if (before == UM_OK .and. c_associated(mesh%ctx)) status = c_um_context_clear_error(mesh%ctx)
+      allocate (buf(needed))
+      status = c_um_mesh_quality_json(mesh%ptr, buf, needed, needed)
+      if (status == UM_OK) text = from_c_chars(buf, int(needed) - 1)
+    end if
+    call finish(status, mesh%ctx, 'um_mesh_quality_json', ierr)
+  end subroutine um_mesh_quality_json
 
   !> Writes the MPAS mesh file (netCDF) of the mesh.
   subroutine um_mesh_write_mpas(mesh, path, ierr)

@@ -580,7 +580,7 @@ int64_t Optimiser::flip_for_valence() {
             if (!free) continue;
             const int before = deviation(a, 0) + deviation(b, 0) + deviation(c, 0) + deviation(d, 0);
             const int after = deviation(a, 1) + deviation(b, -1) + deviation(c, -1) + deviation(d, 1);
-            if (before - after < 3 || degree[b] <= 4 || degree[c] <= 4) continue;
+            if (before - after < 2 || degree[b] <= 4 || degree[c] <= 4) continue;
             Generator saved[4];
             for (int i = 0; i < 4; ++i) saved[i] = gen_[quad[i]];
             if (!tri_.flip(t, k)) continue;  // t = (a, b, d), u = (d, c, a)

@@ -56,7 +56,8 @@ program e3sm_style_mesh
   integer, allocatable :: cells_on_edge(:, :), edges_on_cell(:, :), n_edges_on_cell(:)
   integer, allocatable :: ocean(:), land(:), feature(:), n_edges_on_edge(:), edges_on_edge(:, :)
   real(real64), allocatable :: dc_edge(:), dv_edge(:), area_cell(:), weights_on_edge(:, :)
-  real(real64) :: radius, base_km
+  real(real64) :: radius, base_km, qt_min, qt_mean
+  character(len=:), allocatable :: report
 
   failures = 0
   if (command_argument_count() < 2) then
@@ -82,6 +83,11 @@ program e3sm_style_mesh
   call um_features_read_geojson(gamma, trim(rivers))
   call um_mesh_refine(ctx, h, mesh, features=gamma)
   call um_mesh_optimise(mesh)
+  call um_mesh_quality_counts(mesh, not_well_centred=j)
+  call um_mesh_quality_summary(mesh, 'area_length_ratio', min=qt_min, mean=qt_mean)
+  call um_mesh_quality_json(mesh, report)
+  write (output_unit, '(a, f6.3, a, f6.3, a, i0)') 'quality: Q^T min ', qt_min, ' mean ', qt_mean, &
+      '; not well-centred ', j
 
   call um_mesh_mpas_dimensions(mesh, n_cells, n_edges, n_vertices, max_edges)
   call um_mesh_get_mpas(mesh, 'cellsOnEdge', cells_on_edge)
@@ -134,6 +140,8 @@ program e3sm_style_mesh
       end if
     end do
   end do
+  call expect(index(report, '"before_optimisation"') > 0 .and. qt_min > 0.3_real64 .and. qt_mean > 0.9_real64, &
+      'quality report before and after optimising')
   call expect(trsk_antisymmetry() < 1e-9_real64, &
       'TRSK: W(e,f) dc(e) dv(e) = -W(f,e) dc(f) dv(f) (energy-neutral Coriolis)')
 
