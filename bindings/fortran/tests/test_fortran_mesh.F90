@@ -24,7 +24,7 @@ module mesh_test_spacing
 
 contains
 
-  real(c_double) function latitude_spacing(user_data, lon_deg, lat_deg) bind(c)
+  recursive real(c_double) function latitude_spacing(user_data, lon_deg, lat_deg) bind(c)
     type(c_ptr), value :: user_data
     real(c_double), value :: lon_deg
     real(c_double), value :: lat_deg
