@@ -44,12 +44,16 @@ double shape_score(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
     // relative, far below what separates two trial positions.
     const double area = 0.5 * geom::dot(geom::cross(ab, c - a), a);
     const double q = 4 * std::sqrt(3.0) * area / (lab + lbc + lca);
-    // The largest angle is opposite the longest edge.
-    double cos_max;
-    if (lab >= lbc && lab >= lca) cos_max = -geom::dot(bc, ca) / std::sqrt(lbc * lca);
-    else if (lbc >= lca) cos_max = -geom::dot(ca, ab) / std::sqrt(lca * lab);
-    else cos_max = -geom::dot(ab, bc) / std::sqrt(lab * lbc);
-    return std::min(q, kObtuseOffset + cos_max);
+    // The largest angle is opposite the longest edge: cos = d / sqrt(p).
+    double d, p;
+    if (lab >= lbc && lab >= lca) d = -geom::dot(bc, ca), p = lbc * lca;
+    else if (lbc >= lca) d = -geom::dot(ca, ab), p = lca * lab;
+    else d = -geom::dot(ab, bc), p = lab * lbc;
+    // The cap binds only when kObtuseOffset + d / sqrt(p) < q; tell without
+    // the square root first (most triangles are well clear of it).
+    const double t = q - kObtuseOffset;
+    const bool binds = t > 0 ? (d < 0 || d * d < t * t * p) : (d < 0 && d * d > t * t * p);
+    return binds ? kObtuseOffset + d / std::sqrt(p) : q;
 }
 
 double primal_dual(const Generator &a, const Generator &b, const Generator &c) {
