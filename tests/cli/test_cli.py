@@ -91,6 +91,7 @@ class Errors(unittest.TestCase):
                 "spacing_km = 100\n[options]\nno_such_option = 1\n": "no_such_option",
                 'spacing_km = 100\ngeometry = "one.geojson"\n': "geometry",
                 "spacing_km = 600\noptimise = t\n": "line 2",  # found by fuzzing: a two-line message
+                "spacing_km = 600\nthreads = 5.1e27\n": "threads",  # found by fuzzing: UB in toml++
             }
             for text, word in cases.items():
                 path = os.path.join(folder, "case.toml")

@@ -70,9 +70,12 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
         if (const toml::node *n = t.get("spacing_preset")) a.spacing_preset = string_value(*n, "spacing_preset");
     }
     if (const toml::node *n = t.get("threads"); n && !given.threads) {
-        auto v = n->value<int64_t>();
-        if (!v || *v < 0 || *v > 1024) throw CaseError{"'threads' must be an integer in [0, 1024]" + where(*n)};
-        a.threads = static_cast<int>(*v);
+        // as_integer, not value<int64_t>: toml++ would convert a float
+        // (1e27, say) to an integer without a range check.
+        const toml::value<int64_t> *v = n->as_integer();
+        if (!v || v->get() < 0 || v->get() > 1024)
+            throw CaseError{"'threads' must be an integer in [0, 1024]" + where(*n)};
+        a.threads = static_cast<int>(v->get());
     }
     if (const toml::node *n = t.get("optimise"); n && !given.no_optimise) {
         auto v = n->value<bool>();
