@@ -708,7 +708,8 @@ OptimiseStats Optimiser::run() {
         const int64_t flips = restore_regularity(outer_start);
         const int64_t collapsed = collapse_short_edges();
         const int64_t split = split_long_edges();
-        const int64_t valence = n + 1 < o_.outer_iterations ? improve_valence() + flip_for_valence() : 0;
+        const int64_t valence =
+            n + 1 < o_.outer_iterations ? improve_valence() + (n < 2 ? flip_for_valence() : 0) : 0;
         stats_.flips += flips, stats_.collapses += collapsed, stats_.splits += split;
         load_generators();
         const std::vector<uint64_t> links_before = link_fingerprints(ctx_, *graph);

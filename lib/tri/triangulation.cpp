@@ -642,14 +642,7 @@ std::vector<int32_t> Triangulation::hidden_ids() const {
 
 std::vector<int32_t> Triangulation::star(int32_t v) const {
     std::vector<int32_t> out;
-    int32_t t0 = vertex_tri_[v];
-    if (t0 < 0) return out;
-    int32_t t = t0;
-    do {
-        out.push_back(t);
-        // Next counter-clockwise around v: across the edge (v, v(t, j+2)).
-        t = tris_[t].n[next(local_index(t, v))];
-    } while (t != t0);
+    for_each_in_star(v, [&](int32_t t) { out.push_back(t); });
     return out;
 }
 

@@ -74,6 +74,20 @@ public:
     std::vector<int32_t> hidden_ids() const;
     // Triangles around v, counter-clockwise seen from outside.
     std::vector<int32_t> star(int32_t v) const;
+    // Calls fn(t) for the triangles around v in the order star() gives,
+    // without building the list (for hot loops).
+    template <class Fn>
+    void for_each_in_star(int32_t v, Fn &&fn) const {
+        const int32_t t0 = vertex_tri_[v];
+        if (t0 < 0) return;
+        int32_t t = t0;
+        do {
+            fn(t);
+            const int32_t *tv = tris_[t].v;
+            const int k = tv[0] == v ? 0 : (tv[1] == v ? 1 : 2);
+            t = tris_[t].n[k == 2 ? 0 : k + 1];
+        } while (t != t0);
+    }
 
     // Geometry -----------------------------------------------------------
     const Vec3 &lifted(int32_t v) const { return q_[v]; }

@@ -48,7 +48,7 @@ bool write_cells_vtu(const std::string &mesh_nc, const std::string &path, std::s
         return fail(error, mesh_nc + " lacks the cell polygons (verticesOnCell, x/y/zVertex, areaCell)");
     const bool has_side = f.var("cellSide", side, n_cells);
     std::ofstream out(path);
-    out.precision(17);
+    out.precision(9);  // for viewing: float precision is plenty, and 17 digits cost time
     out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
            "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
         << n_vertices << "\" NumberOfCells=\"" << n_cells << "\">\n<Points>\n"
@@ -88,7 +88,7 @@ bool write_triangles_vtu(const std::string &mesh_nc, const std::string &path, st
         return fail(error, mesh_nc + " lacks the triangles (cellsOnVertex, x/y/zCell, areaTriangle)");
     const bool has_side = f.var("vertexSide", side, n_vertices);
     std::ofstream out(path);
-    out.precision(17);
+    out.precision(9);  // for viewing: float precision is plenty, and 17 digits cost time
     out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
            "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
         << n_cells << "\" NumberOfCells=\"" << n_vertices << "\">\n<Points>\n"
