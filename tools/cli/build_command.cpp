@@ -23,15 +23,21 @@ void check(um_status s, um_context *ctx, const std::string &what) {
     if (s != UM_OK) throw Failure{what + ": " + um_context_last_error(ctx)};
 }
 
-int32_t report_progress(void *user, const char *stage, double) {
+// On a terminal: one line redrawn, "stage [#####.....]  45%"; otherwise a
+// plain line per stage (logs, CI).
+int32_t report_progress(void *user, const char *stage, double fraction) {
     auto *last = static_cast<std::string *>(user);
-    if (*last != stage) {
-        *last = stage;
-        if (isatty(fileno(stderr)))
-            std::fprintf(stderr, "\r%-40s", stage);
-        else
-            std::fprintf(stderr, "%s\n", stage);
+    if (isatty(fileno(stderr))) {
+        constexpr int kWidth = 30;
+        const double f = fraction < 0 ? 0 : (fraction > 1 ? 1 : fraction);
+        const int filled = static_cast<int>(f * kWidth + 0.5);
+        std::fprintf(stderr, "\r%-18s [%.*s%.*s] %3d%%", stage, filled, "##############################",
+                     kWidth - filled, "..............................", static_cast<int>(100 * f + 0.5));
+        std::fflush(stderr);
+    } else if (*last != stage) {
+        std::fprintf(stderr, "%s\n", stage);
     }
+    *last = stage;
     return 0;
 }
 
@@ -52,7 +58,7 @@ um_spacing *make_spacing(um_context *ctx, const BuildArgs &a) {
 }
 
 void print_log(void *, int32_t, const char *message) {
-    if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-40s\r", "");
+    if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-60s\r", "");
     std::fprintf(stderr, "%s\n", message);
 }
 
@@ -144,7 +150,7 @@ int run_build(const BuildArgs &a) {
         }
         const double optimise_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-        if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-40s\r", "");
+        if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-60s\r", "");
 
         const std::string dir = a.out_dir + "/";
         check(um_mesh_write_mpas(m, (dir + "mesh.nc").c_str()), ctx, "writing " + dir + "mesh.nc");
@@ -171,7 +177,7 @@ int run_build(const BuildArgs &a) {
                     "%squality.json%s%s\n", dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(),
                     dir.c_str(), plotted ? ", " : "", plotted ? (dir + "quality.png").c_str() : "");
     } catch (const Failure &e) {
-        if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-40s\r", "");
+        if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-60s\r", "");
         std::fprintf(stderr, "unimesh build: %s\n", e.message.c_str());
         rc = 1;
     }
