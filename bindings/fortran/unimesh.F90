@@ -46,7 +46,8 @@
 ! (see the triangulation section).
 module unimesh
   use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_f_pointer, c_loc, &
-      c_char, c_null_char, c_int32_t, c_int64_t, c_double, c_size_t, c_funloc
+      c_char, c_null_char, c_int32_t, c_int64_t, c_double, c_size_t, c_funloc, c_funptr, &
+      c_null_funptr
   use, intrinsic :: iso_fortran_env, only: error_unit, int64, real64
   use unimesh_cint
   implicit none
@@ -150,9 +151,10 @@ module unimesh
   public :: um_triangulation_create, um_triangulation_create_xyz, um_triangulation_destroy, &
       um_triangulation_counts, um_triangulation_get_triangles, um_triangulation_get_neighbours, &
       um_triangulation_get_orthocentres, um_triangulation_get_hidden, um_triangulation_check
-  public :: um_spacing_fn
+  public :: um_spacing_fn, um_progress_fn, um_log_fn
+  public :: um_context_set_progress, um_context_set_log
   public :: um_features_create, um_features_destroy, um_features_add_part, &
-      um_features_read_geojson, um_features_counts
+      um_features_read_geojson, um_features_counts, um_features_get_points, um_features_get_parts
   public :: um_spacing_create_constant, um_spacing_create_grid, um_spacing_create_preset, &
       um_spacing_create_from_file, um_spacing_create_callback, um_spacing_destroy, &
       um_spacing_limit_gradient, um_spacing_clamp, um_spacing_evaluate
@@ -491,6 +493,44 @@ contains
     integer, optional, intent(out) :: ierr
     call finish(c_um_context_clear_error(ctx%ptr), ctx%ptr, 'um_context_clear_error', ierr)
   end subroutine um_context_clear_error
+
+  !> Progress reports of long calls: fn (interface um_progress_fn, bind(c):
+  !> user_data, a C string stage, a fraction in [0, 1]) is called from the
+  !> host thread and returns 0 to go on, non-zero to cancel. fn absent: none.
+  subroutine um_context_set_progress(ctx, fn, user_data, ierr)
+    type(um_context_t), intent(in) :: ctx
+    procedure(um_progress_fn), optional :: fn
+    type(c_ptr), optional, intent(in) :: user_data
+    integer, optional, intent(out) :: ierr
+    type(c_funptr) :: f
+    type(c_ptr) :: data
+    f = c_null_funptr
+    data = c_null_ptr
+    if (present(fn)) f = c_funloc(fn)
+    if (present(user_data)) data = user_data
+    call finish(c_um_context_set_progress(ctx%ptr, f, data), ctx%ptr, 'um_context_set_progress', ierr)
+  end subroutine um_context_set_progress
+
+  !> Log messages of min_level (UM_LOG_*) and above to fn (interface
+  !> um_log_fn, bind(c): user_data, level, a C string), from the host
+  !> thread. fn absent: none.
+  subroutine um_context_set_log(ctx, fn, min_level, user_data, ierr)
+    type(um_context_t), intent(in) :: ctx
+    procedure(um_log_fn), optional :: fn
+    integer, optional, intent(in) :: min_level
+    type(c_ptr), optional, intent(in) :: user_data
+    integer, optional, intent(out) :: ierr
+    type(c_funptr) :: f
+    type(c_ptr) :: data
+    integer(c_int32_t) :: level
+    f = c_null_funptr
+    data = c_null_ptr
+    level = UM_LOG_WARNING
+    if (present(fn)) f = c_funloc(fn)
+    if (present(user_data)) data = user_data
+    if (present(min_level)) level = int(min_level, c_int32_t)
+    call finish(c_um_context_set_log(ctx%ptr, f, data, level), ctx%ptr, 'um_context_set_log', ierr)
+  end subroutine um_context_set_log
 
   ! =================================================================== options
 
@@ -880,6 +920,47 @@ contains
     if (present(n_points)) n_points = int(points, int64)
     if (present(n_segments)) n_segments = int(segments, int64)
   end subroutine um_features_counts
+
+  !> All points of the network (degrees, as given; consecutive duplicates
+  !> dropped).
+  subroutine um_features_get_points(features, lon_deg, lat_deg, ierr)
+    type(um_features_t), intent(in) :: features
+    real(real64), allocatable, intent(out) :: lon_deg(:), lat_deg(:)
+    integer, optional, intent(out) :: ierr
+    integer(c_int64_t) :: parts, points, segments
+    integer(c_int32_t) :: status
+    status = c_um_features_counts(features%ptr, parts, points, segments)
+    if (status == UM_OK) then
+      allocate (lon_deg(points), lat_deg(points))
+      status = c_um_features_copy_points(features%ptr, lon_deg, lat_deg, points)
+    end if
+    call finish(status, features%ctx, 'um_features_get_points', ierr)
+  end subroutine um_features_get_points
+
+  !> The parts: part p holds points first(p) .. first(p+1)-1 (1-based; first
+  !> has n_parts + 1 entries), closed (0/1), kind (UM_FEATURE_*) and id.
+  subroutine um_features_get_parts(features, first, closed, kind, part_id, ierr)
+    type(um_features_t), intent(in) :: features
+    integer(int64), allocatable, intent(out) :: first(:)
+    integer, allocatable, intent(out) :: closed(:), kind(:), part_id(:)
+    integer, optional, intent(out) :: ierr
+    integer(c_int64_t) :: parts, points, segments
+    integer(c_int64_t), allocatable :: offsets(:)
+    integer(c_int32_t), allocatable :: c_closed(:), c_kind(:), c_id(:)
+    integer(c_int32_t) :: status
+    status = c_um_features_counts(features%ptr, parts, points, segments)
+    if (status == UM_OK) then
+      allocate (offsets(parts + 1), c_closed(parts), c_kind(parts), c_id(parts))
+      status = c_um_features_copy_parts(features%ptr, offsets, c_closed, c_kind, c_id, parts + 1)
+      if (status == UM_OK) then
+        first = int(offsets + 1, int64)
+        closed = int(c_closed)
+        kind = int(c_kind)
+        part_id = int(c_id)
+      end if
+    end if
+    call finish(status, features%ctx, 'um_features_get_parts', ierr)
+  end subroutine um_features_get_parts
 
   ! =================================================================== spacing
 

@@ -135,6 +135,10 @@ void Triangulation::compact_triangles(int32_t vertex_shift) {
 
 void Triangulation::compact() {
     if (!free_.empty()) compact_triangles(0);
+    // Growth by insertion leaves up to twice the room the mesh needs; a
+    // mesh handed on (and copied, by the optimisation) keeps only its size.
+    tris_.shrink_to_fit(), mark_.shrink_to_fit(), free_.shrink_to_fit();
+    q_.shrink_to_fit(), id_.shrink_to_fit(), vertex_tri_.shrink_to_fit();
 }
 
 // Drops the virtual octahedron and the free triangle slots.

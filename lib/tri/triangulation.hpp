@@ -56,7 +56,8 @@ public:
     int32_t triangle_count() const { return static_cast<int32_t>(tris_.size() - free_.size()); }
     int32_t triangle_slots() const { return static_cast<int32_t>(tris_.size()); }
     bool is_free(int32_t t) const { return tris_[t].v[0] == kNone; }
-    // Renumbers the live triangles into 0..triangle_count()-1, keeping their order.
+    // Renumbers the live triangles into 0..triangle_count()-1, keeping their
+    // order, and gives back the room insertion left unused.
     void compact();
     int32_t vertex_slots() const { return static_cast<int32_t>(q_.size()); }
     // Vertices in the triangulation (not hidden).

@@ -12,10 +12,10 @@
 ! The Fortran spacing callback: h = user%base_km + user%km_per_degree * |lat|.
 ! Called from worker threads: it only reads its arguments.
 module mesh_test_spacing
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_double, c_f_pointer
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_double, c_f_pointer, c_associated
   implicit none
   private
-  public :: spacing_parameters, latitude_spacing
+  public :: spacing_parameters, latitude_spacing, cancel_optimise, count_log
 
   type, bind(c) :: spacing_parameters
     real(c_double) :: base_km
@@ -33,11 +33,34 @@ contains
     latitude_spacing = p%base_km + p%km_per_degree * abs(lat_deg) + 0 * lon_deg
   end function latitude_spacing
 
+  !> Progress: cancels as soon as the optimisation reports a fraction > 0;
+  !> counts its calls in user_data (an integer TARGET).
+  integer(c_int32_t) function cancel_optimise(user_data, stage, fraction) bind(c)
+    use, intrinsic :: iso_c_binding, only: c_int32_t
+    type(c_ptr), value :: user_data, stage
+    real(c_double), value :: fraction
+    integer(c_int32_t), pointer :: calls
+    call c_f_pointer(user_data, calls)
+    calls = calls + 1
+    cancel_optimise = 0
+    if (fraction > 0 .and. c_associated(stage)) cancel_optimise = 1
+  end function cancel_optimise
+
+  !> Log: counts the messages.
+  subroutine count_log(user_data, level, message) bind(c)
+    use, intrinsic :: iso_c_binding, only: c_int32_t
+    type(c_ptr), value :: user_data, message
+    integer(c_int32_t), value :: level
+    integer(c_int32_t), pointer :: count
+    call c_f_pointer(user_data, count)
+    if (level >= 0 .and. c_associated(message)) count = count + 1
+  end subroutine count_log
+
 end module mesh_test_spacing
 
 program test_fortran_mesh
   use, intrinsic :: iso_fortran_env, only: error_unit, int64, real64
-  use, intrinsic :: iso_c_binding, only: c_loc, c_associated
+  use, intrinsic :: iso_c_binding, only: c_loc, c_associated, c_int32_t
   use unimesh
   use test_checks
   use mesh_test_spacing
@@ -179,8 +202,12 @@ contains
     real(real64) :: ring_lon(72)
     real(real64), allocatable :: lon(:), lat(:)
     integer, allocatable :: parts(:), sides(:), triangle_sides(:), edges(:, :), edge_parts(:)
-    integer(int64) :: n_parts, n_triangles, n_restricted
-    integer :: i
+    integer(int64) :: n_parts, n_triangles, n_restricted, n_after
+    integer :: i, ierr
+    integer(c_int32_t), target :: progress_calls, log_lines
+    real(real64), allocatable :: plon(:), plat(:)
+    integer(int64), allocatable :: first(:)
+    integer, allocatable :: closed(:), kinds(:), ids(:)
 
     ! The callback spacing: its function and parameters must outlive the mesh.
     parameters = spacing_parameters(coarse_km, 0.0_real64)
@@ -191,6 +218,11 @@ contains
         UM_FEATURE_COASTLINE)
     call um_features_counts(gamma, n_parts=n_parts)
     call check(n_parts == 1, 'one part stored')
+    call um_features_get_points(gamma, plon, plat)
+    call um_features_get_parts(gamma, first, closed, kinds, ids)
+    call check(size(plon) == 72 .and. all(abs(plat - ring_lat) < 1e-12_real64), 'the ring read back')
+    call check(all(first == [1_int64, 73_int64]) .and. all(closed == [1]) .and. &
+        all(kinds == [UM_FEATURE_COASTLINE]), 'its part read back')
     call um_options_create(ctx, opts)
     call um_options_set_double(opts, UM_OPT_REFINE_ALPHA, 1.2_real64)
     call um_mesh_refine(ctx, h, mesh, features=gamma, options=opts)
@@ -221,6 +253,22 @@ contains
     call check(any(triangle_sides == UM_SIDE_LAND) .and. any(triangle_sides == UM_SIDE_OCEAN) &
         .and. all(triangle_sides == UM_SIDE_LAND .or. triangle_sides == UM_SIDE_OCEAN), &
         'triangles on both sides')
+
+    ! Progress and log callbacks written in Fortran: cancelling from the
+    ! progress callback stops the optimisation and leaves the mesh as it was.
+    progress_calls = 0
+    log_lines = 0
+    call um_context_set_progress(ctx, cancel_optimise, c_loc(progress_calls))
+    call um_context_set_log(ctx, count_log, UM_LOG_INFO, c_loc(log_lines))
+    call um_mesh_optimise(mesh, ierr=ierr)
+    call check(ierr == UM_CANCELLED, 'cancelled from a Fortran progress callback')
+    call check(progress_calls >= 2, 'the progress callback was called')
+    call check(log_lines >= 1, 'the log callback was called')
+    call um_context_clear_error(ctx)
+    call um_context_set_progress(ctx)
+    call um_context_set_log(ctx)
+    call um_mesh_counts(mesh, n_triangles=n_after)
+    call check(n_after == n_triangles, 'a cancelled optimisation changes nothing')
 
     ! The optimisation keeps the ring's vertices on the ring and the sphere closed.
     call um_mesh_optimise(mesh)  ! no ierr: an error would reach the abort hook
