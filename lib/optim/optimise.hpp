@@ -1,7 +1,16 @@
 // The weighted primal-dual optimisation (paper section 6, Algorithm 1):
 // N outer iterations of M inner sweeps of vertex moves (weighted ODT towards
 // orthocentres, eq. 7-8) and weight ascent on the worst adjacent Q^P (eq.
-// 4-6), then flips restoring regularity, then edge collapse and refinement.
+// 4-6), then flips restoring regularity, then edge collapse and refinement
+// (section 6.4) and the repair of vertex degrees: removal of degree <= 4,
+// splitting of degree >= 8, and (first two iterations) flips that turn a
+// 7-7 diagonal between 5s into 6s, kept when a few ODT steps make them
+// regular.
+//
+// The first half of the outer iterations holds the weights (shape phase):
+// weights tuned early keep badly shaped triangles regular and would lock
+// the topology in. The second half adds the weight ascent, scored by Q^P
+// less a penalty for a triangle that does not hold its orthocentre.
 //
 // Sweeps are graph-coloured (optim/star_graph.hpp): the vertices of one
 // colour update in parallel with the topology held fixed, colours in
