@@ -379,16 +379,27 @@ void Optimiser::mark_changed_links(const std::vector<uint64_t> &before,
 
 // The edges whose length over the spacing is below `below` or above `above`.
 std::vector<Optimiser::EdgeRatio> Optimiser::edge_ratios(double below, double above) const {
+    // Fixed blocks scanned in parallel, joined in block order: the same list
+    // for any thread count.
+    constexpr int64_t kBlock = 16384;
+    const int32_t n = tri_.triangle_slots();
+    std::vector<std::vector<EdgeRatio>> found(static_cast<size_t>((n + kBlock - 1) / kBlock));
+    ctx_.parallel_for(static_cast<int64_t>(found.size()), 1, [&](int64_t b0, int64_t b1) {
+        for (int64_t blk = b0; blk < b1; ++blk)
+            for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
+                const int32_t ti = static_cast<int32_t>(t);
+                if (tri_.is_free(ti)) continue;
+                for (int k = 0; k < 3; ++k) {
+                    if (tri_.neighbour(ti, k) < ti) continue;  // each edge once
+                    const int32_t a = tri_.vertex(ti, (k + 1) % 3), b = tri_.vertex(ti, (k + 2) % 3);
+                    const double ratio = geom::norm(gen_[a].x - gen_[b].x) / (0.5 * (h_at_[a] + h_at_[b]));
+                    if (ratio < below || ratio > above)
+                        found[blk].push_back({ratio, std::min(a, b), std::max(a, b)});
+                }
+            }
+    });
     std::vector<EdgeRatio> out;
-    for (int32_t t = 0; t < tri_.triangle_slots(); ++t) {
-        if (tri_.is_free(t)) continue;
-        for (int k = 0; k < 3; ++k) {
-            if (tri_.neighbour(t, k) < t) continue;  // each edge once
-            const int32_t a = tri_.vertex(t, (k + 1) % 3), b = tri_.vertex(t, (k + 2) % 3);
-            const double ratio = geom::norm(gen_[a].x - gen_[b].x) / (0.5 * (h_at_[a] + h_at_[b]));
-            if (ratio < below || ratio > above) out.push_back({ratio, std::min(a, b), std::max(a, b)});
-        }
-    }
+    for (const auto &f : found) out.insert(out.end(), f.begin(), f.end());
     return out;
 }
 
