@@ -156,6 +156,77 @@ static void global_coastline(void **state) {
     um_features_destroy(f);
 }
 
+/* The Mid-Atlantic unified case of the refinement issue: the spacing file
+ * (2 km at the coast), the full-resolution coastline and rivers (17 input
+ * vertices per 2-km edge, metre-long segments, rivers crossing each other
+ * and the coast), about 800 k cells. No edge anywhere is shorter than h/2
+ * (features below the spacing are left out, not followed); the sides are
+ * ocean and land. */
+static void midatlantic_full_resolution(void **state) {
+    um_context *ctx = *state;
+    um_context_set_threads(ctx, 0);
+    um_spacing *h = NULL;
+    um_features *f = NULL;
+    assert_int_equal(um_spacing_create_from_file(ctx, UNIMESH_DATA_DIR "/midatlantic_cellwidth.nc", &h), UM_OK);
+    assert_int_equal(um_features_create(ctx, &f), UM_OK);
+    assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_midatlantic_f.geojson", NULL, 0), UM_OK);
+    assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/rivers_midatlantic_f.geojson", NULL, 0), UM_OK);
+    um_mesh *m = NULL;
+    assert_int_equal(um_mesh_refine(ctx, h, f, NULL, &m), UM_OK);
+    mesh_copy c = copy_out(m);
+    assert_int_equal(c.nt, 2 * c.nv - 4);
+    assert_true(c.nr > 1000);
+    /* h at every edge midpoint (lon/lat of the normalised chord midpoint) */
+    const int64_t ne = 3 * c.nt;
+    double *mlon = malloc(ne * sizeof(double)), *mlat = malloc(ne * sizeof(double)), *km = malloc(ne * sizeof(double));
+    double *len = malloc(ne * sizeof(double));
+    for (int64_t e = 0; e < ne; ++e) {
+        const int32_t a = c.tri[e], b = c.tri[e - e % 3 + (e % 3 + 1) % 3];
+        const double la = c.lat[a] * DEG, lb = c.lat[b] * DEG, oa = c.lon[a] * DEG, ob = c.lon[b] * DEG;
+        const double x = cos(la) * cos(oa) + cos(lb) * cos(ob), y = cos(la) * sin(oa) + cos(lb) * sin(ob),
+                     z = sin(la) + sin(lb);
+        mlon[e] = atan2(y, x) / DEG, mlat[e] = atan2(z, sqrt(x * x + y * y)) / DEG;
+        len[e] = arc(c.lon[a], c.lat[a], c.lon[b], c.lat[b]) * kRadiusKm;
+    }
+    assert_int_equal(um_spacing_evaluate(h, ne, mlon, mlat, km), UM_OK);
+    double shortest = 1e300;
+    for (int64_t e = 0; e < ne; ++e) shortest = fmin(shortest, len[e] / km[e]);
+    assert_true(shortest > 0.5);
+    /* restricted edges: shorter than alpha h at their midpoint */
+    int64_t too_long = 0;
+    double worst = 0;
+    for (int64_t i = 0; i < c.nr; ++i) {
+        const int32_t a = c.redges[2 * i], b = c.redges[2 * i + 1];
+        const double la = c.lat[a] * DEG, lb = c.lat[b] * DEG, oa = c.lon[a] * DEG, ob = c.lon[b] * DEG;
+        const double x = cos(la) * cos(oa) + cos(lb) * cos(ob), y = cos(la) * sin(oa) + cos(lb) * sin(ob),
+                     z = sin(la) + sin(lb);
+        /* h along the edge: at both ends and the middle (the refinement
+         * reads it at the crossing with the feature, somewhere on the dual) */
+        double qlon[3] = {c.lon[a], c.lon[b], atan2(y, x) / DEG}, qlat[3] = {c.lat[a], c.lat[b], atan2(z, sqrt(x * x + y * y)) / DEG};
+        double hq[3];
+        assert_int_equal(um_spacing_evaluate(h, 3, qlon, qlat, hq), UM_OK);
+        const double ratio = arc(c.lon[a], c.lat[a], c.lon[b], c.lat[b]) * kRadiusKm / fmax(hq[0], fmax(hq[1], hq[2]));
+        worst = fmax(worst, ratio);
+        too_long += ratio >= 4.0 / 3.0;
+    }
+    /* The boundary pass leaves every restricted edge shorter than alpha h;
+     * the surface pass after it changes some dual edges, so the final Tri|Gamma
+     * holds a few (1.5 % here, up to 1.5 h) that are longer: a known gap of
+     * the refinement, guarded here from getting worse. */
+    print_message("Mid-Atlantic: %lld cells, %lld restricted edges, %lld filtered, %lld longer than alpha h "
+                  "(worst %.3f h)\n", (long long)c.nv, (long long)c.nr, (long long)c.nf, (long long)too_long, worst);
+    assert_true(worst < 1.6);
+    assert_true(too_long < c.nr / 50);
+    int64_t land = 0, ocean = 0;
+    for (int64_t i = 0; i < c.nv; ++i) land += c.vsides[i] == UM_SIDE_LAND, ocean += c.vsides[i] == UM_SIDE_OCEAN;
+    assert_true(land > 0 && ocean > 0);
+    free(mlon), free(mlat), free(km), free(len);
+    free_copy(&c);
+    um_mesh_destroy(m);
+    um_features_destroy(f);
+    um_spacing_destroy(h);
+}
+
 static void bad_input(void **state) {
     um_context *ctx = *state;
     um_spacing *h = NULL;
@@ -237,6 +308,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(uniform_sphere, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(same_mesh_for_any_thread_count, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(global_coastline, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(midatlantic_full_resolution, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(bad_input, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(spacing_callback_failure_names_the_point, setup_context,
                                         teardown_context),
