@@ -10,6 +10,7 @@
 #include <netcdf.h>
 
 #include "core/error.hpp"
+#include "io/netcdf_header.hpp"
 #include "io/netcdf_lock.hpp"
 
 namespace um::io {
@@ -45,6 +46,9 @@ public:
         std::error_code error;
         if (std::filesystem::is_directory(path, error))
             fail(UM_ERR_IO, "cannot open spacing file '", path, "': it is a directory");
+        // netCDF-C trusts a classic header's counts and name lengths.
+        const std::string problem = classic_header_problem(path);
+        if (!problem.empty()) format_error(path, "its netCDF header is malformed: ", problem);
         int status = nc_open(path.c_str(), NC_NOWRITE, &id_);
         // netCDF returns errno values (> 0) for system errors and its own
         // negative codes when the bytes are not a readable netCDF file.

@@ -210,6 +210,12 @@ static void files_and_limits(void **state) {
     const char *not_nc = write_file("matrix_not_netcdf.nc", "CDF\001 this is not netCDF");
     expect(x, "30 malformed netCDF", um_spacing_create_from_file(x->ctx, not_nc, &h), UM_ERR_IO, "matrix_not_netcdf.nc");
     expect(x, "31 missing file", um_spacing_create_from_file(x->ctx, "/no/such/file.nc", &h), UM_ERR_IO, "/no/such");
+    expect(x, "31a netCDF header with impossible counts (fuzzing)",
+           um_spacing_create_from_file(x->ctx, UNIMESH_TEST_DATA_DIR "/netcdf_huge_counts.nc", &h), UM_ERR_IO,
+           "malformed");
+    expect(x, "31b netCDF header with an over-long name (fuzzing)",
+           um_spacing_create_from_file(x->ctx, UNIMESH_TEST_DATA_DIR "/netcdf_long_name.nc", &h), UM_ERR_IO,
+           "name of 1536 bytes");
     assert_null(h);
     assert_int_equal(um_context_set_memory_cap(x->ctx, 64 << 20), UM_OK);
     assert_int_equal(um_spacing_create_constant(x->ctx, 2.0, &h), UM_OK);

@@ -1,0 +1,127 @@
+#include "io/netcdf_header.hpp"
+
+#include <netcdf.h>
+
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+#include "core/text.hpp"
+
+namespace um::io {
+
+namespace {
+
+// Reads big-endian fields of a classic header, remembering the first problem.
+class HeaderReader {
+public:
+    HeaderReader(std::vector<unsigned char> bytes, int version)
+        : b_(std::move(bytes)), wide_(version == 5 ? 8 : 4), offset_(version == 1 ? 4 : 8) {}
+
+    bool failed() const { return !problem_.empty(); }
+    const std::string &problem() const { return problem_; }
+
+    uint64_t number(int width) {
+        if (failed()) return 0;
+        if (at_ + uint64_t(width) > b_.size()) return fail_at("the header ends early"), 0;
+        uint64_t v = 0;
+        for (int i = 0; i < width; ++i) v = v << 8 | b_[at_ + i];
+        at_ += uint64_t(width);
+        return v;
+    }
+    uint64_t count() { return number(wide_); }
+    // A count of items of at least min_bytes each that the rest must hold.
+    uint64_t items(uint64_t min_bytes, const char *what) {
+        const uint64_t n = count();
+        if (!failed() && n > (b_.size() - at_) / min_bytes) fail_at(concat(n, " ", what, " cannot fit in the file"));
+        return failed() ? 0 : n;
+    }
+    void name() {
+        const uint64_t n = count();
+        if (failed()) return;
+        if (n > NC_MAX_NAME) return fail_at(concat("a name of ", n, " bytes (at most ", NC_MAX_NAME, ")"));
+        skip(pad4(n));
+    }
+    void skip(uint64_t n) {
+        if (failed()) return;
+        if (n > b_.size() - at_) return fail_at("the header ends early");
+        at_ += n;
+    }
+    // An absent list is two zero words; a present one has its tag.
+    uint64_t list(uint32_t tag, uint64_t min_item, const char *what) {
+        const uint64_t t = number(4);
+        const uint64_t n = items(min_item, what);
+        if (!failed() && t != tag && !(t == 0 && n == 0)) fail_at(concat("a list tag ", t, " where ", tag, " belongs"));
+        return n;
+    }
+    void attributes() {
+        const uint64_t n = list(NC_ATTRIBUTE_TAG, 12, "attributes");
+        for (uint64_t a = 0; a < n && !failed(); ++a) {
+            name();
+            const uint64_t type = number(4);
+            const int size = type_size(type);
+            if (size == 0 && !failed()) return fail_at(concat("an attribute of type ", type));
+            const uint64_t values = items(uint64_t(size), "attribute values");
+            skip(pad4(values * uint64_t(size)));
+        }
+    }
+    void header() {
+        skip(4);  // magic
+        number(wide_);  // numrecs
+        const uint64_t ndims = list(NC_DIMENSION_TAG, 8, "dimensions");
+        for (uint64_t d = 0; d < ndims && !failed(); ++d) name(), count();
+        attributes();
+        const uint64_t nvars = list(NC_VARIABLE_TAG, 16, "variables");
+        for (uint64_t v = 0; v < nvars && !failed(); ++v) {
+            name();
+            const uint64_t rank = items(uint64_t(wide_), "dimension ids");
+            for (uint64_t k = 0; k < rank && !failed(); ++k)
+                if (count() >= ndims && !failed()) fail_at("a variable on a dimension that does not exist");
+            attributes();
+            if (type_size(number(4)) == 0 && !failed()) fail_at("a variable of an unknown type");
+            count();             // vsize
+            number(offset_);     // begin
+        }
+    }
+
+private:
+    static constexpr uint32_t NC_DIMENSION_TAG = 0x0A, NC_VARIABLE_TAG = 0x0B, NC_ATTRIBUTE_TAG = 0x0C;
+    static uint64_t pad4(uint64_t n) { return (n + 3) / 4 * 4; }
+    static int type_size(uint64_t type) {
+        switch (type) {
+            case NC_BYTE: case NC_CHAR: case NC_UBYTE: return 1;
+            case NC_SHORT: case NC_USHORT: return 2;
+            case NC_INT: case NC_FLOAT: case NC_UINT: return 4;
+            case NC_DOUBLE: case NC_INT64: case NC_UINT64: return 8;
+            default: return 0;
+        }
+    }
+    void fail_at(const std::string &what) {
+        if (problem_.empty()) problem_ = concat(what, " (header byte ", at_, ")");
+    }
+
+    std::vector<unsigned char> b_;
+    int wide_, offset_;
+    uint64_t at_ = 0;
+    std::string problem_;
+};
+
+}  // namespace
+
+std::string classic_header_problem(const std::string &path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return "";  // netCDF's own open reports it
+    char magic[4] = {0, 0, 0, 0};
+    in.read(magic, 4);
+    if (!in || magic[0] != 'C' || magic[1] != 'D' || magic[2] != 'F' ||
+        (magic[3] != 1 && magic[3] != 2 && magic[3] != 5))
+        return "";
+    in.seekg(0);
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    HeaderReader reader(std::move(bytes), magic[3]);
+    reader.header();
+    return reader.problem();
+}
+
+}  // namespace um::io

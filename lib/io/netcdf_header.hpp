@@ -1,0 +1,19 @@
+// A check of a netCDF classic-format header (CDF-1, CDF-2, CDF-5) before
+// netCDF-C opens the file. netCDF-C trusts the counts and name lengths a
+// header declares: a corrupt file can make it allocate what the header
+// claims (15 GB seen) or copy an over-long name past the NC_MAX_NAME buffer
+// its API promises (both found by fuzzing the spacing-file reader). This
+// walks the header as the format specification lays it out and refuses any
+// count that the file's remaining bytes cannot hold and any name longer
+// than NC_MAX_NAME.
+#pragma once
+
+#include <string>
+
+namespace um::io {
+
+// "" when path is not a classic-format file (HDF5-based netCDF-4 is left to
+// netCDF) or its header is sound; otherwise what is wrong and where.
+std::string classic_header_problem(const std::string &path);
+
+}  // namespace um::io
