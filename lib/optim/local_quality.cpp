@@ -56,9 +56,23 @@ double shape_score(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
     return binds ? kObtuseOffset + d / std::sqrt(p) : q;
 }
 
-double primal_dual(const Generator &a, const Generator &b, const Generator &c) {
+namespace {
+
+// The orthocentre's direction (not normalised) of the triangle.
+inline Vec3 orthocentre_raw(const Generator &a, const Generator &b, const Generator &c) {
+    return geom::cross(b.lifted() - a.lifted(), c.lifted() - a.lifted());
+}
+
+inline bool inside(const Generator &a, const Generator &b, const Generator &c, const Vec3 &ortho) {
+    return geom::dot(geom::cross(a.x, b.x), ortho) >= 0 && geom::dot(geom::cross(b.x, c.x), ortho) >= 0 &&
+           geom::dot(geom::cross(c.x, a.x), ortho) >= 0;
+}
+
+// Q^P from the orthocentre's direction, so that a caller needing both it
+// and the inside test computes it once.
+double primal_dual_from(const Generator &a, const Generator &b, const Generator &c, const Vec3 &ortho_raw) {
     const double lab = norm2(a.x - b.x), lbc = norm2(b.x - c.x), lca = norm2(c.x - a.x);
-    const Vec3 ortho = geom::normalized(geom::cross(b.lifted() - a.lifted(), c.lifted() - a.lifted()));
+    const Vec3 ortho = geom::normalized(ortho_raw);
     const Vec3 centroid = geom::normalized(a.x + b.x + c.x);
     const double l_mean = (std::sqrt(lab) + std::sqrt(lbc) + std::sqrt(lca)) / 3;
     const double face = 1 - norm2(ortho - centroid) / (l_mean * l_mean);
@@ -66,14 +80,17 @@ double primal_dual(const Generator &a, const Generator &b, const Generator &c) {
     return kBetaFace * face + kBetaEdge * edges / 3;
 }
 
-bool contains_orthocentre(const Generator &a, const Generator &b, const Generator &c) {
-    const Vec3 ortho = geom::cross(b.lifted() - a.lifted(), c.lifted() - a.lifted());
-    return geom::dot(geom::cross(a.x, b.x), ortho) >= 0 && geom::dot(geom::cross(b.x, c.x), ortho) >= 0 &&
-           geom::dot(geom::cross(c.x, a.x), ortho) >= 0;
+}  // namespace
+
+double primal_dual(const Generator &a, const Generator &b, const Generator &c) {
+    return primal_dual_from(a, b, c, orthocentre_raw(a, b, c));
 }
 
-double staggering_score(const Generator &a, const Generator &b, const Generator &c) {
-    return primal_dual(a, b, c) - (contains_orthocentre(a, b, c) ? 0.0 : kOutsidePenalty);
+double staggering_score(const Generator &a, const Generator &b, const Generator &c, double *primal_dual_out) {
+    const Vec3 ortho = orthocentre_raw(a, b, c);
+    const double q = primal_dual_from(a, b, c, ortho);
+    if (primal_dual_out) *primal_dual_out = q;
+    return q - (inside(a, b, c, ortho) ? 0.0 : kOutsidePenalty);
 }
 
 TriangleCost triangle_cost(const Generator &a, const Generator &b, const Generator &c) {

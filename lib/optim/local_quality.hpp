@@ -44,10 +44,10 @@ double shape_score(const Vec3 &a, const Vec3 &b, const Vec3 &c);
 // them well-centred; Q^P alone can rank such a triangle above a
 // well-centred one).
 constexpr double kOutsidePenalty = 1.0;
-double staggering_score(const Generator &a, const Generator &b, const Generator &c);
-// Whether the triangle holds its orthocentre (floating point: a decision
-// of the optimiser's, not of the triangulation's structure).
-bool contains_orthocentre(const Generator &a, const Generator &b, const Generator &c);
+// primal_dual_out (may be null) receives the plain Q^P.
+double staggering_score(const Generator &a, const Generator &b, const Generator &c,
+                        double *primal_dual_out = nullptr);
+
 
 // dQ^P / dw_a: the derivative of the triangle's Q^P in the weight of its
 // first vertex (analytic; eq. 5's ascent direction), with Q^P itself.

@@ -302,8 +302,8 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
     int worst_k = 0;
     for (int k = 0; k < m; ++k) {
         const Generator &a = gen_[link[k]], &b = gen_[link[(k + 1) % m]];
-        const double qp = primal_dual(here, a, b);
-        const double q = qp - (contains_orthocentre(here, a, b) ? 0.0 : kOutsidePenalty);
+        double qp = 0;
+        const double q = staggering_score(here, a, b, &qp);
         if (q < before.worst) before.worst = q, worst_k = k, worst_qp = qp;
         sum += q, sum_qp += qp;
     }
