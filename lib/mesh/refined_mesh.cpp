@@ -120,12 +120,16 @@ geom::ArcTree gamma_arcs(const features::Network *gamma) {
     return geom::ArcTree(std::move(list));
 }
 
-// What every stage hands on: no degenerate dual edge, compact slots, vertex
-// numbers, and Tri|Gamma with the sides for the triangulation as it is now.
+// What every stage hands on: no degenerate dual edge, compact slots in
+// Hilbert order (tri::Triangulation::reorder_spatially), vertex numbers,
+// and Tri|Gamma with the sides for the triangulation as it is now.
 void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
     separate_degenerate_dual_edges(ctx, m.tri);
-    m.tri.compact();
     m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
+    const std::vector<int32_t> old_slot = m.tri.reorder_spatially(ctx);
+    std::vector<int32_t> on_segment(old_slot.size());
+    for (size_t v = 0; v < old_slot.size(); ++v) on_segment[v] = m.on_segment[old_slot[v]];
+    m.on_segment.swap(on_segment);
     number_vertices(m);
     if (arcs.size() > 0) {
         m.restricted = refine::restricted_edges(ctx, m.tri, arcs);

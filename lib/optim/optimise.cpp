@@ -40,6 +40,36 @@ struct LocalQuality {
     double mean = 0;
 };
 
+// The generators of a star's link, gathered once per vertex update: a line
+// search scores the same star up to a dozen times, and reading the link
+// through the graph each time costs more than the scores themselves.
+struct Ring {
+    static constexpr int kMax = 64;  // a larger degree is never updated (improve_valence splits it)
+    int m = 0;
+    Generator g[kMax];
+    const Generator &at(int k) const { return g[k]; }
+    const Generator &after(int k) const { return g[k + 1 == m ? 0 : k + 1]; }
+};
+
+// Worst and mean score of the star of a vertex at `centre` with link
+// `ring`: the shape score for moves, the staggering score for weights.
+// Stops (mean unset) as soon as a triangle scores below `floor`: such a
+// star cannot be BETTER than one whose worst is `floor`.
+template <bool kShape>
+LocalQuality ring_quality(const Ring &ring, const Generator &centre, double floor) {
+    LocalQuality q;
+    double sum = 0;
+    for (int k = 0; k < ring.m; ++k) {
+        const Generator &a = ring.at(k), &b = ring.after(k);
+        const double score = kShape ? shape_score(centre.x, a.x, b.x) : staggering_score(centre, a, b);
+        q.worst = std::min(q.worst, score);
+        if (q.worst < floor) return q;
+        sum += score;
+    }
+    q.mean = sum / ring.m;
+    return q;
+}
+
 // BETTER of Algorithm 1: the worst local quality improves, or stays and the
 // mean improves, each by more than the tolerance.
 bool better(const LocalQuality &now, const LocalQuality &before, double tolerance) {
@@ -69,10 +99,8 @@ private:
     bool update_position(const StarGraph &g, int32_t v);
     bool update_weight(const StarGraph &g, int32_t v);
     bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
-    // With a floor, stops (mean unset) as soon as a triangle scores below it.
-    LocalQuality star_quality(const StarGraph &g, int32_t v, const Generator &at, bool shape,
-                              double floor = -kInfinity) const;
-    bool star_is_valid(const StarGraph &g, int32_t v, const Generator &at) const;
+    // False when v's degree is beyond Ring::kMax.
+    bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
     Vec3 odt_target(const StarGraph &g, int32_t v) const;
     Vec3 link_centre(const StarGraph &g, int32_t v) const;
 
@@ -179,34 +207,21 @@ bool Optimiser::nothing_changed_since(const StarGraph &g, int32_t v, int32_t tri
     return true;
 }
 
-// The star's worst and mean score: the shape score for moves, the
-// staggering score for weights.
-LocalQuality Optimiser::star_quality(const StarGraph &g, int32_t v, const Generator &at, bool shape,
-                                     double floor) const {
+bool Optimiser::gather_ring(const StarGraph &g, int32_t v, Ring &ring) const {
+    ring.m = g.degree(v);
+    if (ring.m > Ring::kMax) return false;
     const int32_t *link = g.link(v);
-    const int m = g.degree(v);
-    LocalQuality q;
-    double sum = 0;
-    for (int k = 0; k < m; ++k) {
-        const Generator &a = gen_[link[k]], &b = gen_[link[(k + 1) % m]];
-        const double score = shape ? shape_score(at.x, a.x, b.x) : staggering_score(at, a, b);
-        q.worst = std::min(q.worst, score);
-        if (q.worst < floor) return q;  // cannot be BETTER than a star whose worst is floor
-        sum += score;
-    }
-    q.mean = sum / m;
-    return q;
+    for (int k = 0; k < ring.m; ++k) ring.g[k] = gen_[link[k]];
+    return true;
 }
 
 // The star stays a valid piece of triangulated sphere (every triangle
 // counter-clockwise, exactly) and every spoke's crossing with its dual edge
 // stays inside it.
-bool Optimiser::star_is_valid(const StarGraph &g, int32_t v, const Generator &at) const {
-    const int32_t *link = g.link(v);
-    const int m = g.degree(v);
+bool star_is_valid(const Ring &ring, const Generator &at) {
     const Vec3 q = at.lifted();
-    for (int k = 0; k < m; ++k) {
-        const Generator &a = gen_[link[k]], &b = gen_[link[(k + 1) % m]];
+    for (int k = 0; k < ring.m; ++k) {
+        const Generator &a = ring.at(k), &b = ring.after(k);
         if (geom::orient_origin(q.data(), a.lifted().data(), b.lifted().data()) <= 0) return false;
         const double share = edge_crossing_share(at, a);
         if (!(share > kCrossingMargin && share < 1 - kCrossingMargin)) return false;
@@ -241,8 +256,10 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
     const bool on_gamma = on_segment_[v] >= 0;
     if (g.degree(v) < 3 || (on_gamma && (o_.fix_boundary || !gamma_))) return false;
     if (nothing_changed_since(g, v, move_failed_at_[v])) return false;
+    Ring ring;
+    if (!gather_ring(g, v, ring)) return false;
     const Generator here = gen_[v];
-    const LocalQuality before = star_quality(g, v, here, true);
+    const LocalQuality before = ring_quality<true>(ring, here, -kInfinity);
     // Tries the move to x (slid onto Gamma when v is on it); true if taken.
     auto try_move = [&](const Vec3 &x) {
         Generator moved = here;
@@ -253,8 +270,8 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
             moved.x = p.x, segment = p.segment;
         }
         // The cheaper test first: most trials fail on quality.
-        if (!better(star_quality(g, v, moved, true, before.worst), before, gain_)) return false;
-        if (!star_is_valid(g, v, moved)) return false;
+        if (!better(ring_quality<true>(ring, moved, before.worst), before, gain_)) return false;
+        if (!star_is_valid(ring, moved)) return false;
         gen_[v] = moved;
         on_segment_[v] = static_cast<int32_t>(segment);
         h_at_[v] = h_(moved.x);
@@ -292,8 +309,9 @@ Vec3 Optimiser::link_centre(const StarGraph &g, int32_t v) const {
 bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
     if (g.degree(v) < 3) return false;
     if (nothing_changed_since(g, v, weight_failed_at_[v])) return false;
-    const int32_t *link = g.link(v);
-    const int m = g.degree(v);
+    Ring ring;
+    if (!gather_ring(g, v, ring)) return false;
+    const int m = ring.m;
     const Generator here = gen_[v];
     // The worst triangle by the staggering score; the step from plain Q^P
     // (eq. 6 aims the worst Q^P at the star's mean Q^P).
@@ -301,7 +319,7 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
     double sum = 0, sum_qp = 0, worst_qp = 0;
     int worst_k = 0;
     for (int k = 0; k < m; ++k) {
-        const Generator &a = gen_[link[k]], &b = gen_[link[(k + 1) % m]];
+        const Generator &a = ring.at(k), &b = ring.after(k);
         double qp = 0;
         const double q = staggering_score(here, a, b, &qp);
         if (q < before.worst) before.worst = q, worst_k = k, worst_qp = qp;
@@ -309,7 +327,7 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
     }
     before.mean = sum / m;
     const double slope =
-        primal_dual_weight_derivative(here, gen_[link[worst_k]], gen_[link[(worst_k + 1) % m]]);
+        primal_dual_weight_derivative(here, ring.at(worst_k), ring.after(worst_k));
     const double gain = sum_qp / m - worst_qp;
     if (slope != 0 && gain > 0) {
         const double w = 2.0 * (1.0 - 1.0 / here.s);
@@ -318,9 +336,9 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
             Generator weighted = here;
             weighted.s = tri::lifted_scale(w + dw);
             if (!(weighted.s > 0) || !std::isfinite(weighted.s)) continue;
-            const LocalQuality now = star_quality(g, v, weighted, false, before.worst + gain_);
+            const LocalQuality now = ring_quality<false>(ring, weighted, before.worst + gain_);
             if (!(now.worst > before.worst + gain_)) continue;
-            if (!star_is_valid(g, v, weighted)) continue;
+            if (!star_is_valid(ring, weighted)) continue;
             gen_[v] = weighted;
             changed_at_[v] = clock_;
             return true;

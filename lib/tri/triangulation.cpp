@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "core/error.hpp"
 #include "geom/predicates.hpp"
@@ -139,6 +140,53 @@ void Triangulation::compact() {
     // mesh handed on (and copied, by the optimisation) keeps only its size.
     tris_.shrink_to_fit(), mark_.shrink_to_fit(), free_.shrink_to_fit();
     q_.shrink_to_fit(), id_.shrink_to_fit(), vertex_tri_.shrink_to_fit();
+}
+
+std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
+    compact();
+    const int32_t n = vertex_slots();
+    // Hilbert key above the slot: unique, so the order is the same for any
+    // sort; slots outside the triangulation get a key past every curve index.
+    constexpr uint64_t kPastCurve = uint64_t(1) << 31;
+    std::vector<uint64_t> keys(static_cast<size_t>(n));
+    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v) {
+            const uint64_t key = vertex_tri_[v] >= 0 ? hilbert_key(q_[v]) : kPastCurve;
+            keys[v] = key << 32 | static_cast<uint64_t>(v);
+        }
+    });
+    std::sort(keys.begin(), keys.end());
+    std::vector<int32_t> old_of_new(static_cast<size_t>(n)), new_of_old(static_cast<size_t>(n));
+    for (int32_t i = 0; i < n; ++i) {
+        old_of_new[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
+        new_of_old[old_of_new[i]] = i;
+    }
+    std::vector<uint64_t>().swap(keys);
+    auto permuted = [&](auto &values) {
+        std::remove_reference_t<decltype(values)> out(values.size());
+        for (int32_t i = 0; i < n; ++i) out[i] = values[old_of_new[i]];
+        values.swap(out);
+    };
+    permuted(q_), permuted(id_), permuted(vertex_tri_);
+
+    // Triangles by smallest new vertex (a stable counting sort).
+    const int32_t nt = triangle_slots();
+    std::vector<int32_t> first(static_cast<size_t>(n) + 1, 0), new_tri(static_cast<size_t>(nt));
+    auto smallest = [&](const Tri &t) {
+        return std::min({new_of_old[t.v[0]], new_of_old[t.v[1]], new_of_old[t.v[2]]});
+    };
+    for (const Tri &t : tris_) ++first[smallest(t) + 1];
+    for (int32_t i = 0; i < n; ++i) first[i + 1] += first[i];
+    for (int32_t t = 0; t < nt; ++t) new_tri[t] = first[smallest(tris_[t])]++;
+    std::vector<Tri> out(tris_.size());
+    for (int32_t t = 0; t < nt; ++t) {
+        Tri &o = out[new_tri[t]];
+        for (int k = 0; k < 3; ++k) o.v[k] = new_of_old[tris_[t].v[k]], o.n[k] = new_tri[tris_[t].n[k]];
+    }
+    tris_.swap(out);
+    for (int32_t &t : vertex_tri_)
+        if (t >= 0) t = new_tri[t];
+    return old_of_new;
 }
 
 // Drops the virtual octahedron and the free triangle slots.

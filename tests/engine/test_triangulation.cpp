@@ -193,6 +193,58 @@ void insertion_order_does_not_change_the_triangles(void **) {
     assert_true(a == b);
 }
 
+// Renumbering along the Hilbert curve keeps the triangulation (same
+// triangles by input id, every vertex where it was), puts hidden slots last,
+// sorts triangles by their smallest vertex, and brings the vertices of an
+// edge closer in memory than the insertion order did.
+void spatial_reordering_keeps_the_triangulation(void **) {
+    auto pts = test::random_points(20000, 29);
+    std::vector<double> w(pts.size(), 0.0);
+    for (size_t i = 0; i < 20; ++i) w[i * 11] = -0.5;  // hidden
+    tri::Triangulation t = build(pts, &w);
+    // Shuffle the slots first (by removing and re-inserting), so the test
+    // does not start from an order that is already spatial.
+    std::mt19937_64 rng(5);
+    for (int i = 0; i < 3000; ++i) {
+        int32_t v = static_cast<int32_t>(rng() % static_cast<uint64_t>(t.vertex_slots()));
+        if (!t.in_triangulation(v)) continue;
+        const Vec3 x = t.direction(v);
+        const int32_t id = t.id(v);
+        t.remove(v);
+        t.insert(x, 0.0, id + 1000000);
+    }
+    t.compact();
+    auto mean_edge_gap = [](const tri::Triangulation &m) {
+        double sum = 0;
+        for (int32_t f = 0; f < m.triangle_count(); ++f)
+            for (int k = 0; k < 3; ++k) sum += std::abs(m.vertex(f, k) - m.vertex(f, (k + 1) % 3));
+        return sum / (3.0 * m.triangle_count());
+    };
+    const auto before = triangle_set(t);
+    std::vector<Vec3> where(static_cast<size_t>(t.vertex_slots()));
+    for (int32_t v = 0; v < t.vertex_slots(); ++v) where[v] = t.lifted(v);
+    const double gap_before = mean_edge_gap(t);
+    Context ctx;
+    const std::vector<int32_t> old_slot = t.reorder_spatially(ctx);
+    expect_valid(t);
+    assert_true(triangle_set(t) == before);
+    assert_int_equal(static_cast<int64_t>(old_slot.size()), t.vertex_slots());
+    bool seen_outside = false;
+    for (int32_t v = 0; v < t.vertex_slots(); ++v) {
+        assert_memory_equal(t.lifted(v).data(), where[old_slot[v]].data(), sizeof(Vec3));
+        if (!t.in_triangulation(v)) seen_outside = true;
+        else assert_false(seen_outside);  // slots outside the triangulation come last
+    }
+    assert_true(seen_outside);
+    int32_t last = -1;
+    for (int32_t f = 0; f < t.triangle_count(); ++f) {
+        const int32_t lo = std::min({t.vertex(f, 0), t.vertex(f, 1), t.vertex(f, 2)});
+        assert_true(lo >= last);
+        last = lo;
+    }
+    assert_true(mean_edge_gap(t) < 0.1 * gap_before);
+}
+
 void power_cells_and_orthocentres(void **) {
     auto pts = test::random_points(3000, 29);
     tri::Triangulation t = build(pts);
@@ -348,6 +400,7 @@ int main() {
         cmocka_unit_test(same_result_for_any_thread_count),
         cmocka_unit_test(insertion_order_does_not_change_the_triangles),
         cmocka_unit_test(removal_with_links_on_one_great_circle),
+        cmocka_unit_test(spatial_reordering_keeps_the_triangulation),
         cmocka_unit_test(power_cells_and_orthocentres),
         cmocka_unit_test(weighted_edge_orthocentre_is_on_the_bisector),
         cmocka_unit_test(insert_remove_move_and_reweight),
