@@ -37,25 +37,6 @@ double area_length_ratio(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
     return 4 * std::sqrt(3.0) * area / (norm2(a - b) + norm2(b - c) + norm2(c - a));
 }
 
-double shape_score(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
-    const Vec3 ab = b - a, bc = c - b, ca = a - c;
-    const double lab = norm2(ab), lbc = norm2(bc), lca = norm2(ca);
-    // The chord triangle's area signed against a (unit): off by O(l^2)
-    // relative, far below what separates two trial positions.
-    const double area = 0.5 * geom::dot(geom::cross(ab, c - a), a);
-    const double q = 4 * std::sqrt(3.0) * area / (lab + lbc + lca);
-    // The largest angle is opposite the longest edge: cos = d / sqrt(p).
-    double d, p;
-    if (lab >= lbc && lab >= lca) d = -geom::dot(bc, ca), p = lbc * lca;
-    else if (lbc >= lca) d = -geom::dot(ca, ab), p = lca * lab;
-    else d = -geom::dot(ab, bc), p = lab * lbc;
-    // The cap binds only when kObtuseOffset + d / sqrt(p) < q; tell without
-    // the square root first (most triangles are well clear of it).
-    const double t = q - kObtuseOffset;
-    const bool binds = t > 0 ? (d < 0 || d * d < t * t * p) : (d < 0 && d * d > t * t * p);
-    return binds ? kObtuseOffset + d / std::sqrt(p) : q;
-}
-
 namespace {
 
 // The orthocentre's direction (not normalised) of the triangle.

@@ -5,6 +5,8 @@
 // relative (1e-5 at 30 km), and chords need no atan2 in the hot loop.
 #pragma once
 
+#include <cmath>
+
 #include "geom/sphere.hpp"
 
 namespace um::optim {
@@ -36,7 +38,25 @@ double primal_dual(const Generator &a, const Generator &b, const Generator &c);
 // by its angle (Q^T barely tells 85 from 95 degrees; MPAS needs acute
 // triangles), while for acute ones it is Q^T alone.
 constexpr double kObtuseOffset = 0.8;
-double shape_score(const Vec3 &a, const Vec3 &b, const Vec3 &c);
+// Inline: the line searches call it for every triangle of every trial.
+inline double shape_score(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+    const Vec3 ab = b - a, bc = c - b, ca = a - c;
+    const double lab = geom::dot(ab, ab), lbc = geom::dot(bc, bc), lca = geom::dot(ca, ca);
+    // The chord triangle's area signed against a (unit): off by O(l^2)
+    // relative, far below what separates two trial positions.
+    const double area = 0.5 * geom::dot(geom::cross(ab, c - a), a);
+    const double q = 4 * std::sqrt(3.0) * area / (lab + lbc + lca);
+    // The largest angle is opposite the longest edge: cos = d / sqrt(p).
+    double d, p;
+    if (lab >= lbc && lab >= lca) d = -geom::dot(bc, ca), p = lbc * lca;
+    else if (lbc >= lca) d = -geom::dot(ca, ab), p = lca * lab;
+    else d = -geom::dot(ab, bc), p = lab * lbc;
+    // The cap binds only when kObtuseOffset + d / sqrt(p) < q; tell without
+    // the square root first (most triangles are well clear of it).
+    const double t = q - kObtuseOffset;
+    const bool binds = t > 0 ? (d < 0 || d * d < t * t * p) : (d < 0 && d * d > t * t * p);
+    return binds ? kObtuseOffset + d / std::sqrt(p) : q;
+}
 
 // The score a weight update improves: Q^P, less kOutsidePenalty when the
 // triangle does not contain its orthocentre, so that the worst triangle of

@@ -34,10 +34,22 @@ constexpr double kCrossingMargin = 0.05;
 // tolerances: smaller gains cost a sweep each and change no summary.
 constexpr double kGainOverTolerance = 10;
 
-// Worst and mean of a star's triangle scores.
+// Once an outer iteration of the shape phase moves fewer than kPolishAfter
+// vertices per vertex, the stars whose worst shape score is within
+// kPoorMargin of the mesh's worst (and below kPoorStar) get serial rounds of
+// sweeps with a compass search (polish_poor_stars): the two targets leave a
+// few stars poor, and the mesh's worst triangle is among them.
+constexpr double kPoorStar = 0.95;
+constexpr double kPoorMargin = 0.05;
+constexpr double kPolishAfter = 0.5;
+constexpr int kPolishRounds = 4;
+
+// Worst and mean of a star's triangle scores, and which triangle (k: the
+// one between link vertices k and k + 1) is the worst.
 struct LocalQuality {
     double worst = std::numeric_limits<double>::infinity();
     double mean = 0;
+    int worst_k = 0;
 };
 
 // The generators of a star's link, gathered once per vertex update: a line
@@ -54,18 +66,21 @@ struct Ring {
 // Worst and mean score of the star of a vertex at `centre` with link
 // `ring`: the shape score for moves, the staggering score for weights.
 // Stops (mean unset) as soon as a triangle scores below `floor`: such a
-// star cannot be BETTER than one whose worst is `floor`.
+// star cannot be BETTER than one whose worst is `floor`. The triangle at
+// `first` is scored first (a trial's old worst is the likeliest to fail);
+// the mean is summed in link order all the same.
 template <bool kShape>
-LocalQuality ring_quality(const Ring &ring, const Generator &centre, double floor) {
+LocalQuality ring_quality(const Ring &ring, const Generator &centre, double floor, int first = 0) {
     LocalQuality q;
-    double sum = 0;
-    for (int k = 0; k < ring.m; ++k) {
+    double score[Ring::kMax];
+    for (int i = 0, k = first; i < ring.m; ++i, k = k + 1 == ring.m ? 0 : k + 1) {
         const Generator &a = ring.at(k), &b = ring.after(k);
-        const double score = kShape ? shape_score(centre.x, a.x, b.x) : staggering_score(centre, a, b);
-        q.worst = std::min(q.worst, score);
+        score[k] = kShape ? shape_score(centre.x, a.x, b.x) : staggering_score(centre, a, b);
+        if (score[k] < q.worst) q.worst = score[k], q.worst_k = k;
         if (q.worst < floor) return q;
-        sum += score;
     }
+    double sum = 0;
+    for (int k = 0; k < ring.m; ++k) sum += score[k];
     q.mean = sum / ring.m;
     return q;
 }
@@ -95,10 +110,13 @@ private:
 
     // Sweeps ---------------------------------------------------------------
     enum class Sweep { moves, weights };
-    int64_t sweep(const StarGraph &g, Sweep kind, bool forward);
+    // Over every vertex, or only over those flagged in *only.
+    int64_t sweep(const StarGraph &g, Sweep kind, bool forward,
+                  const std::vector<uint8_t> *only = nullptr);
     bool update_position(const StarGraph &g, int32_t v);
     bool update_weight(const StarGraph &g, int32_t v);
     bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
+    int64_t polish_poor_stars(const StarGraph &g);
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
     Vec3 odt_target(const StarGraph &g, int32_t v) const;
@@ -143,6 +161,7 @@ private:
     std::vector<int32_t> changed_at_, move_failed_at_, weight_failed_at_;
     int32_t clock_ = 1;
     int32_t next_id_ = 0;
+    double poor_star_ = -kInfinity;  // stars scoring below get the compass search
     OptimiseStats stats_;
 };
 
@@ -182,21 +201,57 @@ void Optimiser::store_generators() {
 
 // ------------------------------------------------------------------ sweeps
 
-int64_t Optimiser::sweep(const StarGraph &g, Sweep kind, bool forward) {
+int64_t Optimiser::sweep(const StarGraph &g, Sweep kind, bool forward,
+                         const std::vector<uint8_t> *only) {
     const auto &colours = g.colours();
     const int n_colours = static_cast<int>(colours.size());
     int64_t accepted = 0;
+    std::vector<int32_t> subset;
     for (int i = 0; i < n_colours; ++i) {
-        const std::vector<int32_t> &list = colours[forward ? i : n_colours - 1 - i];
-        std::vector<uint8_t> took(list.size(), 0);
-        ctx_.parallel_for(static_cast<int64_t>(list.size()), 256, [&](int64_t b, int64_t e) {
+        const std::vector<int32_t> *list = &colours[forward ? i : n_colours - 1 - i];
+        if (only) {
+            subset.clear();
+            for (int32_t v : *list)
+                if ((*only)[v]) subset.push_back(v);
+            list = &subset;
+        }
+        std::vector<uint8_t> took(list->size(), 0);
+        ctx_.parallel_for(static_cast<int64_t>(list->size()), 256, [&](int64_t b, int64_t e) {
             for (int64_t k = b; k < e; ++k)
-                took[k] = kind == Sweep::moves ? update_position(g, list[k]) : update_weight(g, list[k]);
+                took[k] = kind == Sweep::moves ? update_position(g, (*list)[k]) : update_weight(g, (*list)[k]);
         });
         for (uint8_t t : took) accepted += t;
         ++clock_;  // the next colour sees this one's changes as newer than its failures
     }
     return accepted;
+}
+
+int64_t Optimiser::polish_poor_stars(const StarGraph &g) {
+    std::vector<double> score(static_cast<size_t>(tri_.triangle_slots()), kInfinity);
+    ctx_.parallel_for(tri_.triangle_slots(), 4096, [&](int64_t b, int64_t e) {
+        for (int64_t t = b; t < e; ++t)
+            if (!tri_.is_free(static_cast<int32_t>(t)))
+                score[t] = shape_score(gen_[tri_.vertex(t, 0)].x, gen_[tri_.vertex(t, 1)].x,
+                                       gen_[tri_.vertex(t, 2)].x);
+    });
+    poor_star_ = std::min(kPoorStar, *std::min_element(score.begin(), score.end()) + kPoorMargin);
+    std::vector<uint8_t> poor(static_cast<size_t>(tri_.vertex_slots()), 0);
+    for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
+        if (score[t] < poor_star_)
+            for (int k = 0; k < 3; ++k) {
+                const int32_t v = tri_.vertex(t, k);
+                poor[v] = 1;
+                move_failed_at_[v] = 0;  // a new search: failures without it do not count
+            }
+    std::vector<double>().swap(score);
+    int64_t moved = 0;
+    for (int round = 0; round < kPolishRounds; ++round) {
+        const int64_t now = sweep(g, Sweep::moves, round % 2 == 0, &poor);
+        moved += now;
+        if (now == 0) break;
+    }
+    poor_star_ = -kInfinity;
+    return moved;
 }
 
 bool Optimiser::nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const {
@@ -270,7 +325,7 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
             moved.x = p.x, segment = p.segment;
         }
         // The cheaper test first: most trials fail on quality.
-        if (!better(ring_quality<true>(ring, moved, before.worst), before, gain_)) return false;
+        if (!better(ring_quality<true>(ring, moved, before.worst, before.worst_k), before, gain_)) return false;
         if (!star_is_valid(ring, moved)) return false;
         gen_[v] = moved;
         on_segment_[v] = static_cast<int32_t>(segment);
@@ -282,6 +337,20 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
         double step = 1;
         for (int m = 0; m <= kHalvings; ++m, step *= 0.5)
             if (try_move(geom::normalized((1 - step) * here.x + step * target))) return true;
+    }
+    if (!on_gamma && before.worst < poor_star_) {
+        // A poor star the two targets cannot mend (its worst triangle sits
+        // between vertex pairs of degree 5 and 7, where both targets pull
+        // the wrong way): a compass search in eight directions.
+        const Vec3 e1 = geom::normalized(geom::cross(here.x, std::fabs(here.x.z) < 0.9 ? Vec3{0, 0, 1} : Vec3{1, 0, 0}));
+        const Vec3 e2 = geom::cross(here.x, e1);
+        double step = 0.25 * h_at_[v];
+        for (int m = 0; m < 4; ++m, step *= 0.5)
+            for (int d = 0; d < 8; ++d) {
+                const double a = d * (M_PI / 4);
+                const Vec3 dir = std::cos(a) * e1 + std::sin(a) * e2;
+                if (try_move(geom::normalized(here.x + step * dir))) return true;
+            }
     }
     if (on_gamma) {
         // Along the feature both ways: the two targets above are projected
@@ -336,7 +405,7 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
             Generator weighted = here;
             weighted.s = tri::lifted_scale(w + dw);
             if (!(weighted.s > 0) || !std::isfinite(weighted.s)) continue;
-            const LocalQuality now = ring_quality<false>(ring, weighted, before.worst + gain_);
+            const LocalQuality now = ring_quality<false>(ring, weighted, before.worst + gain_, worst_k);
             if (!(now.worst > before.worst + gain_)) continue;
             if (!star_is_valid(ring, weighted)) continue;
             gen_[v] = weighted;
@@ -731,6 +800,12 @@ OptimiseStats Optimiser::run() {
             ctx_.log(UM_LOG_DEBUG, concat("optimise: inner sweep ", m + 1, ": ", moved, " moves, ",
                                           weighted, " weight updates"));
             if (moved + weighted == 0) break;
+        }
+        if (shape_phase && changes < kPolishAfter * static_cast<double>(tri_.vertex_count())) {
+            auto t0 = Clock::now();
+            const int64_t polished = polish_poor_stars(*graph);
+            stats_.moves += polished, changes += polished;
+            stats_.seconds_moves += seconds_since(t0);
         }
         auto t0 = Clock::now();
         store_generators();
