@@ -125,8 +125,6 @@ private:
     // Topology -------------------------------------------------------------
     int64_t restore_regularity(int32_t since);
     void mark_changed_links(const std::vector<uint64_t> &before, const std::vector<uint64_t> &after);
-    int64_t collapse_short_edges();
-    int64_t split_long_edges();
     int64_t improve_valence();
     int64_t flip_for_valence();
     bool relax_into_regularity(const int32_t (&quad)[4]);
@@ -137,6 +135,12 @@ private:
         int32_t a, b;
     };
     std::vector<EdgeRatio> edge_ratios(double below, double above) const;
+    // Collapses the edges of `edges` shorter than collapse_ratio h, then splits
+    // those longer than split_ratio h (`edges` holds both kinds; found again
+    // when a collapse changed the mesh).
+    std::pair<int64_t, int64_t> collapse_and_split();
+    int64_t collapse_short_edges(std::vector<EdgeRatio> edges);
+    int64_t split_long_edges(std::vector<EdgeRatio> edges);
     bool lock_neighbourhood(int32_t v, std::vector<uint8_t> &locked) const;
 
     // Stopping ---------------------------------------------------------------
@@ -505,9 +509,19 @@ bool Optimiser::lock_neighbourhood(int32_t v, std::vector<uint8_t> &locked) cons
 // Section 6.4: an edge much shorter than h loses a vertex (the one off Gamma,
 // or the later slot), the other moving to the edge's midpoint when it is free
 // to move. Shortest first, one change per neighbourhood per pass.
-int64_t Optimiser::collapse_short_edges() {
+std::pair<int64_t, int64_t> Optimiser::collapse_and_split() {
+    const double below = o_.collapse_ratio > 0 ? o_.collapse_ratio : -kInfinity;
+    std::vector<EdgeRatio> edges = edge_ratios(below, o_.split_ratio);
+    const int64_t collapsed = collapse_short_edges(edges);
+    if (collapsed > 0) edges = edge_ratios(-kInfinity, o_.split_ratio);
+    return {collapsed, split_long_edges(std::move(edges))};
+}
+
+int64_t Optimiser::collapse_short_edges(std::vector<Optimiser::EdgeRatio> edges) {
     if (o_.collapse_ratio <= 0) return 0;
-    std::vector<EdgeRatio> edges = edge_ratios(o_.collapse_ratio, kInfinity);
+    edges.erase(std::remove_if(edges.begin(), edges.end(),
+                               [&](const EdgeRatio &e) { return !(e.ratio < o_.collapse_ratio); }),
+                edges.end());
     std::sort(edges.begin(), edges.end(), [](const EdgeRatio &x, const EdgeRatio &y) {
         return x.ratio != y.ratio ? x.ratio < y.ratio : (x.a != y.a ? x.a < y.a : x.b < y.b);
     });
@@ -535,8 +549,10 @@ int64_t Optimiser::collapse_short_edges() {
 // Section 6.4: an edge much longer than h gets a vertex at its midpoint,
 // with the mean of its ends' weights. Longest first, one change per
 // neighbourhood per pass.
-int64_t Optimiser::split_long_edges() {
-    std::vector<EdgeRatio> edges = edge_ratios(-kInfinity, o_.split_ratio);
+int64_t Optimiser::split_long_edges(std::vector<Optimiser::EdgeRatio> edges) {
+    edges.erase(std::remove_if(edges.begin(), edges.end(),
+                               [&](const EdgeRatio &e) { return !(e.ratio > o_.split_ratio); }),
+                edges.end());
     std::sort(edges.begin(), edges.end(), [](const EdgeRatio &x, const EdgeRatio &y) {
         return x.ratio != y.ratio ? x.ratio > y.ratio : (x.a != y.a ? x.a < y.a : x.b < y.b);
     });
@@ -810,16 +826,18 @@ OptimiseStats Optimiser::run() {
         auto t0 = Clock::now();
         store_generators();
         const int64_t flips = restore_regularity(outer_start);
-        const int64_t collapsed = collapse_short_edges();
-        const int64_t split = split_long_edges();
+        const auto [collapsed, split] = collapse_and_split();
         const int64_t valence =
             n + 1 < o_.outer_iterations ? improve_valence() + (n < 2 ? flip_for_valence() : 0) : 0;
         stats_.flips += flips, stats_.collapses += collapsed, stats_.splits += split;
-        load_generators();
-        const std::vector<uint64_t> links_before = link_fingerprints(ctx_, *graph);
-        graph.reset();  // one graph alive at a time
-        graph = std::make_unique<StarGraph>(ctx_, tri_);
-        mark_changed_links(links_before, link_fingerprints(ctx_, *graph));
+        const int64_t topology = flips + collapsed + split + valence;
+        if (topology > 0) {  // else the generators and the graph are still those of the mesh
+            load_generators();
+            const std::vector<uint64_t> links_before = link_fingerprints(ctx_, *graph);
+            graph.reset();  // one graph alive at a time
+            graph = std::make_unique<StarGraph>(ctx_, tri_);
+            mark_changed_links(links_before, link_fingerprints(ctx_, *graph));
+        }
         ++clock_;
         stats_.seconds_topology += seconds_since(t0);
         ++stats_.outer_iterations;
@@ -836,7 +854,6 @@ OptimiseStats Optimiser::run() {
                         now.qp_min, " mean ", now.qp_mean, "; ", stats_.seconds_moves, " s moves, ",
                         stats_.seconds_weights, " s weights, ", stats_.seconds_topology, " s topology"));
         last = now;
-        const int64_t topology = flips + collapsed + split + valence;
         const bool quiet = changes + topology == 0 || (settled && topology == 0);
         if (quiet && shape_phase && n + 1 < shape_iterations) {
             n = shape_iterations - 1;  // shaped: go on to the staggering

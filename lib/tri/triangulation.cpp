@@ -668,6 +668,7 @@ int64_t Triangulation::restore_regularity(std::vector<int32_t> triangles) {
         for (int32_t v : knotted) {
             if (vertex_tri_[v] < 0) continue;
             replace_point(v, q_[v]);
+            ++flips;  // counted with the flips: the caller learns the topology changed
             if (vertex_tri_[v] >= 0)
                 for (int32_t t : star(v)) stack.push_back(t);
             else

@@ -157,7 +157,8 @@ public:
     // following every flip. An edge that is not regular but cannot be
     // flipped (its quad is not convex seen from the centre) has its apex
     // re-inserted exactly, which settles such knots (the apex may become
-    // hidden). Serial, in a fixed order: deterministic. Returns the flips made.
+    // hidden). Serial, in a fixed order: deterministic. Returns the flips made
+    // plus the vertices re-inserted: 0 exactly when the topology is unchanged.
     int64_t restore_regularity(std::vector<int32_t> triangles);
 
 private:
