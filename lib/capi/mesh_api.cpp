@@ -77,12 +77,10 @@ UM_API um_status um_mesh_optimise(um_mesh *m, const um_options *options) {
     if (options) require_handle(options, HandleKind::options, "options");
     um::Options defaults;
     const um::Options &opts = options ? options->values : defaults;
-    // The report of the mesh as it is first (kept: it is the "before"), then
-    // a copy to work on, so that m stays as it was if anything fails.
+    // The report of the mesh as it is first: it is the "before". On failure
+    // optimise_mesh leaves m->mesh as it was, and the caches stay valid.
     const um::quality::Report &before = quality_of(m);
-    um::mesh::RefinedMesh work = m->mesh;
-    um::mesh::optimise_mesh(*m->context, work, opts, &before);
-    m->mesh = std::move(work);
+    um::mesh::optimise_mesh(*m->context, m->mesh, opts, &before);
     m->quality.reset();
     m->mpas.reset();
     return UM_OK;

@@ -199,12 +199,47 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     return m;
 }
 
+namespace {
+
+// What optimise_mesh changes, kept so that a failure or a cancellation puts
+// the mesh back exactly as it was: the triangulation as a snapshot (its
+// points and triangles) and a copy of on_segment, which the optimisation
+// changes in place; the derived fields, which it does not read, moved aside.
+struct Undo {
+    tri::Triangulation::Snapshot tri;
+    std::vector<int32_t> on_segment, vertex_of_slot, slot_of_vertex;
+    std::vector<refine::RestrictedEdge> restricted;
+    std::vector<refine::Side> vertex_side, triangle_side;
+    bool optimised;
+    quality::Report refined_quality;
+    optim::OptimiseStats optimisation;
+};
+
+Undo set_aside(RefinedMesh &m) {
+    return {m.tri.snapshot(),          m.on_segment,
+            std::move(m.vertex_of_slot), std::move(m.slot_of_vertex),
+            std::move(m.restricted),   std::move(m.vertex_side),
+            std::move(m.triangle_side), m.optimised,
+            m.refined_quality,         m.optimisation};
+}
+
+void put_back(RefinedMesh &m, Undo &&u) {
+    m.tri.restore(std::move(u.tri));
+    m.on_segment = std::move(u.on_segment);
+    m.vertex_of_slot = std::move(u.vertex_of_slot), m.slot_of_vertex = std::move(u.slot_of_vertex);
+    m.restricted = std::move(u.restricted);
+    m.vertex_side = std::move(u.vertex_side), m.triangle_side = std::move(u.triangle_side);
+    m.optimised = u.optimised, m.refined_quality = u.refined_quality, m.optimisation = u.optimisation;
+}
+
+}  // namespace
+
 void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
                    const quality::Report *refined_quality) {
     ctx.check_memory(m.vertex_count() * kOptimiseBytesPerCell,
                      concat("optimising a mesh of ", m.vertex_count(), " cells").c_str());
     const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
-    m.refined_quality = refined_quality ? *refined_quality : quality::measure(ctx, m.tri, hr);
+    const quality::Report before = refined_quality ? *refined_quality : quality::measure(ctx, m.tri, hr);
     optim::OptimiseOptions o;
     o.outer_iterations = static_cast<int>(options.integer(UM_OPT_OPTIM_OUTER_ITERATIONS));
     o.inner_iterations = static_cast<int>(options.integer(UM_OPT_OPTIM_INNER_ITERATIONS));
@@ -213,9 +248,16 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     o.fix_boundary = options.integer(UM_OPT_OPTIM_FIX_BOUNDARY) != 0;
     o.collapse_ratio = options.real(UM_OPT_OPTIM_COLLAPSE_RATIO);
     o.split_ratio = options.real(UM_OPT_OPTIM_SPLIT_RATIO);
-    m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o);
-    m.optimised = true;
-    finish(ctx, m, gamma_arcs(m.gamma.get()));
+    Undo undo = set_aside(m);
+    try {
+        m.refined_quality = before;
+        m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o);
+        m.optimised = true;
+        finish(ctx, m, gamma_arcs(m.gamma.get()));
+    } catch (...) {
+        put_back(m, std::move(undo));
+        throw;
+    }
 }
 
 }  // namespace um::mesh

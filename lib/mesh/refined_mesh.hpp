@@ -54,8 +54,8 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
 // options; then the restricted edges and sides are found again for the
 // moved mesh. refined_quality is the quality report of m as it is, when
 // the caller has it (else it is measured here). Throws (UM_CANCELLED from
-// the progress callback among others) with m part-optimised: callers that
-// must keep m intact work on a copy.
+// the progress callback among others) with m exactly as it was: a snapshot
+// of the triangulation (not a copy of the mesh) is kept for that.
 void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
                    const quality::Report *refined_quality = nullptr);
 

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "core/growth.hpp"
 #include "core/text.hpp"
 #include "geom/predicates.hpp"
 #include "optim/local_quality.hpp"
@@ -173,6 +174,8 @@ private:
 
 void Optimiser::grow_slots() {
     const size_t n = static_cast<size_t>(tri_.vertex_slots());
+    reserve_for(gen_, n), reserve_for(h_at_, n), reserve_for(changed_at_, n);
+    reserve_for(move_failed_at_, n), reserve_for(weight_failed_at_, n), reserve_for(on_segment_, n);
     gen_.resize(n);
     h_at_.resize(n, 0);
     changed_at_.resize(n, clock_);

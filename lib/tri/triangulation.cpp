@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "core/error.hpp"
+#include "core/growth.hpp"
 #include "geom/predicates.hpp"
 
 namespace um::tri {
@@ -187,6 +188,44 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
     for (int32_t &t : vertex_tri_)
         if (t >= 0) t = new_tri[t];
     return old_of_new;
+}
+
+Triangulation::Snapshot Triangulation::snapshot() const {
+    Snapshot s;
+    s.q = q_, s.id = id_, s.vertex_tri = vertex_tri_, s.free = free_;
+    s.triangles.resize(tris_.size());
+    for (size_t t = 0; t < tris_.size(); ++t)
+        s.triangles[t] = {tris_[t].v[0], tris_[t].v[1], tris_[t].v[2]};
+    return s;
+}
+
+void Triangulation::restore(Snapshot &&s) {
+    // Neighbours: every directed edge (a, b) of a live triangle meets its
+    // reverse (b, a) in the triangle across; sorted by (a, b), the reverse
+    // of an edge is found by binary search.
+    struct Edge {
+        int32_t a, b, t, k;
+        bool operator<(const Edge &o) const { return a != o.a ? a < o.a : b < o.b; }
+    };
+    std::vector<Edge> edges;
+    edges.reserve(3 * s.triangles.size());
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        const auto &v = s.triangles[t];
+        if (v[0] == kNone) continue;
+        for (int k = 0; k < 3; ++k)
+            edges.push_back({v[next(k)], v[prev(k)], static_cast<int32_t>(t), k});
+    }
+    std::sort(edges.begin(), edges.end());
+    std::vector<Tri> tris(s.triangles.size());
+    for (size_t t = 0; t < tris.size(); ++t)
+        for (int k = 0; k < 3; ++k) tris[t].v[k] = s.triangles[t][k], tris[t].n[k] = kNone;
+    for (const Edge &e : edges) {
+        const auto across = std::lower_bound(edges.begin(), edges.end(), Edge{e.b, e.a, 0, 0});
+        tris[e.t].n[e.k] = across->t;
+    }
+    tris_.swap(tris);
+    q_.swap(s.q), id_.swap(s.id), vertex_tri_.swap(s.vertex_tri), free_.swap(s.free);
+    mark_.assign(tris_.size(), 0);
 }
 
 // Drops the virtual octahedron and the free triangle slots.
@@ -394,6 +433,7 @@ int32_t Triangulation::new_triangle_slot() {
         return t;
     }
     int32_t t = static_cast<int32_t>(tris_.size());
+    reserve_for(tris_, tris_.size() + 1), reserve_for(mark_, mark_.size() + 1);
     tris_.push_back({{kNone, kNone, kNone}, {kNone, kNone, kNone}});
     mark_.push_back(0);
     return t;
@@ -444,6 +484,8 @@ void Triangulation::free_triangle_slot(int32_t t) {
 int32_t Triangulation::insert(const Vec3 &direction, double weight, int32_t id,
                               std::vector<int32_t> *buried, int32_t hint) {
     int32_t v = static_cast<int32_t>(q_.size());
+    reserve_for(q_, q_.size() + 1), reserve_for(id_, id_.size() + 1);
+    reserve_for(vertex_tri_, vertex_tri_.size() + 1);
     q_.push_back(lifted_scale(weight) * direction);
     id_.push_back(id);
     vertex_tri_.push_back(kNone);

@@ -245,6 +245,39 @@ void spatial_reordering_keeps_the_triangulation(void **) {
     assert_true(mean_edge_gap(t) < 0.1 * gap_before);
 }
 
+// A snapshot puts the triangulation back exactly: the same slots, triangles,
+// neighbours and incident triangles (star order), after moves, insertions
+// and removals.
+void snapshot_restores_exactly(void **) {
+    tri::Triangulation t = build(test::random_points(5000, 31));
+    auto same = [](const tri::Triangulation &a, const tri::Triangulation &b) {
+        if (a.triangle_slots() != b.triangle_slots() || a.vertex_slots() != b.vertex_slots()) return false;
+        for (int32_t f = 0; f < a.triangle_slots(); ++f)
+            for (int k = 0; k < 3; ++k)
+                if (a.vertex(f, k) != b.vertex(f, k) || (!a.is_free(f) && a.neighbour(f, k) != b.neighbour(f, k)))
+                    return false;
+        for (int32_t v = 0; v < a.vertex_slots(); ++v)
+            if (a.id(v) != b.id(v) || std::memcmp(a.lifted(v).data(), b.lifted(v).data(), sizeof(Vec3)) != 0 ||
+                a.star(v) != b.star(v))
+                return false;
+        return true;
+    };
+    const tri::Triangulation original = t;
+    tri::Triangulation::Snapshot s = t.snapshot();
+    std::mt19937_64 rng(9);
+    for (int i = 0; i < 500; ++i) {
+        const int32_t v = static_cast<int32_t>(rng() % 5000);
+        if (!t.in_triangulation(v)) continue;
+        if (i % 3 == 0) t.remove(v);
+        else t.move(v, geom::normalized(t.direction(v) + Vec3{1e-3, -2e-3, 1e-3}));
+        if (i % 5 == 0) t.insert(geom::normalized(Vec3{double(i), 1.0, -3.0}), 0.0, 10000 + i);
+    }
+    assert_false(same(t, original));
+    t.restore(std::move(s));
+    expect_valid(t);
+    assert_true(same(t, original));
+}
+
 void power_cells_and_orthocentres(void **) {
     auto pts = test::random_points(3000, 29);
     tri::Triangulation t = build(pts);
@@ -401,6 +434,7 @@ int main() {
         cmocka_unit_test(insertion_order_does_not_change_the_triangles),
         cmocka_unit_test(removal_with_links_on_one_great_circle),
         cmocka_unit_test(spatial_reordering_keeps_the_triangulation),
+        cmocka_unit_test(snapshot_restores_exactly),
         cmocka_unit_test(power_cells_and_orthocentres),
         cmocka_unit_test(weighted_edge_orthocentre_is_on_the_bisector),
         cmocka_unit_test(insert_remove_move_and_reweight),
