@@ -105,8 +105,8 @@ public:
 
 private:
     // Per-slot state -------------------------------------------------------
-    void load_generators();
-    void store_generators();
+    // Grows the per-slot state to the slots and reads h at every vertex.
+    void load_spacing();
     void grow_slots();
 
     // Sweeps ---------------------------------------------------------------
@@ -120,8 +120,8 @@ private:
     int64_t polish_poor_stars(const StarGraph &g);
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
-    Vec3 odt_target(const StarGraph &g, int32_t v) const;
-    Vec3 link_centre(const StarGraph &g, int32_t v) const;
+    // The two targets of a move of v (at `here`, link `ring` from the graph).
+    Vec3 odt_target(const StarGraph &g, int32_t v, const Generator &here, const Ring &ring) const;
 
     // Topology -------------------------------------------------------------
     int64_t restore_regularity(int32_t since);
@@ -158,7 +158,16 @@ private:
     OptimiseOptions o_;
     double gain_;  // the least gain in local quality an update must bring
 
-    std::vector<Generator> gen_;
+    // The generator of vertex v, read from its lifted point q = s x: the
+    // triangulation holds the only copy (a second one would cost 32 bytes
+    // per cell), and the sweeps write it in place (Triangulation::set_lifted).
+    Generator generator(int32_t v) const {
+        const Vec3 &q = tri_.lifted(v);
+        const double s = geom::norm(q);
+        return {(1.0 / s) * q, s};
+    }
+    void set_generator(int32_t v, const Generator &g) { tri_.set_lifted(v, g.lifted()); }
+
     std::vector<double> h_at_;  // spacing at each generator (radians)
     // Stamps of the sweep clock: when a vertex last changed (position,
     // weight or link) and when an update of it last failed. A vertex whose
@@ -174,9 +183,8 @@ private:
 
 void Optimiser::grow_slots() {
     const size_t n = static_cast<size_t>(tri_.vertex_slots());
-    reserve_for(gen_, n), reserve_for(h_at_, n), reserve_for(changed_at_, n);
+    reserve_for(h_at_, n), reserve_for(changed_at_, n);
     reserve_for(move_failed_at_, n), reserve_for(weight_failed_at_, n), reserve_for(on_segment_, n);
-    gen_.resize(n);
     h_at_.resize(n, 0);
     changed_at_.resize(n, clock_);
     move_failed_at_.resize(n, 0);
@@ -184,25 +192,11 @@ void Optimiser::grow_slots() {
     on_segment_.resize(n, -1);
 }
 
-void Optimiser::load_generators() {
+void Optimiser::load_spacing() {
     grow_slots();
     ctx_.parallel_for(tri_.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
-        for (int64_t v = b; v < e; ++v) {
-            const int32_t vi = static_cast<int32_t>(v);
-            if (!tri_.in_triangulation(vi)) continue;
-            const Vec3 &q = tri_.lifted(vi);
-            const double s = geom::norm(q);
-            gen_[v] = {(1.0 / s) * q, s};
-            h_at_[v] = h_(gen_[v].x);
-        }
-    });
-}
-
-void Optimiser::store_generators() {
-    ctx_.parallel_for(tri_.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
         for (int64_t v = b; v < e; ++v)
-            if (tri_.in_triangulation(static_cast<int32_t>(v)))
-                tri_.set_lifted(static_cast<int32_t>(v), gen_[v].lifted());
+            if (tri_.in_triangulation(static_cast<int32_t>(v))) h_at_[v] = h_(tri_.direction(static_cast<int32_t>(v)));
     });
 }
 
@@ -238,8 +232,8 @@ int64_t Optimiser::polish_poor_stars(const StarGraph &g) {
     ctx_.parallel_for(tri_.triangle_slots(), 4096, [&](int64_t b, int64_t e) {
         for (int64_t t = b; t < e; ++t)
             if (!tri_.is_free(static_cast<int32_t>(t)))
-                score[t] = shape_score(gen_[tri_.vertex(t, 0)].x, gen_[tri_.vertex(t, 1)].x,
-                                       gen_[tri_.vertex(t, 2)].x);
+                score[t] = shape_score(tri_.direction(tri_.vertex(t, 0)), tri_.direction(tri_.vertex(t, 1)),
+                                       tri_.direction(tri_.vertex(t, 2)));
     });
     poor_star_ = std::min(kPoorStar, *std::min_element(score.begin(), score.end()) + kPoorMargin);
     std::vector<uint8_t> poor(static_cast<size_t>(tri_.vertex_slots()), 0);
@@ -273,7 +267,7 @@ bool Optimiser::gather_ring(const StarGraph &g, int32_t v, Ring &ring) const {
     ring.m = g.degree(v);
     if (ring.m > Ring::kMax) return false;
     const int32_t *link = g.link(v);
-    for (int k = 0; k < ring.m; ++k) ring.g[k] = gen_[link[k]];
+    for (int k = 0; k < ring.m; ++k) ring.g[k] = generator(link[k]);
     return true;
 }
 
@@ -293,23 +287,20 @@ bool star_is_valid(const Ring &ring, const Generator &at) {
 
 // Eq. 7-8: the mean of the star's orthocentres weighted by spacing-weighted
 // areas A_j / hbar_j^2.
-Vec3 Optimiser::odt_target(const StarGraph &g, int32_t v) const {
+Vec3 Optimiser::odt_target(const StarGraph &g, int32_t v, const Generator &c, const Ring &ring) const {
     const int32_t *link = g.link(v);
-    const int m = g.degree(v);
-    const Generator &c = gen_[v];
+    const int m = ring.m;
     Vec3 sum{};
     for (int k = 0; k < m; ++k) {
-        const int32_t i = link[k], j = link[(k + 1) % m];
-        const Generator &a = gen_[i], &b = gen_[j];
+        const Generator &a = ring.at(k), &b = ring.after(k);
         const double area = 0.5 * geom::norm(geom::cross(a.x - c.x, b.x - c.x));
-        const double hbar = (h_at_[v] + h_at_[i] + h_at_[j]) / 3;
+        const double hbar = (h_at_[v] + h_at_[link[k]] + h_at_[link[k + 1 == m ? 0 : k + 1]]) / 3;
         const Vec3 ortho =
             geom::normalized(geom::cross(a.lifted() - c.lifted(), b.lifted() - c.lifted()));
         sum = sum + (area / (hbar * hbar)) * ortho;
     }
     return geom::normalized(sum);
 }
-
 // Eq. 7: towards the ODT target with halving steps, taken at the first step
 // that is BETTER. When none is (the worst triangle of the star is not the
 // one the ODT step helps), the same search towards the centre of the link
@@ -320,7 +311,7 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
     if (nothing_changed_since(g, v, move_failed_at_[v])) return false;
     Ring ring;
     if (!gather_ring(g, v, ring)) return false;
-    const Generator here = gen_[v];
+    const Generator here = generator(v);
     const LocalQuality before = ring_quality<true>(ring, here, -kInfinity);
     // Tries the move to x (slid onto Gamma when v is on it); true if taken.
     auto try_move = [&](const Vec3 &x) {
@@ -334,13 +325,15 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
         // The cheaper test first: most trials fail on quality.
         if (!better(ring_quality<true>(ring, moved, before.worst, before.worst_k), before, gain_)) return false;
         if (!star_is_valid(ring, moved)) return false;
-        gen_[v] = moved;
+        set_generator(v, moved);
         on_segment_[v] = static_cast<int32_t>(segment);
         h_at_[v] = h_(moved.x);
         changed_at_[v] = clock_;
         return true;
     };
-    for (const Vec3 &target : {odt_target(g, v), link_centre(g, v)}) {
+    Vec3 link_sum{};
+    for (int k = 0; k < ring.m; ++k) link_sum = link_sum + ring.at(k).x;
+    for (const Vec3 &target : {odt_target(g, v, here, ring), geom::normalized(link_sum)}) {
         double step = 1;
         for (int m = 0; m <= kHalvings; ++m, step *= 0.5)
             if (try_move(geom::normalized((1 - step) * here.x + step * target))) return true;
@@ -373,13 +366,6 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
     return false;
 }
 
-Vec3 Optimiser::link_centre(const StarGraph &g, int32_t v) const {
-    const int32_t *link = g.link(v);
-    Vec3 sum{};
-    for (int k = 0; k < g.degree(v); ++k) sum = sum + gen_[link[k]].x;
-    return geom::normalized(sum);
-}
-
 // Eq. 4-6: ascend the Q^P of the worst adjacent triangle, starting from the
 // first-order step that would lift it to the star's mean.
 bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
@@ -388,7 +374,7 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
     Ring ring;
     if (!gather_ring(g, v, ring)) return false;
     const int m = ring.m;
-    const Generator here = gen_[v];
+    const Generator here = generator(v);
     // The worst triangle by the staggering score; the step from plain Q^P
     // (eq. 6 aims the worst Q^P at the star's mean Q^P).
     LocalQuality before;
@@ -415,7 +401,7 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
             const LocalQuality now = ring_quality<false>(ring, weighted, before.worst + gain_, worst_k);
             if (!(now.worst > before.worst + gain_)) continue;
             if (!star_is_valid(ring, weighted)) continue;
-            gen_[v] = weighted;
+            set_generator(v, weighted);
             changed_at_[v] = clock_;
             return true;
         }
@@ -486,7 +472,7 @@ std::vector<Optimiser::EdgeRatio> Optimiser::edge_ratios(double below, double ab
                 for (int k = 0; k < 3; ++k) {
                     if (tri_.neighbour(ti, k) < ti) continue;  // each edge once
                     const int32_t a = tri_.vertex(ti, (k + 1) % 3), b = tri_.vertex(ti, (k + 2) % 3);
-                    const double ratio = geom::norm(gen_[a].x - gen_[b].x) / (0.5 * (h_at_[a] + h_at_[b]));
+                    const double ratio = geom::norm(tri_.direction(a) - tri_.direction(b)) / (0.5 * (h_at_[a] + h_at_[b]));
                     if (ratio < below || ratio > above)
                         found[blk].push_back({ratio, std::min(a, b), std::max(a, b)});
                 }
@@ -536,12 +522,11 @@ int64_t Optimiser::collapse_short_edges(std::vector<Optimiser::EdgeRatio> edges)
         if (a_on && b_on) continue;  // Gamma keeps its vertices
         const int32_t gone = a_on ? e.b : (b_on ? e.a : e.b), kept = gone == e.a ? e.b : e.a;
         if (!lock_neighbourhood(e.a, locked) || !lock_neighbourhood(e.b, locked)) continue;
-        const Vec3 mid = geom::normalized(gen_[e.a].x + gen_[e.b].x);
+        const Vec3 mid = geom::normalized(tri_.direction(e.a) + tri_.direction(e.b));
         tri_.remove(gone);
         if (on_segment_[kept] < 0) {
             for (int32_t u : tri_.move(kept, mid)) changed_at_[u] = clock_;
-            if (tri_.in_triangulation(kept)) gen_[kept].x = tri_.direction(kept);
-            h_at_[kept] = h_(gen_[kept].x);
+            h_at_[kept] = h_(tri_.direction(kept));
         }
         changed_at_[kept] = clock_;
         ++done;
@@ -573,7 +558,7 @@ int64_t Optimiser::split_long_edges(std::vector<Optimiser::EdgeRatio> edges) {
 // A new vertex at the midpoint of (a, b), with the mean of their weights;
 // its slot, or -1 if it came out hidden (it is then removed again).
 int32_t Optimiser::insert_between(int32_t a, int32_t b) {
-    const Vec3 mid = geom::normalized(gen_[a].x + gen_[b].x);
+    const Vec3 mid = geom::normalized(tri_.direction(a) + tri_.direction(b));
     const double w = 0.5 * (tri_.weight(a) + tri_.weight(b));
     std::vector<int32_t> buried;
     const int32_t v = tri_.insert(mid, w, next_id_++, &buried, tri_.star(a).front());
@@ -583,7 +568,6 @@ int32_t Optimiser::insert_between(int32_t a, int32_t b) {
         tri_.remove(v);
         return -1;
     }
-    gen_[v] = {mid, tri::lifted_scale(w)};
     h_at_[v] = h_(mid);
     changed_at_[v] = clock_;
     for (int32_t t : tri_.star(v))
@@ -637,16 +621,13 @@ void Optimiser::split_vertex(int32_t v, const std::vector<int32_t> &star) {
     for (int32_t t : star)
         for (int k = 0; k < 3; ++k) {
             const int32_t u = tri_.vertex(t, k);
-            const double l = geom::norm(gen_[u].x - gen_[v].x);
-            if (u != v && l > far_l) far_l = l, far = gen_[u].x;
+            const double l = geom::norm(tri_.direction(u) - tri_.direction(v));
+            if (u != v && l > far_l) far_l = l, far = tri_.direction(u);
         }
-    const Vec3 x = gen_[v].x, along = 0.25 * (far - x);
+    const Vec3 x = tri_.direction(v), along = 0.25 * (far - x);
     const Vec3 back = geom::normalized(x - along), ahead = geom::normalized(x + along);
     for (int32_t u : tri_.move(v, back)) changed_at_[u] = clock_;
-    if (tri_.in_triangulation(v)) {
-        gen_[v].x = tri_.direction(v);
-        h_at_[v] = h_(gen_[v].x);
-    }
+    if (tri_.in_triangulation(v)) h_at_[v] = h_(tri_.direction(v));
     changed_at_[v] = clock_;
     const double w = tri_.weight(v);
     std::vector<int32_t> buried;
@@ -658,7 +639,6 @@ void Optimiser::split_vertex(int32_t v, const std::vector<int32_t> &star) {
         tri_.remove(added);
         return;
     }
-    gen_[added] = {ahead, tri::lifted_scale(w)};
     h_at_[added] = h_(ahead);
     for (int32_t t : tri_.star(added))
         for (int k = 0; k < 3; ++k) changed_at_[tri_.vertex(t, k)] = clock_;
@@ -699,16 +679,16 @@ int64_t Optimiser::flip_for_valence() {
             const int after = deviation(a, 1) + deviation(b, -1) + deviation(c, -1) + deviation(d, 1);
             if (before - after < 2 || degree[b] <= 4 || degree[c] <= 4) continue;
             Generator saved[4];
-            for (int i = 0; i < 4; ++i) saved[i] = gen_[quad[i]];
+            for (int i = 0; i < 4; ++i) saved[i] = generator(quad[i]);
             if (!tri_.flip(t, k)) continue;  // t = (a, b, d), u = (d, c, a)
             if (!relax_into_regularity(quad)) {
-                for (int i = 0; i < 4; ++i) gen_[quad[i]] = saved[i], tri_.set_lifted(quad[i], saved[i].lifted());
+                for (int i = 0; i < 4; ++i) set_generator(quad[i], saved[i]);
                 tri_.flip(t, 1);  // the edge (d, a) of (a, b, d): back to (b, c)
                 continue;
             }
             ++degree[a], --degree[b], --degree[c], ++degree[d];
             for (int32_t v : quad) {
-                h_at_[v] = h_(gen_[v].x);
+                h_at_[v] = h_(tri_.direction(v));
                 for (int32_t s : tri_.star(v))
                     for (int j = 0; j < 3; ++j) {
                         locked[tri_.vertex(s, j)] = 1;
@@ -730,12 +710,13 @@ bool Optimiser::relax_into_regularity(const int32_t (&quad)[4]) {
     for (int round = 0; round < 4; ++round) {
         for (int32_t v : quad) {
             Vec3 sum{};
-            for (int32_t s : tri_.star(v)) sum = sum + (0.5 * geom::norm(geom::cross(
-                                                              gen_[tri_.vertex(s, 1)].x - gen_[tri_.vertex(s, 0)].x,
-                                                              gen_[tri_.vertex(s, 2)].x - gen_[tri_.vertex(s, 0)].x))) *
-                                                       tri_.orthocentre(s);
-            gen_[v].x = geom::normalized(sum);
-            tri_.set_lifted(v, gen_[v].lifted());
+            for (int32_t s : tri_.star(v)) {
+                const Vec3 a = tri_.direction(tri_.vertex(s, 0));
+                const double area = 0.5 * geom::norm(geom::cross(tri_.direction(tri_.vertex(s, 1)) - a,
+                                                                 tri_.direction(tri_.vertex(s, 2)) - a));
+                sum = sum + area * tri_.orthocentre(s);
+            }
+            set_generator(v, {geom::normalized(sum), generator(v).s});
         }
         bool good = true;
         for (int32_t v : quad)
@@ -770,8 +751,8 @@ Optimiser::Summary Optimiser::summarise() const {
             for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
                 const int32_t ti = static_cast<int32_t>(t);
                 if (tri_.is_free(ti)) continue;
-                const TriangleCost c = triangle_cost(gen_[tri_.vertex(ti, 0)], gen_[tri_.vertex(ti, 1)],
-                                                     gen_[tri_.vertex(ti, 2)]);
+                const TriangleCost c = triangle_cost(generator(tri_.vertex(ti, 0)), generator(tri_.vertex(ti, 1)),
+                                                     generator(tri_.vertex(ti, 2)));
                 p.qt_min = std::min(p.qt_min, c.area_length), p.qt_sum += c.area_length;
                 p.qp_min = std::min(p.qp_min, c.primal_dual), p.qp_sum += c.primal_dual;
                 ++p.live;
@@ -792,7 +773,7 @@ Optimiser::Summary Optimiser::summarise() const {
 
 OptimiseStats Optimiser::run() {
     for (int32_t v = 0; v < tri_.vertex_slots(); ++v) next_id_ = std::max(next_id_, tri_.id(v) + 1);
-    load_generators();
+    load_spacing();
     Summary last = summarise();
     std::unique_ptr<StarGraph> graph = std::make_unique<StarGraph>(ctx_, tri_);
     // The first half of the outer iterations shapes the triangles (moves,
@@ -827,7 +808,6 @@ OptimiseStats Optimiser::run() {
             stats_.seconds_moves += seconds_since(t0);
         }
         auto t0 = Clock::now();
-        store_generators();
         const int64_t flips = restore_regularity(outer_start);
         const auto [collapsed, split] = collapse_and_split();
         const int64_t valence =
@@ -835,7 +815,7 @@ OptimiseStats Optimiser::run() {
         stats_.flips += flips, stats_.collapses += collapsed, stats_.splits += split;
         const int64_t topology = flips + collapsed + split + valence;
         if (topology > 0) {  // else the generators and the graph are still those of the mesh
-            load_generators();
+            load_spacing();
             const std::vector<uint64_t> links_before = link_fingerprints(ctx_, *graph);
             graph.reset();  // one graph alive at a time
             graph = std::make_unique<StarGraph>(ctx_, tri_);
