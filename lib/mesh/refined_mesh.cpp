@@ -100,6 +100,7 @@ int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri) {
 // the mesh), with a margin.
 constexpr int64_t kRefineBytesPerCell = 200;
 constexpr int64_t kOptimiseBytesPerCell = 480;
+constexpr double kOptimiseGrowth = 0.125;  // room reserved for new vertices
 
 void number_vertices(RefinedMesh &m) {
     m.vertex_of_slot.assign(static_cast<size_t>(m.tri.vertex_slots()), -1);
@@ -248,6 +249,9 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     o.fix_boundary = options.integer(UM_OPT_OPTIM_FIX_BOUNDARY) != 0;
     o.collapse_ratio = options.real(UM_OPT_OPTIM_COLLAPSE_RATIO);
     o.split_ratio = options.real(UM_OPT_OPTIM_SPLIT_RATIO);
+    // The optimisation adds a few per cent of vertices (splits); their room
+    // first, while neither the undo nor the optimiser's state is allocated.
+    m.tri.reserve_extra(kOptimiseGrowth);
     Undo undo = set_aside(m);
     try {
         m.refined_quality = before;

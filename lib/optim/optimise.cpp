@@ -183,6 +183,11 @@ private:
 
 void Optimiser::grow_slots() {
     const size_t n = static_cast<size_t>(tri_.vertex_slots());
+    if (h_at_.capacity() == 0) {  // the room the triangulation has (Triangulation::reserve_extra)
+        const size_t room = std::max(n, tri_.vertex_capacity());
+        h_at_.reserve(room), changed_at_.reserve(room), move_failed_at_.reserve(room);
+        weight_failed_at_.reserve(room), on_segment_.reserve(room);
+    }
     reserve_for(h_at_, n), reserve_for(changed_at_, n);
     reserve_for(move_failed_at_, n), reserve_for(weight_failed_at_, n), reserve_for(on_segment_, n);
     h_at_.resize(n, 0);

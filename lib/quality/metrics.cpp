@@ -20,27 +20,6 @@ double angle_at(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
     return std::atan2(geom::norm(geom::cross(ta, tc)), geom::dot(ta, tc));
 }
 
-Summary summarise(std::vector<double> values, double lo, double hi) {
-    Summary s;
-    s.lo = lo, s.hi = hi;
-    s.histogram.assign(kBins, 0);
-    if (values.empty()) return s;
-    double sum = 0;
-    s.min = s.max = values.front();
-    for (double v : values) {
-        sum += v;
-        s.min = std::min(s.min, v), s.max = std::max(s.max, v);
-        int b = static_cast<int>((v - lo) / (hi - lo) * kBins);
-        ++s.histogram[std::clamp(b, 0, kBins - 1)];
-    }
-    s.mean = sum / double(values.size());  // summed in index order: deterministic
-    // The 1st percentile: the value a full sort would put at size/100.
-    auto p1 = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 100);
-    std::nth_element(values.begin(), p1, values.end());
-    s.p1 = *p1;
-    return s;
-}
-
 std::string json_summary(const Summary &s) {
     std::string h = "[";
     for (size_t i = 0; i < s.histogram.size(); ++i) h += (i ? "," : "") + to_text(s.histogram[i]);
@@ -83,48 +62,129 @@ TriangleQuality triangle_quality(const tri::Triangulation &tri, int32_t t) {
     return q;
 }
 
+namespace {
+
+// The five metrics of a report: four per triangle, one per edge.
+enum Metric { kAreaLength, kPrimalDual, kAngleMin, kAngleMax, kSpacingRatio, kMetrics };
+constexpr double kLo[kMetrics] = {0, 0, 0, 0, 0}, kHi[kMetrics] = {1, 1, 180, 180, 2};
+
+// One metric streamed over a block: min, max, sum, the report's histogram,
+// and a finer one (with a bin below lo and one above hi) that tells which
+// fine bin holds the 1st percentile, so that a second pass need keep only
+// the values in that bin. No per-triangle storage: a report of a 10^6-cell
+// mesh would otherwise hold ~150 bytes per cell while the mesh is alive.
+constexpr int kFine = 2048;
+struct Stream {
+    double min = HUGE_VAL, max = -HUGE_VAL, sum = 0;
+    int64_t n = 0;
+    std::vector<int64_t> coarse = std::vector<int64_t>(kBins, 0), fine = std::vector<int64_t>(kFine + 2, 0);
+};
+
+int fine_bin(double v, Metric m) {
+    const double x = (v - kLo[m]) / (kHi[m] - kLo[m]);
+    if (!(x >= 0)) return 0;  // below lo (or NaN)
+    if (x >= 1) return kFine + 1;
+    return 1 + std::min(kFine - 1, static_cast<int>(x * kFine));
+}
+
+void add(Stream &s, double v, Metric m) {
+    s.min = std::min(s.min, v), s.max = std::max(s.max, v), s.sum += v, ++s.n;
+    const int b = static_cast<int>((v - kLo[m]) / (kHi[m] - kLo[m]) * kBins);
+    ++s.coarse[std::clamp(b, 0, kBins - 1)];
+    ++s.fine[fine_bin(v, m)];
+}
+
+// Calls fn(metric, value) for every value of triangle t (each edge once).
+template <class Fn>
+void for_each_value(const tri::Triangulation &tri, const refine::SpacingRadians &h, int32_t t,
+                    TriangleQuality &q, Fn &&fn) {
+    q = triangle_quality(tri, t);
+    fn(kAreaLength, q.area_length), fn(kPrimalDual, q.primal_dual);
+    fn(kAngleMin, q.angle_min), fn(kAngleMax, q.angle_max);
+    if (!h) return;
+    for (int k = 0; k < 3; ++k) {
+        if (tri.neighbour(t, k) < t) continue;
+        const Vec3 a = tri.direction(tri.vertex(t, (k + 1) % 3)), c = tri.direction(tri.vertex(t, (k + 2) % 3));
+        fn(kSpacingRatio, geom::arc_length(a, c) / h(geom::normalized(a + c)));
+    }
+}
+
+}  // namespace
+
 Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h) {
+    // Fixed blocks, combined in block order: the same report for any
+    // thread count.
+    constexpr int64_t kBlock = 32768;
     const int32_t n = tri.triangle_slots();
-    std::vector<TriangleQuality> q(static_cast<size_t>(n));
-    std::vector<double> ratio(3 * static_cast<size_t>(n), -1.0);
-    ctx.parallel_for(n, 2048, [&](int64_t b, int64_t e) {
-        for (int64_t t = b; t < e; ++t) {
-            const int32_t ti = static_cast<int32_t>(t);
-            if (tri.is_free(ti)) continue;
-            q[t] = triangle_quality(tri, ti);
-            if (!h) continue;
-            for (int k = 0; k < 3; ++k) {
-                if (tri.neighbour(ti, k) < ti) continue;  // each edge once
-                Vec3 a = tri.direction(tri.vertex(ti, (k + 1) % 3)), c = tri.direction(tri.vertex(ti, (k + 2) % 3));
-                ratio[3 * t + k] = geom::arc_length(a, c) / h(geom::normalized(a + c));
+    const int64_t n_blocks = (n + kBlock - 1) / kBlock;
+    struct Block {
+        Stream metric[kMetrics];
+        int64_t triangles = 0, obtuse = 0, not_well_centred = 0;
+    };
+    std::vector<Block> blocks(static_cast<size_t>(n_blocks));
+    ctx.parallel_for(n_blocks, 1, [&](int64_t b0, int64_t b1) {
+        for (int64_t blk = b0; blk < b1; ++blk) {
+            Block &bl = blocks[blk];
+            for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
+                if (tri.is_free(static_cast<int32_t>(t))) continue;
+                TriangleQuality q;
+                for_each_value(tri, h, static_cast<int32_t>(t), q,
+                               [&](Metric m, double v) { add(bl.metric[m], v, m); });
+                ++bl.triangles, bl.obtuse += q.angle_max > 90, bl.not_well_centred += !q.well_centred;
             }
         }
     });
     Report r;
-    for (int32_t t = 0; t < n; ++t) {
-        if (tri.is_free(t)) continue;
-        ++r.triangles;
-        r.obtuse += q[t].angle_max > 90;
-        r.not_well_centred += !q[t].well_centred;
+    Summary *summary[kMetrics] = {&r.area_length, &r.primal_dual, &r.angle_min, &r.angle_max, &r.spacing_ratio};
+    Stream all[kMetrics];
+    for (const Block &bl : blocks) {
+        r.triangles += bl.triangles, r.obtuse += bl.obtuse, r.not_well_centred += bl.not_well_centred;
+        for (int m = 0; m < kMetrics; ++m) {
+            const Stream &s = bl.metric[m];
+            Stream &a = all[m];
+            a.min = std::min(a.min, s.min), a.max = std::max(a.max, s.max), a.sum += s.sum, a.n += s.n;
+            for (int i = 0; i < kBins; ++i) a.coarse[i] += s.coarse[i];
+            for (int i = 0; i < kFine + 2; ++i) a.fine[i] += s.fine[i];
+        }
     }
+    std::vector<Block>().swap(blocks);
     r.edges = 3 * r.triangles / 2;
-    // One metric at a time, so that only one list of values is alive.
-    auto over_triangles = [&](double TriangleQuality::*field) {
+    // The 1st percentile (the value a full sort puts at n / 100): its fine
+    // bin and rank there, then the values of that bin only.
+    int p1_bin[kMetrics];
+    int64_t p1_rank[kMetrics];
+    for (int m = 0; m < kMetrics; ++m) {
+        int64_t rank = all[m].n / 100, i = 0;
+        while (i < kFine + 1 && rank >= all[m].fine[i]) rank -= all[m].fine[i++];
+        p1_bin[m] = static_cast<int>(i), p1_rank[m] = rank;
+    }
+    std::vector<std::vector<double>> in_bin[kMetrics];
+    for (auto &v : in_bin) v.resize(static_cast<size_t>(n_blocks));
+    ctx.parallel_for(n_blocks, 1, [&](int64_t b0, int64_t b1) {
+        for (int64_t blk = b0; blk < b1; ++blk)
+            for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
+                if (tri.is_free(static_cast<int32_t>(t))) continue;
+                TriangleQuality q;
+                for_each_value(tri, h, static_cast<int32_t>(t), q, [&](Metric m, double v) {
+                    if (fine_bin(v, m) == p1_bin[m]) in_bin[m][blk].push_back(v);
+                });
+            }
+    });
+    for (int m = 0; m < kMetrics; ++m) {
+        Summary &s = *summary[m];
+        s.lo = kLo[m], s.hi = kHi[m];
+        s.histogram = all[m].coarse;
+        if (all[m].n == 0) {
+            s.histogram.assign(kBins, 0);
+            continue;
+        }
+        s.min = all[m].min, s.max = all[m].max, s.mean = all[m].sum / double(all[m].n);
         std::vector<double> values;
-        values.reserve(static_cast<size_t>(r.triangles));
-        for (int32_t t = 0; t < n; ++t)
-            if (!tri.is_free(t)) values.push_back(q[t].*field);
-        return values;
-    };
-    r.area_length = summarise(over_triangles(&TriangleQuality::area_length), 0, 1);
-    r.primal_dual = summarise(over_triangles(&TriangleQuality::primal_dual), 0, 1);
-    r.angle_min = summarise(over_triangles(&TriangleQuality::angle_min), 0, 180);
-    r.angle_max = summarise(over_triangles(&TriangleQuality::angle_max), 0, 180);
-    std::vector<double> hr;
-    if (h) hr.reserve(static_cast<size_t>(r.edges));
-    for (double x : ratio)
-        if (x >= 0) hr.push_back(x);
-    r.spacing_ratio = summarise(std::move(hr), 0, 2);
+        for (const auto &v : in_bin[m]) values.insert(values.end(), v.begin(), v.end());
+        auto at = values.begin() + static_cast<std::ptrdiff_t>(p1_rank[m]);
+        std::nth_element(values.begin(), at, values.end());
+        s.p1 = *at;
+    }
     return r;
 }
 

@@ -190,6 +190,13 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
     return old_of_new;
 }
 
+void Triangulation::reserve_extra(double fraction) {
+    auto grow = [fraction](auto &values) {
+        values.reserve(values.size() + static_cast<size_t>(fraction * double(values.size())) + 16);
+    };
+    grow(q_), grow(id_), grow(vertex_tri_), grow(tris_), grow(mark_);
+}
+
 Triangulation::Snapshot Triangulation::snapshot() const {
     Snapshot s;
     s.q = q_, s.id = id_, s.vertex_tri = vertex_tri_, s.free = free_;

@@ -69,6 +69,11 @@ public:
     // per-slot arrays.
     std::vector<int32_t> reorder_spatially(Context &ctx);
 
+    // Room for `fraction` more vertices and triangles without reallocating:
+    // a caller about to add a few (the optimisation) reserves it while
+    // little else is allocated, since a reallocation holds both buffers.
+    void reserve_extra(double fraction);
+
     // What restore() needs to put the triangulation back exactly as it was
     // (slots, numbering, incident triangles): the points and the triangles'
     // vertices, about 56 bytes per vertex against a full copy's 84; the
@@ -81,6 +86,7 @@ public:
     Snapshot snapshot() const;
     void restore(Snapshot &&s);
     int32_t vertex_slots() const { return static_cast<int32_t>(q_.size()); }
+    size_t vertex_capacity() const { return q_.capacity(); }
     // Vertices in the triangulation (not hidden).
     int64_t vertex_count() const;
 
