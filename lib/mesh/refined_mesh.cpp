@@ -105,6 +105,7 @@ constexpr double kOptimiseGrowth = 0.125;  // room reserved for new vertices
 void number_vertices(RefinedMesh &m) {
     m.vertex_of_slot.assign(static_cast<size_t>(m.tri.vertex_slots()), -1);
     m.slot_of_vertex.clear();
+    m.slot_of_vertex.reserve(static_cast<size_t>(m.tri.vertex_count()));
     for (int32_t v = 0; v < m.tri.vertex_slots(); ++v)
         if (m.tri.in_triangulation(v)) {
             m.vertex_of_slot[v] = static_cast<int32_t>(m.slot_of_vertex.size());

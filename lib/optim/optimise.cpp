@@ -17,6 +17,7 @@ namespace um::optim {
 
 namespace {
 
+uint64_t link_fingerprint(const StarGraph &g, int32_t v);
 std::vector<uint64_t> link_fingerprints(Context &ctx, const StarGraph &g);
 
 using Clock = std::chrono::steady_clock;
@@ -125,7 +126,7 @@ private:
 
     // Topology -------------------------------------------------------------
     int64_t restore_regularity(int32_t since);
-    void mark_changed_links(const std::vector<uint64_t> &before, const std::vector<uint64_t> &after);
+    void mark_changed_links(const std::vector<uint64_t> &before, const StarGraph &now);
     int64_t improve_valence();
     int64_t flip_for_valence();
     bool relax_into_regularity(const int32_t (&quad)[4]);
@@ -420,48 +421,56 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
 // Flips from the triangles around every vertex that changed since `since`.
 int64_t Optimiser::restore_regularity(int32_t since) {
     std::vector<int32_t> seeds;
-    for (int32_t t = 0; t < tri_.triangle_slots(); ++t) {
-        if (tri_.is_free(t)) continue;
+    int64_t n_seeds = 0;
+    auto changed = [&](int32_t t) {
         for (int k = 0; k < 3; ++k)
-            if (changed_at_[tri_.vertex(t, k)] >= since) {
-                seeds.push_back(t);
-                break;
-            }
-    }
+            if (changed_at_[tri_.vertex(t, k)] >= since) return true;
+        return false;
+    };
+    for (int32_t t = 0; t < tri_.triangle_slots(); ++t) n_seeds += !tri_.is_free(t) && changed(t);
+    seeds.reserve(static_cast<size_t>(n_seeds));  // exactly: it is most of the triangles at first
+    for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
+        if (!tri_.is_free(t) && changed(t)) seeds.push_back(t);
     return tri_.restore_regularity(std::move(seeds));
 }
 
 // A fingerprint of each vertex's link that does not depend on where the
 // cycle starts: the sum of a mix of every (neighbour, next neighbour) pair.
+uint64_t link_fingerprint(const StarGraph &g, int32_t v) {
+    const int32_t *link = g.link(v);
+    const int m = g.degree(v);
+    uint64_t sum = static_cast<uint64_t>(m);
+    for (int k = 0; k < m; ++k) {
+        const uint64_t here = static_cast<uint32_t>(link[k]);
+        const uint64_t next = static_cast<uint32_t>(link[(k + 1) % m]);
+        uint64_t z = (here << 32 | next) + 0x9e3779b97f4a7c15ull;  // splitmix64
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        sum += z ^ (z >> 31);
+    }
+    return sum;
+}
+
 std::vector<uint64_t> link_fingerprints(Context &ctx, const StarGraph &g) {
     std::vector<uint64_t> out(static_cast<size_t>(g.vertex_slots()), 0);
     ctx.parallel_for(g.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
-        for (int64_t v = b; v < e; ++v) {
-            const int32_t *link = g.link(static_cast<int32_t>(v));
-            const int m = g.degree(static_cast<int32_t>(v));
-            uint64_t sum = static_cast<uint64_t>(m);
-            for (int k = 0; k < m; ++k) {
-                const uint64_t here = static_cast<uint32_t>(link[k]);
-                const uint64_t next = static_cast<uint32_t>(link[(k + 1) % m]);
-                uint64_t z = (here << 32 | next) + 0x9e3779b97f4a7c15ull;  // splitmix64
-                z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-                z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-                sum += z ^ (z >> 31);
-            }
-            out[v] = sum;
-        }
+        for (int64_t v = b; v < e; ++v) out[v] = link_fingerprint(g, static_cast<int32_t>(v));
     });
     return out;
 }
 
 // A vertex whose link changed (by flips, collapses or splits) counts as
 // changed, so that it and its neighbours are tried again.
-void Optimiser::mark_changed_links(const std::vector<uint64_t> &before,
-                                   const std::vector<uint64_t> &after) {
-    for (size_t v = 0; v < after.size(); ++v)
-        if (v >= before.size() || before[v] != after[v]) changed_at_[v] = clock_;
+void Optimiser::mark_changed_links(const std::vector<uint64_t> &before, const StarGraph &now) {
+    // Compared as they are computed: a second list would be alive with the
+    // new graph, where the optimisation's memory peaks.
+    ctx_.parallel_for(now.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v)
+            if (v >= static_cast<int64_t>(before.size()) ||
+                before[v] != link_fingerprint(now, static_cast<int32_t>(v)))
+                changed_at_[v] = clock_;
+    });
 }
-
 // The edges whose length over the spacing is below `below` or above `above`.
 std::vector<Optimiser::EdgeRatio> Optimiser::edge_ratios(double below, double above) const {
     // Fixed blocks scanned in parallel, joined in block order: the same list
@@ -824,7 +833,7 @@ OptimiseStats Optimiser::run() {
             const std::vector<uint64_t> links_before = link_fingerprints(ctx_, *graph);
             graph.reset();  // one graph alive at a time
             graph = std::make_unique<StarGraph>(ctx_, tri_);
-            mark_changed_links(links_before, link_fingerprints(ctx_, *graph));
+            mark_changed_links(links_before, *graph);
         }
         ++clock_;
         stats_.seconds_topology += seconds_since(t0);

@@ -44,9 +44,19 @@ void StarGraph::colour() {
         int32_t c = 0;
         while (c < static_cast<int32_t>(seen_by.size()) && seen_by[c] == v) ++c;
         colour_of[v] = c;
-        if (c >= static_cast<int32_t>(colours_.size())) colours_.resize(c + 1);
-        colours_[c].push_back(v);
     }
+    // The lists sized exactly (growing them by push_back would hold up to
+    // twice their size at the moment memory peaks), each in slot order.
+    std::vector<int32_t> count;
+    for (int32_t c : colour_of)
+        if (c >= 0) {
+            if (c >= static_cast<int32_t>(count.size())) count.resize(c + 1, 0);
+            ++count[c];
+        }
+    colours_.resize(count.size());
+    for (size_t c = 0; c < count.size(); ++c) colours_[c].reserve(static_cast<size_t>(count[c]));
+    for (int32_t v = 0; v < n; ++v)
+        if (colour_of[v] >= 0) colours_[colour_of[v]].push_back(v);
 }
 
 }  // namespace um::optim
