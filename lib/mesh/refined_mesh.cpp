@@ -101,6 +101,7 @@ int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri) {
 constexpr int64_t kRefineBytesPerCell = 200;
 constexpr int64_t kOptimiseBytesPerCell = 480;
 constexpr double kOptimiseGrowth = 0.125;  // room reserved for new vertices
+constexpr int kRefineRounds = 4;           // boundary + surface passes at most
 
 void number_vertices(RefinedMesh &m) {
     m.vertex_of_slot.assign(static_cast<size_t>(m.tri.vertex_slots()), -1);
@@ -184,20 +185,35 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     int32_t next_id = 12;
 
     const geom::ArcTree arcs = gamma_arcs(m.gamma.get());
-    if (arcs.size() > 0) {
-        refine::BoundaryOptions bo;
-        bo.alpha = options.real(UM_OPT_REFINE_ALPHA);
-        bo.beta = options.real(UM_OPT_REFINE_BETA);
-        refine::BoundaryStats stats = refine::refine_boundary(ctx, m.tri, hr, arcs, bo, next_id,
-                                                              m.on_segment);
-        m.filtered = stats.filtered;
-    }
+    refine::BoundaryOptions bo;
+    bo.alpha = options.real(UM_OPT_REFINE_ALPHA);
+    bo.beta = options.real(UM_OPT_REFINE_BETA);
     refine::SurfaceOptions so;
     so.alpha = options.real(UM_OPT_REFINE_ALPHA);
     so.rho = options.real(UM_OPT_REFINE_RHO);
     if (arcs.size() > 0) so.gamma = &arcs, so.on_gamma = &m.on_segment;
-    refine::refine_surface(ctx, m.tri, hr, so, next_id);
+    // Boundary then surface refinement; the surface points change dual edges
+    // near Gamma, so that some restricted edges come out too long again:
+    // another boundary pass mends them, and a surface pass the triangles it
+    // made, until a boundary pass inserts nothing (in practice one more).
+    // The later boundary passes look only around the surface points placed
+    // near Gamma.
+    // near Gamma, and the later surface passes only around the new boundary
+    // points.
+    std::vector<int32_t> near_gamma;
+    for (int round = 0; round < kRefineRounds; ++round) {
+        refine::BoundaryStats boundary;
+        if (arcs.size() > 0)
+            boundary = refine::refine_boundary(ctx, m.tri, hr, arcs, bo, next_id, m.on_segment,
+                                               round > 0 ? &near_gamma : nullptr);
+        if (round > 0 && boundary.inserted == 0) break;
+        refine::SurfaceStats surface =
+            refine::refine_surface(ctx, m.tri, hr, so, next_id, round > 0 ? &boundary.added : nullptr);
+        next_id = surface.next_id;
+        near_gamma.swap(surface.near_gamma);
+    }
     finish(ctx, m, arcs);
+    m.filtered = refine::count_bad(m.tri, m.restricted, hr, bo);
     return m;
 }
 

@@ -30,19 +30,30 @@ struct Bad {
 };
 
 // The restricted edges among the edges of the given triangles, each once.
-std::vector<RestrictedEdge> restricted_edges_of(const tri::Triangulation &tri,
+// Found in parallel over fixed blocks joined in order: the same list for any
+// thread count.
+std::vector<RestrictedEdge> restricted_edges_of(Context &ctx, const tri::Triangulation &tri,
                                                 const std::vector<int32_t> &triangles,
                                                 const geom::ArcTree &gamma) {
-    std::vector<std::pair<std::pair<int32_t, int32_t>, RestrictedEdge>> found;
-    for (int32_t t : triangles) {
-        if (tri.is_free(t)) continue;
-        for (int k = 0; k < 3; ++k) {
-            RestrictedEdge e;
-            if (!restricted_crossing(tri, t, k, gamma, &e)) continue;
-            int32_t a = tri.vertex(t, (k + 1) % 3), b = tri.vertex(t, (k + 2) % 3);
-            found.push_back({{std::min(a, b), std::max(a, b)}, e});
-        }
-    }
+    using Found = std::pair<std::pair<int32_t, int32_t>, RestrictedEdge>;
+    constexpr int64_t kBlock = 1024;
+    const int64_t n = static_cast<int64_t>(triangles.size());
+    std::vector<std::vector<Found>> blocks(static_cast<size_t>((n + kBlock - 1) / kBlock));
+    ctx.parallel_for(static_cast<int64_t>(blocks.size()), 1, [&](int64_t b0, int64_t b1) {
+        for (int64_t blk = b0; blk < b1; ++blk)
+            for (int64_t i = blk * kBlock; i < std::min(n, (blk + 1) * kBlock); ++i) {
+                const int32_t t = triangles[i];
+                if (tri.is_free(t)) continue;
+                for (int k = 0; k < 3; ++k) {
+                    RestrictedEdge e;
+                    if (!restricted_crossing(tri, t, k, gamma, &e)) continue;
+                    int32_t a = tri.vertex(t, (k + 1) % 3), b = tri.vertex(t, (k + 2) % 3);
+                    blocks[blk].push_back({{std::min(a, b), std::max(a, b)}, e});
+                }
+            }
+    });
+    std::vector<Found> found;
+    for (const auto &b : blocks) found.insert(found.end(), b.begin(), b.end());
     std::sort(found.begin(), found.end(),
               [](const auto &x, const auto &y) { return x.first < y.first; });
     std::vector<RestrictedEdge> out;
@@ -51,29 +62,54 @@ std::vector<RestrictedEdge> restricted_edges_of(const tri::Triangulation &tri,
     return out;
 }
 
+bool is_bad(const tri::Triangulation &tri, const RestrictedEdge &e, const SpacingRadians &h,
+            const BoundaryOptions &options, EdgeMeasure *m) {
+    *m = measure(tri, e, h);
+    return m->length >= options.alpha * m->h || m->eps >= options.beta * m->h;
+}
+
+// The triangles of the stars of `vertices` (those in the triangulation),
+// sorted, each once.
+std::vector<int32_t> stars_of(const tri::Triangulation &tri, const std::vector<int32_t> &vertices) {
+    std::vector<int32_t> out;
+    for (int32_t v : vertices)
+        if (tri.in_triangulation(v)) tri.for_each_in_star(v, [&](int32_t t) { out.push_back(t); });
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
 }  // namespace
 
+int64_t count_bad(const tri::Triangulation &tri, const std::vector<RestrictedEdge> &edges,
+                  const SpacingRadians &h, const BoundaryOptions &options) {
+    int64_t bad = 0;
+    for (const RestrictedEdge &e : edges) {
+        EdgeMeasure m;
+        bad += is_bad(tri, e, h, options, &m);
+    }
+    return bad;
+}
+
 // Passes: every bad restricted edge gets its ball centre (or is filtered).
-// The first pass looks at every edge; later ones only at the edges around
-// the points just inserted - no other edge changed - and a last full scan
-// counts the bad edges left (the filtered ones).
+// The first pass looks at every edge (or those around `around`); later ones
+// only at the edges around the points just inserted - no other edge changed.
 BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
                               const geom::ArcTree &gamma, const BoundaryOptions &options,
-                              int32_t &next_id, std::vector<int32_t> &on_gamma) {
+                              int32_t &next_id, std::vector<int32_t> &on_gamma,
+                              const std::vector<int32_t> *around) {
     BoundaryStats stats;
     on_gamma.resize(static_cast<size_t>(tri.vertex_slots()), -1);
-    auto is_bad = [&](const RestrictedEdge &e, EdgeMeasure *m) {
-        *m = measure(tri, e, h);
-        return m->length >= options.alpha * m->h || m->eps >= options.beta * m->h;
-    };
-    std::vector<RestrictedEdge> candidates = restricted_edges(ctx, tri, gamma);
+    auto bad_edge = [&](const RestrictedEdge &e, EdgeMeasure *m) { return is_bad(tri, e, h, options, m); };
+    std::vector<RestrictedEdge> candidates =
+        around ? restricted_edges_of(ctx, tri, stars_of(tri, *around), gamma) : restricted_edges(ctx, tri, gamma);
     for (;;) {
         ++stats.passes;
         ctx.progress("refine boundary", 0.0);
         std::vector<Bad> bad;
         for (const RestrictedEdge &e : candidates) {
             EdgeMeasure m;
-            if (!is_bad(e, &m)) continue;
+            if (!bad_edge(e, &m)) continue;
             int32_t a = tri.vertex(e.triangle, (e.edge + 1) % 3);
             int32_t b = tri.vertex(e.triangle, (e.edge + 2) % 3);
             bad.push_back({m.length / m.h, std::min(a, b), std::max(a, b), e});
@@ -89,7 +125,7 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
             RestrictedEdge e;
             if (!restricted_crossing(tri, t, x.edge.edge, gamma, &e)) continue;
             EdgeMeasure m;
-            if (!is_bad(e, &m)) continue;
+            if (!bad_edge(e, &m)) continue;
             // The surface ball is empty, so its radius is the new point's
             // distance to its nearest vertex: too small means over-refining.
             if (e.radius < options.filter * h(e.centre)) continue;
@@ -104,18 +140,9 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
             added.push_back(v);
         }
         stats.inserted += static_cast<int64_t>(added.size());
+        stats.added.insert(stats.added.end(), added.begin(), added.end());
         if (added.empty()) break;
-        std::vector<int32_t> dirty;
-        for (int32_t v : added)
-            if (tri.in_triangulation(v))
-                for (int32_t t : tri.star(v)) dirty.push_back(t);
-        std::sort(dirty.begin(), dirty.end());
-        dirty.erase(std::unique(dirty.begin(), dirty.end()), dirty.end());
-        candidates = restricted_edges_of(tri, dirty, gamma);
-    }
-    for (const RestrictedEdge &e : restricted_edges(ctx, tri, gamma)) {
-        EdgeMeasure m;
-        stats.filtered += is_bad(e, &m);
+        candidates = restricted_edges_of(ctx, tri, stars_of(tri, added), gamma);
     }
     return stats;
 }

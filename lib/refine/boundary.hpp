@@ -26,16 +26,24 @@ struct BoundaryOptions {
 
 struct BoundaryStats {
     int64_t inserted = 0;
-    int64_t filtered = 0;  // bad restricted edges left because refining them would over-refine
     int passes = 0;
+    std::vector<int32_t> added;  // the vertices inserted, in order
 };
 
 // Refines `tri` in place. on_gamma (indexed by vertex slot, grown as points
 // are added) receives the Gamma arc each inserted vertex lies on, -1 for
-// the others. New points get ids from next_id upwards (updated).
+// the others. New points get ids from next_id upwards (updated). With
+// `around`, only the restricted edges of the stars of those vertices are
+// looked at first (the others are known to be good); else all of them.
 BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
                               const geom::ArcTree &gamma, const BoundaryOptions &options,
-                              int32_t &next_id, std::vector<int32_t> &on_gamma);
+                              int32_t &next_id, std::vector<int32_t> &on_gamma,
+                              const std::vector<int32_t> *around = nullptr);
+
+// The restricted edges among `edges` that are bad (too long or too far from
+// Gamma): after refine_boundary, those of features below the spacing.
+int64_t count_bad(const tri::Triangulation &tri, const std::vector<RestrictedEdge> &edges,
+                  const SpacingRadians &h, const BoundaryOptions &options);
 
 // The length and Hausdorff distance of a restricted edge, and h at its midpoint.
 struct EdgeMeasure {

@@ -108,7 +108,8 @@ tri::Triangulation icosahedron(Context &ctx) {
 }
 
 SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
-                            const SurfaceOptions &options, int32_t next_id) {
+                            const SurfaceOptions &options, int32_t next_id,
+                            const std::vector<int32_t> *around) {
     SurfaceStats stats;
     std::deque<Candidate> queue;  // first in, first out: deterministic and cache-friendly
     auto consider = [&](int32_t t) {
@@ -123,8 +124,17 @@ SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const Spacing
         if (too_big || badly_shaped)
             queue.push_back({t, tri.vertex(t, 0), tri.vertex(t, 1), tri.vertex(t, 2)});
     };
-    for (int32_t t = 0; t < tri.triangle_slots(); ++t)
-        if (!tri.is_free(t)) consider(t);
+    if (around) {
+        std::vector<int32_t> first;
+        for (int32_t v : *around)
+            if (tri.in_triangulation(v)) tri.for_each_in_star(v, [&](int32_t t) { first.push_back(t); });
+        std::sort(first.begin(), first.end());
+        first.erase(std::unique(first.begin(), first.end()), first.end());
+        for (int32_t t : first) consider(t);
+    } else {
+        for (int32_t t = 0; t < tri.triangle_slots(); ++t)
+            if (!tri.is_free(t)) consider(t);
+    }
 
     int64_t steps = 0;
     while (!queue.empty()) {
@@ -156,8 +166,8 @@ SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const Spacing
         Vec3 p = towards(m, centre, d);
         int32_t arc = -1;
         RestrictedEdge enc;
-        if (options.gamma && near_gamma(*options.gamma, p, 3 * target) &&
-            encroached_edge(tri, p, c.t, *options.gamma, &enc)) {
+        const bool near = options.gamma && near_gamma(*options.gamma, p, 3 * target);
+        if (near && encroached_edge(tri, p, c.t, *options.gamma, &enc)) {
             if (enc.radius < options.filter * h(enc.centre)) {
                 ++stats.rejected;  // left as it is: refining would over-refine Gamma
                 continue;
@@ -182,8 +192,12 @@ SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const Spacing
             (*options.on_gamma)[v] = arc;
         }
         ++stats.inserted;
+        // Its cavity's dual edges lie within about 2 r < 1.6 h of it: only
+        // then may it have changed Tri|Gamma.
+        if (near && near_gamma(*options.gamma, p, 1.6 * target)) stats.near_gamma.push_back(v);
         for (int32_t t : tri.star(v)) consider(t);  // only the new fan changed
     }
+    stats.next_id = next_id;
     return stats;
 }
 

@@ -37,11 +37,18 @@ using SpacingRadians = std::function<double(const geom::Vec3 &)>;
 struct SurfaceStats {
     int64_t inserted = 0;
     int64_t rejected = 0;  // candidates hidden or too close (left as they were)
+    int32_t next_id = 0;   // the first id not given out
+    // Vertices inserted near Gamma (where they may change Tri|Gamma), in
+    // insertion order; only with options.gamma.
+    std::vector<int32_t> near_gamma;
 };
 
-// Refines `tri` in place; new points get ids from next_id upwards.
+// Refines `tri` in place; new points get ids from next_id upwards. With
+// `around`, only the triangles of the stars of those vertices are looked
+// at first (the others are known to be good); else all of them.
 SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
-                            const SurfaceOptions &options, int32_t next_id);
+                            const SurfaceOptions &options, int32_t next_id,
+                            const std::vector<int32_t> *around = nullptr);
 
 // A triangulation of the 12 vertices of the icosahedron, ids 0..11.
 tri::Triangulation icosahedron(Context &ctx);
