@@ -45,6 +45,8 @@ constexpr double kPoorStar = 0.95;
 constexpr double kPoorMargin = 0.05;
 constexpr double kPolishAfter = 0.5;
 constexpr int kPolishRounds = 4;
+constexpr int kCompassDirections = 16;
+constexpr int kCompassSteps = 5;  // h / 4, h / 8, ...: the compass step halved
 
 // Worst and mean of a star's triangle scores, and which triangle (k: the
 // one between link vertices k and k + 1) is the worst.
@@ -347,16 +349,25 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
     if (!on_gamma && before.worst < poor_star_) {
         // A poor star the two targets cannot mend (its worst triangle sits
         // between vertex pairs of degree 5 and 7, where both targets pull
-        // the wrong way): a compass search in eight directions.
+        // the wrong way): a compass search, the step
+        // halved until one of them is BETTER.
         const Vec3 e1 = geom::normalized(geom::cross(here.x, std::fabs(here.x.z) < 0.9 ? Vec3{0, 0, 1} : Vec3{1, 0, 0}));
         const Vec3 e2 = geom::cross(here.x, e1);
         double step = 0.25 * h_at_[v];
-        for (int m = 0; m < 4; ++m, step *= 0.5)
-            for (int d = 0; d < 8; ++d) {
-                const double a = d * (M_PI / 4);
-                const Vec3 dir = std::cos(a) * e1 + std::sin(a) * e2;
-                if (try_move(geom::normalized(here.x + step * dir))) return true;
+        for (int m = 0; m < kCompassSteps; ++m, step *= 0.5) {
+            // The best of the directions at this step, not the first that is
+            // BETTER: the worst triangle is what limits the mesh.
+            Vec3 best{};
+            double best_worst = -kInfinity;
+            for (int d = 0; d < kCompassDirections; ++d) {
+                const double a = d * (2 * M_PI / kCompassDirections);
+                const Generator moved{geom::normalized(here.x + step * (std::cos(a) * e1 + std::sin(a) * e2)), here.s};
+                const LocalQuality now = ring_quality<true>(ring, moved, std::max(before.worst, best_worst), before.worst_k);
+                if (better(now, before, gain_) && now.worst > best_worst && star_is_valid(ring, moved))
+                    best = moved.x, best_worst = now.worst;
             }
+            if (best_worst > -kInfinity && try_move(best)) return true;
+        }
     }
     if (on_gamma) {
         // Along the feature both ways: the two targets above are projected
