@@ -36,6 +36,9 @@ constexpr double kCrossingMargin = 0.05;
 // tolerances: smaller gains cost a sweep each and change no summary.
 constexpr double kGainOverTolerance = 10;
 
+// Targets closer than this (in units of h) are not searched towards.
+constexpr double kShortestMove = 1e-4;
+
 // Once an outer iteration of the shape phase moves fewer than kPolishAfter
 // vertices per vertex, the stars whose worst shape score is within
 // kPoorMargin of the mesh's worst (and below kPoorStar) get serial rounds of
@@ -342,6 +345,8 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
     Vec3 link_sum{};
     for (int k = 0; k < ring.m; ++k) link_sum = link_sum + ring.at(k).x;
     for (const Vec3 &target : {odt_target(g, v, here, ring), geom::normalized(link_sum)}) {
+        // A move this short cannot change a score by the gain required.
+        if (geom::norm(target - here.x) < kShortestMove * h_at_[v]) continue;
         double step = 1;
         for (int m = 0; m <= kHalvings; ++m, step *= 0.5)
             if (try_move(geom::normalized((1 - step) * here.x + step * target))) return true;
