@@ -100,7 +100,7 @@ int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri) {
 // the mesh), with a margin.
 constexpr int64_t kRefineBytesPerCell = 200;
 constexpr int64_t kOptimiseBytesPerCell = 480;
-constexpr double kOptimiseGrowth = 0.125;  // room reserved for new vertices
+constexpr double kOptimiseNewVertices = 0.125, kOptimiseNewTriangles = 0.05;  // room reserved
 constexpr int kRefineRounds = 4;           // boundary + surface passes at most
 
 void number_vertices(RefinedMesh &m) {
@@ -221,11 +221,14 @@ namespace {
 
 // What optimise_mesh changes, kept so that a failure or a cancellation puts
 // the mesh back exactly as it was: the triangulation as a snapshot (its
-// points and triangles) and a copy of on_segment, which the optimisation
-// changes in place; the derived fields, which it does not read, moved aside.
+// points and triangles) and on_segment, which the optimisation changes in
+// place; the derived fields, which it does not read, moved aside.
 struct Undo {
     tri::Triangulation::Snapshot tri;
-    std::vector<int32_t> on_segment, vertex_of_slot, slot_of_vertex;
+    // on_segment as (slot, segment) for the slots on Gamma: most are not.
+    std::vector<std::pair<int32_t, int32_t>> on_gamma;
+    size_t slots = 0;
+    std::vector<int32_t> vertex_of_slot, slot_of_vertex;
     std::vector<refine::RestrictedEdge> restricted;
     std::vector<refine::Side> vertex_side, triangle_side;
     bool optimised;
@@ -234,16 +237,21 @@ struct Undo {
 };
 
 Undo set_aside(RefinedMesh &m) {
-    return {m.tri.snapshot(),          m.on_segment,
-            std::move(m.vertex_of_slot), std::move(m.slot_of_vertex),
-            std::move(m.restricted),   std::move(m.vertex_side),
-            std::move(m.triangle_side), m.optimised,
-            m.refined_quality,         m.optimisation};
+    std::vector<std::pair<int32_t, int32_t>> on_gamma;
+    for (size_t v = 0; v < m.on_segment.size(); ++v)
+        if (m.on_segment[v] >= 0) on_gamma.push_back({static_cast<int32_t>(v), m.on_segment[v]});
+    return {m.tri.snapshot(),          std::move(on_gamma),
+            m.on_segment.size(),       std::move(m.vertex_of_slot),
+            std::move(m.slot_of_vertex), std::move(m.restricted),
+            std::move(m.vertex_side),  std::move(m.triangle_side),
+            m.optimised,               m.refined_quality,
+            m.optimisation};
 }
 
 void put_back(RefinedMesh &m, Undo &&u) {
     m.tri.restore(std::move(u.tri));
-    m.on_segment = std::move(u.on_segment);
+    m.on_segment.assign(u.slots, -1);
+    for (const auto &[v, segment] : u.on_gamma) m.on_segment[v] = segment;
     m.vertex_of_slot = std::move(u.vertex_of_slot), m.slot_of_vertex = std::move(u.slot_of_vertex);
     m.restricted = std::move(u.restricted);
     m.vertex_side = std::move(u.vertex_side), m.triangle_side = std::move(u.triangle_side);
@@ -266,9 +274,11 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     o.fix_boundary = options.integer(UM_OPT_OPTIM_FIX_BOUNDARY) != 0;
     o.collapse_ratio = options.real(UM_OPT_OPTIM_COLLAPSE_RATIO);
     o.split_ratio = options.real(UM_OPT_OPTIM_SPLIT_RATIO);
-    // The optimisation adds a few per cent of vertices (splits); their room
-    // first, while neither the undo nor the optimiser's state is allocated.
-    m.tri.reserve_extra(kOptimiseGrowth);
+    // The optimisation inserts a few per cent of new vertex slots (splits)
+    // and, as it also removes about as many vertices (collapses), needs few
+    // new triangle slots: their room first, while neither the undo nor the
+    // optimiser's state is allocated.
+    m.tri.reserve_extra(kOptimiseNewVertices, kOptimiseNewTriangles);
     Undo undo = set_aside(m);
     try {
         m.refined_quality = before;

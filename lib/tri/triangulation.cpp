@@ -190,11 +190,12 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
     return old_of_new;
 }
 
-void Triangulation::reserve_extra(double fraction) {
-    auto grow = [fraction](auto &values) {
-        values.reserve(values.size() + static_cast<size_t>(fraction * double(values.size())) + 16);
+void Triangulation::reserve_extra(double vertices, double triangles) {
+    auto grow = [](auto &values, double share) {
+        values.reserve(values.size() + static_cast<size_t>(share * double(values.size())) + 16);
     };
-    grow(q_), grow(id_), grow(vertex_tri_), grow(tris_), grow(mark_);
+    grow(q_, vertices), grow(id_, vertices), grow(vertex_tri_, vertices);
+    grow(tris_, triangles), grow(mark_, triangles);
 }
 
 Triangulation::Snapshot Triangulation::snapshot() const {

@@ -69,10 +69,11 @@ public:
     // per-slot arrays.
     std::vector<int32_t> reorder_spatially(Context &ctx);
 
-    // Room for `fraction` more vertices and triangles without reallocating:
-    // a caller about to add a few (the optimisation) reserves it while
-    // little else is allocated, since a reallocation holds both buffers.
-    void reserve_extra(double fraction);
+    // Room for that share more vertex slots and triangle slots without
+    // reallocating: a caller about to add a few (the optimisation) reserves
+    // it while little else is allocated, since a reallocation holds both
+    // buffers.
+    void reserve_extra(double vertices, double triangles);
 
     // What restore() needs to put the triangulation back exactly as it was
     // (slots, numbering, incident triangles): the points and the triangles'
