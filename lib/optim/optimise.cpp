@@ -436,17 +436,27 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
 
 // Flips from the triangles around every vertex that changed since `since`.
 int64_t Optimiser::restore_regularity(int32_t since) {
+    // The seeds: triangles with a vertex changed since `since` and an edge
+    // that is not locally regular, found in parallel (the exact tests are
+    // most of the work, and most triangles pass them); the flips are serial.
+    // A triangle left out cannot need a flip before one next to it has
+    // flipped, and the flip puts it back on the stack.
+    constexpr int64_t kBlock = 8192;
+    const int32_t n = tri_.triangle_slots();
+    std::vector<std::vector<int32_t>> found(static_cast<size_t>((n + kBlock - 1) / kBlock));
+    ctx_.parallel_for(static_cast<int64_t>(found.size()), 1, [&](int64_t b0, int64_t b1) {
+        for (int64_t blk = b0; blk < b1; ++blk)
+            for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
+                const int32_t ti = static_cast<int32_t>(t);
+                if (tri_.is_free(ti)) continue;
+                bool changed = false, regular = true;
+                for (int k = 0; k < 3; ++k) changed |= changed_at_[tri_.vertex(ti, k)] >= since;
+                for (int k = 0; k < 3 && changed && regular; ++k) regular = tri_.is_locally_regular(ti, k);
+                if (!regular) found[blk].push_back(ti);
+            }
+    });
     std::vector<int32_t> seeds;
-    int64_t n_seeds = 0;
-    auto changed = [&](int32_t t) {
-        for (int k = 0; k < 3; ++k)
-            if (changed_at_[tri_.vertex(t, k)] >= since) return true;
-        return false;
-    };
-    for (int32_t t = 0; t < tri_.triangle_slots(); ++t) n_seeds += !tri_.is_free(t) && changed(t);
-    seeds.reserve(static_cast<size_t>(n_seeds));  // exactly: it is most of the triangles at first
-    for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
-        if (!tri_.is_free(t) && changed(t)) seeds.push_back(t);
+    for (const auto &f : found) seeds.insert(seeds.end(), f.begin(), f.end());
     return tri_.restore_regularity(std::move(seeds));
 }
 
