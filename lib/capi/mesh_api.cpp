@@ -78,9 +78,15 @@ UM_API um_status um_mesh_optimise(um_mesh *m, const um_options *options) {
     um::Options defaults;
     const um::Options &opts = options ? options->values : defaults;
     // The report of the mesh as it is first: it is the "before". On failure
-    // optimise_mesh leaves m->mesh as it was, and the caches stay valid.
+    // optimise_mesh leaves m->mesh as it was, and the caches stay valid -
+    // unless even its undo ran out of memory and left the mesh empty.
     const um::quality::Report &before = quality_of(m);
-    um::mesh::optimise_mesh(*m->context, m->mesh, opts, &before);
+    try {
+        um::mesh::optimise_mesh(*m->context, m->mesh, opts, &before);
+    } catch (...) {
+        if (m->mesh.vertex_count() == 0) m->quality.reset(), m->mpas.reset();
+        throw;
+    }
     m->quality.reset();
     m->mpas.reset();
     return UM_OK;

@@ -96,12 +96,12 @@ int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri) {
 }
 
 // Peak bytes per cell of the two stages, measured by tools/bench/bench_refine
-// (uniform 30 km: refinement ~140, the optimisation ~400 with its copy of
-// the mesh), with a margin.
+// (uniform 30 km: refinement ~140, the optimisation ~260 with its undo
+// snapshot), with a margin.
 constexpr int64_t kRefineBytesPerCell = 200;
 constexpr int64_t kOptimiseBytesPerCell = 480;
 constexpr double kOptimiseNewVertices = 0.125, kOptimiseNewTriangles = 0.05;  // room reserved
-constexpr int kRefineRounds = 4;           // boundary + surface passes at most
+constexpr int kRefineRounds = 4;           // surface passes at most (each after a boundary pass)
 
 void number_vertices(RefinedMesh &m) {
     m.vertex_of_slot.assign(static_cast<size_t>(m.tri.vertex_slots()), -1);
@@ -192,21 +192,20 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     so.alpha = options.real(UM_OPT_REFINE_ALPHA);
     so.rho = options.real(UM_OPT_REFINE_RHO);
     if (arcs.size() > 0) so.gamma = &arcs, so.on_gamma = &m.on_segment;
-    // Boundary then surface refinement; the surface points change dual edges
-    // near Gamma, so that some restricted edges come out too long again:
-    // another boundary pass mends them, and a surface pass the triangles it
-    // made, until a boundary pass inserts nothing (in practice one more).
-    // The later boundary passes look only around the surface points placed
-    // near Gamma.
-    // near Gamma, and the later surface passes only around the new boundary
-    // points.
+    // Boundary then surface refinement. The surface points change dual
+    // edges near Gamma, so that some restricted edges come out too long
+    // again: another boundary pass mends them (looking only around the
+    // surface points placed near Gamma), then a surface pass the triangles
+    // it made (only around the new boundary points), until a boundary pass
+    // inserts nothing - in practice after two more rounds. The last pass is
+    // always a boundary pass; after kRefineRounds surface passes it ends.
     std::vector<int32_t> near_gamma;
-    for (int round = 0; round < kRefineRounds; ++round) {
+    for (int round = 0;; ++round) {
         refine::BoundaryStats boundary;
         if (arcs.size() > 0)
             boundary = refine::refine_boundary(ctx, m.tri, hr, arcs, bo, next_id, m.on_segment,
                                                round > 0 ? &near_gamma : nullptr);
-        if (round > 0 && boundary.inserted == 0) break;
+        if ((round > 0 && boundary.inserted == 0) || round == kRefineRounds) break;
         refine::SurfaceStats surface =
             refine::refine_surface(ctx, m.tri, hr, so, next_id, round > 0 ? &boundary.added : nullptr);
         next_id = surface.next_id;
@@ -237,25 +236,39 @@ struct Undo {
 };
 
 Undo set_aside(RefinedMesh &m) {
-    std::vector<std::pair<int32_t, int32_t>> on_gamma;
+    // What can throw (the copies) before anything is moved out of m.
+    Undo u;
+    u.tri = m.tri.snapshot();
     for (size_t v = 0; v < m.on_segment.size(); ++v)
-        if (m.on_segment[v] >= 0) on_gamma.push_back({static_cast<int32_t>(v), m.on_segment[v]});
-    return {m.tri.snapshot(),          std::move(on_gamma),
-            m.on_segment.size(),       std::move(m.vertex_of_slot),
-            std::move(m.slot_of_vertex), std::move(m.restricted),
-            std::move(m.vertex_side),  std::move(m.triangle_side),
-            m.optimised,               m.refined_quality,
-            m.optimisation};
+        if (m.on_segment[v] >= 0) u.on_gamma.push_back({static_cast<int32_t>(v), m.on_segment[v]});
+    u.slots = m.on_segment.size();
+    u.refined_quality = m.refined_quality;
+    u.optimised = m.optimised, u.optimisation = m.optimisation;
+    u.vertex_of_slot = std::move(m.vertex_of_slot), u.slot_of_vertex = std::move(m.slot_of_vertex);
+    u.restricted = std::move(m.restricted);
+    u.vertex_side = std::move(m.vertex_side), u.triangle_side = std::move(m.triangle_side);
+    return u;
 }
 
+// Puts m back as it was. The moves first (they cannot throw); if even the
+// triangulation cannot be put back (memory), m is left empty - consistent,
+// every call on it answers for a mesh of no cells - and that is reported.
 void put_back(RefinedMesh &m, Undo &&u) {
-    m.tri.restore(std::move(u.tri));
-    m.on_segment.assign(u.slots, -1);
-    for (const auto &[v, segment] : u.on_gamma) m.on_segment[v] = segment;
     m.vertex_of_slot = std::move(u.vertex_of_slot), m.slot_of_vertex = std::move(u.slot_of_vertex);
     m.restricted = std::move(u.restricted);
     m.vertex_side = std::move(u.vertex_side), m.triangle_side = std::move(u.triangle_side);
-    m.optimised = u.optimised, m.refined_quality = u.refined_quality, m.optimisation = u.optimisation;
+    m.optimised = u.optimised, m.refined_quality = std::move(u.refined_quality), m.optimisation = u.optimisation;
+    try {
+        m.tri.restore(std::move(u.tri));
+        m.on_segment.assign(u.slots, -1);  // no larger than it was: no allocation
+        for (const auto &[v, segment] : u.on_gamma) m.on_segment[v] = segment;
+    } catch (...) {
+        m.tri = tri::Triangulation();
+        m.on_segment.clear(), m.vertex_of_slot.clear(), m.slot_of_vertex.clear(), m.restricted.clear();
+        m.vertex_side.clear(), m.triangle_side.clear();
+        fail(UM_ERR_OUT_OF_MEMORY, "the optimisation failed and, out of memory, its undo too: the mesh "
+             "is now empty (refine it again)");
+    }
 }
 
 }  // namespace

@@ -63,9 +63,14 @@ struct LocalQuality {
 // search scores the same star up to a dozen times, and reading the link
 // through the graph each time costs more than the scores themselves.
 struct Ring {
-    static constexpr int kMax = 64;  // a larger degree is never updated (improve_valence splits it)
+    // A larger degree is never updated (improve_valence splits such
+    // vertices, except on Gamma).
+    static constexpr int kMax = 64;
     int m = 0;
     Generator g[kMax];
+    // The stored lifted points: g[k].lifted() is s x rounded from them, and
+    // the exact tests must see what the triangulation holds.
+    Vec3 q[kMax];
     const Generator &at(int k) const { return g[k]; }
     const Generator &after(int k) const { return g[k + 1 == m ? 0 : k + 1]; }
 };
@@ -278,7 +283,7 @@ bool Optimiser::gather_ring(const StarGraph &g, int32_t v, Ring &ring) const {
     ring.m = g.degree(v);
     if (ring.m > Ring::kMax) return false;
     const int32_t *link = g.link(v);
-    for (int k = 0; k < ring.m; ++k) ring.g[k] = generator(link[k]);
+    for (int k = 0; k < ring.m; ++k) ring.g[k] = generator(link[k]), ring.q[k] = tri_.lifted(link[k]);
     return true;
 }
 
@@ -286,11 +291,11 @@ bool Optimiser::gather_ring(const StarGraph &g, int32_t v, Ring &ring) const {
 // counter-clockwise, exactly) and every spoke's crossing with its dual edge
 // stays inside it.
 bool star_is_valid(const Ring &ring, const Generator &at) {
-    const Vec3 q = at.lifted();
+    const Vec3 q = at.lifted();  // what set_generator stores
     for (int k = 0; k < ring.m; ++k) {
-        const Generator &a = ring.at(k), &b = ring.after(k);
-        if (geom::orient_origin(q.data(), a.lifted().data(), b.lifted().data()) <= 0) return false;
-        const double share = edge_crossing_share(at, a);
+        const Vec3 &a = ring.q[k], &b = ring.q[k + 1 == ring.m ? 0 : k + 1];
+        if (geom::orient_origin(q.data(), a.data(), b.data()) <= 0) return false;
+        const double share = edge_crossing_share(at, ring.at(k));
         if (!(share > kCrossingMargin && share < 1 - kCrossingMargin)) return false;
     }
     return true;
@@ -718,11 +723,11 @@ int64_t Optimiser::flip_for_valence() {
             const int before = deviation(a, 0) + deviation(b, 0) + deviation(c, 0) + deviation(d, 0);
             const int after = deviation(a, 1) + deviation(b, -1) + deviation(c, -1) + deviation(d, 1);
             if (before - after < 2 || degree[b] <= 4 || degree[c] <= 4) continue;
-            Generator saved[4];
-            for (int i = 0; i < 4; ++i) saved[i] = generator(quad[i]);
+            Vec3 saved[4];  // the stored points, bit for bit: the flip back must be regular again
+            for (int i = 0; i < 4; ++i) saved[i] = tri_.lifted(quad[i]);
             if (!tri_.flip(t, k)) continue;  // t = (a, b, d), u = (d, c, a)
             if (!relax_into_regularity(quad)) {
-                for (int i = 0; i < 4; ++i) set_generator(quad[i], saved[i]);
+                for (int i = 0; i < 4; ++i) tri_.set_lifted(quad[i], saved[i]);
                 tri_.flip(t, 1);  // the edge (d, a) of (a, b, d): back to (b, c)
                 continue;
             }
@@ -841,7 +846,8 @@ OptimiseStats Optimiser::run() {
                                           weighted, " weight updates"));
             if (moved + weighted == 0) break;
         }
-        if (shape_phase && changes < kPolishAfter * static_cast<double>(tri_.vertex_count())) {
+        if (shape_phase && o_.inner_iterations > 0 &&
+            changes < kPolishAfter * static_cast<double>(tri_.vertex_count())) {
             auto t0 = Clock::now();
             const int64_t polished = polish_poor_stars(*graph);
             stats_.moves += polished, changes += polished;

@@ -181,7 +181,13 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
         s.min = all[m].min, s.max = all[m].max, s.mean = all[m].sum / double(all[m].n);
         std::vector<double> values;
         for (const auto &v : in_bin[m]) values.insert(values.end(), v.begin(), v.end());
-        auto at = values.begin() + static_cast<std::ptrdiff_t>(p1_rank[m]);
+        // The two passes see the same values unless h is not reproducible
+        // (a user callback): then the nearest the bin allows.
+        if (values.empty()) {
+            s.p1 = s.min;
+            continue;
+        }
+        auto at = values.begin() + static_cast<std::ptrdiff_t>(std::min<int64_t>(p1_rank[m], values.size() - 1));
         std::nth_element(values.begin(), at, values.end());
         s.p1 = *at;
     }

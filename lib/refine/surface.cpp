@@ -192,9 +192,9 @@ SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const Spacing
             (*options.on_gamma)[v] = arc;
         }
         ++stats.inserted;
-        // Its cavity's dual edges lie within about 2 r < 1.6 h of it: only
-        // then may it have changed Tri|Gamma.
-        if (near && near_gamma(*options.gamma, p, 1.6 * target)) stats.near_gamma.push_back(v);
+        // Its cavity's dual edges lie within about 2 r < 2 alpha h / sqrt(3)
+        // of it (1.54 h by default): only then may it have changed Tri|Gamma.
+        if (near && near_gamma(*options.gamma, p, 1.2 * options.alpha * target)) stats.near_gamma.push_back(v);
         for (int32_t t : tri.star(v)) consider(t);  // only the new fan changed
     }
     stats.next_id = next_id;

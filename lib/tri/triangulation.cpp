@@ -208,32 +208,48 @@ Triangulation::Snapshot Triangulation::snapshot() const {
 }
 
 void Triangulation::restore(Snapshot &&s) {
-    // Neighbours: every directed edge (a, b) of a live triangle meets its
-    // reverse (b, a) in the triangle across; sorted by (a, b), the reverse
-    // of an edge is found by binary search.
-    struct Edge {
-        int32_t a, b, t, k;
-        bool operator<(const Edge &o) const { return a != o.a ? a < o.a : b < o.b; }
-    };
-    std::vector<Edge> edges;
-    edges.reserve(3 * s.triangles.size());
-    for (size_t t = 0; t < s.triangles.size(); ++t) {
-        const auto &v = s.triangles[t];
-        if (v[0] == kNone) continue;
-        for (int k = 0; k < 3; ++k)
-            edges.push_back({v[next(k)], v[prev(k)], static_cast<int32_t>(t), k});
-    }
-    std::sort(edges.begin(), edges.end());
-    std::vector<Tri> tris(s.triangles.size());
-    for (size_t t = 0; t < tris.size(); ++t)
-        for (int k = 0; k < 3; ++k) tris[t].v[k] = s.triangles[t][k], tris[t].n[k] = kNone;
-    for (const Edge &e : edges) {
-        const auto across = std::lower_bound(edges.begin(), edges.end(), Edge{e.b, e.a, 0, 0});
-        tris[e.t].n[e.k] = across->t;
-    }
-    tris_.swap(tris);
+    // The arrays being replaced go first: an undo is often taken because
+    // memory ran out. Then the neighbours are found through the triangles
+    // around each vertex (28 bytes per vertex of scratch): the triangle
+    // across edge (a, b) of t is the other one around a that has b.
     q_.swap(s.q), id_.swap(s.id), vertex_tri_.swap(s.vertex_tri), free_.swap(s.free);
-    mark_.assign(tris_.size(), 0);
+    std::vector<Vec3>().swap(s.q);
+    std::vector<int32_t>().swap(s.id), std::vector<int32_t>().swap(s.vertex_tri), std::vector<int32_t>().swap(s.free);
+    std::vector<Tri>().swap(tris_);
+    std::vector<uint8_t>().swap(mark_);
+    try {
+        const size_t nv = q_.size(), nt = s.triangles.size();
+        std::vector<int32_t> first(nv + 1, 0), around;
+        for (const auto &v : s.triangles)
+            if (v[0] != kNone)
+                for (int k = 0; k < 3; ++k) ++first[v[k] + 1];
+        for (size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+        around.resize(static_cast<size_t>(first[nv]));
+        std::vector<int32_t> fill(first.begin(), first.end() - 1);
+        for (size_t t = 0; t < nt; ++t)
+            if (s.triangles[t][0] != kNone)
+                for (int k = 0; k < 3; ++k) around[fill[s.triangles[t][k]]++] = static_cast<int32_t>(t);
+        std::vector<int32_t>().swap(fill);
+        tris_.resize(nt);
+        for (size_t t = 0; t < nt; ++t) {
+            const auto &v = s.triangles[t];
+            for (int k = 0; k < 3; ++k) tris_[t].v[k] = v[k], tris_[t].n[k] = kNone;
+            if (v[0] == kNone) continue;
+            for (int k = 0; k < 3; ++k) {
+                const int32_t a = v[next(k)], b = v[prev(k)];
+                for (int32_t i = first[a]; i < first[a + 1]; ++i) {
+                    const auto &w = s.triangles[around[i]];
+                    if (around[i] != static_cast<int32_t>(t) && (w[0] == b || w[1] == b || w[2] == b))
+                        tris_[t].n[k] = around[i];
+                }
+            }
+        }
+        mark_.assign(nt, 0);
+    } catch (...) {
+        // Not even that much memory: an empty triangulation, not a broken one.
+        q_.clear(), id_.clear(), vertex_tri_.clear(), free_.clear(), tris_.clear(), mark_.clear();
+        throw;
+    }
 }
 
 // Drops the virtual octahedron and the free triangle slots.

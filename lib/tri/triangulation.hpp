@@ -78,7 +78,9 @@ public:
     // What restore() needs to put the triangulation back exactly as it was
     // (slots, numbering, incident triangles): the points and the triangles'
     // vertices, about 56 bytes per vertex against a full copy's 84; the
-    // neighbours are found again. For an undo that is rarely taken.
+    // neighbours are found again. For an undo that is rarely taken. If
+    // restore() runs out of memory, it leaves the triangulation empty (and
+    // throws): consistent, if not what it was.
     struct Snapshot {
         std::vector<Vec3> q;
         std::vector<int32_t> id, vertex_tri, free;
