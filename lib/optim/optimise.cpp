@@ -179,7 +179,9 @@ private:
     }
     void set_generator(int32_t v, const Generator &g) { tri_.set_lifted(v, g.lifted()); }
 
-    std::vector<double> h_at_;  // spacing at each generator (radians)
+    // Spacing at each generator (radians), in single precision: it weighs
+    // the ODT target and scales steps, where 1e-7 is far below what matters.
+    std::vector<float> h_at_;
     // Stamps of the sweep clock: when a vertex last changed (position,
     // weight or link) and when an update of it last failed. A vertex whose
     // closed star has not changed since its last failure is skipped.
@@ -212,7 +214,8 @@ void Optimiser::load_spacing() {
     grow_slots();
     ctx_.parallel_for(tri_.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
         for (int64_t v = b; v < e; ++v)
-            if (tri_.in_triangulation(static_cast<int32_t>(v))) h_at_[v] = h_(tri_.direction(static_cast<int32_t>(v)));
+            if (tri_.in_triangulation(static_cast<int32_t>(v)))
+                h_at_[v] = static_cast<float>(h_(tri_.direction(static_cast<int32_t>(v))));
     });
 }
 
@@ -343,7 +346,7 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
         if (!star_is_valid(ring, moved)) return false;
         set_generator(v, moved);
         on_segment_[v] = static_cast<int32_t>(segment);
-        h_at_[v] = h_(moved.x);
+        h_at_[v] = static_cast<float>(h_(moved.x));
         changed_at_[v] = clock_;
         return true;
     };
@@ -571,7 +574,7 @@ int64_t Optimiser::collapse_short_edges(std::vector<Optimiser::EdgeRatio> edges)
         tri_.remove(gone);
         if (on_segment_[kept] < 0) {
             for (int32_t u : tri_.move(kept, mid)) changed_at_[u] = clock_;
-            h_at_[kept] = h_(tri_.direction(kept));
+            h_at_[kept] = static_cast<float>(h_(tri_.direction(kept)));
         }
         changed_at_[kept] = clock_;
         ++done;
@@ -613,7 +616,7 @@ int32_t Optimiser::insert_between(int32_t a, int32_t b) {
         tri_.remove(v);
         return -1;
     }
-    h_at_[v] = h_(mid);
+    h_at_[v] = static_cast<float>(h_(mid));
     changed_at_[v] = clock_;
     for (int32_t t : tri_.star(v))
         for (int k = 0; k < 3; ++k) changed_at_[tri_.vertex(t, k)] = clock_;
@@ -672,7 +675,7 @@ void Optimiser::split_vertex(int32_t v, const std::vector<int32_t> &star) {
     const Vec3 x = tri_.direction(v), along = 0.25 * (far - x);
     const Vec3 back = geom::normalized(x - along), ahead = geom::normalized(x + along);
     for (int32_t u : tri_.move(v, back)) changed_at_[u] = clock_;
-    if (tri_.in_triangulation(v)) h_at_[v] = h_(tri_.direction(v));
+    if (tri_.in_triangulation(v)) h_at_[v] = static_cast<float>(h_(tri_.direction(v)));
     changed_at_[v] = clock_;
     const double w = tri_.weight(v);
     std::vector<int32_t> buried;
@@ -684,7 +687,7 @@ void Optimiser::split_vertex(int32_t v, const std::vector<int32_t> &star) {
         tri_.remove(added);
         return;
     }
-    h_at_[added] = h_(ahead);
+    h_at_[added] = static_cast<float>(h_(ahead));
     for (int32_t t : tri_.star(added))
         for (int k = 0; k < 3; ++k) changed_at_[tri_.vertex(t, k)] = clock_;
 }
@@ -733,7 +736,7 @@ int64_t Optimiser::flip_for_valence() {
             }
             ++degree[a], --degree[b], --degree[c], ++degree[d];
             for (int32_t v : quad) {
-                h_at_[v] = h_(tri_.direction(v));
+                h_at_[v] = static_cast<float>(h_(tri_.direction(v)));
                 for (int32_t s : tri_.star(v))
                     for (int j = 0; j < 3; ++j) {
                         locked[tri_.vertex(s, j)] = 1;
