@@ -198,7 +198,10 @@ enum {
     UM_OPT_REFINE_ALPHA = 100,         /* real; edge/size bound, default 4/3 */
     UM_OPT_REFINE_BETA = 101,          /* real; Hausdorff bound eps < beta*h, default 1/5 */
     UM_OPT_REFINE_RHO = 102,           /* real; radius-edge bound, default 1.05 */
-    UM_OPT_REFINE_TOPOLOGY_CHECK = 103,/* int 0/1; default 0 */
+    UM_OPT_REFINE_TOPOLOGY_CHECK = 103,/* int 0/1; default 0. 1: a restricted edge is also
+                                          refined when one of its ends has 3 or more restricted
+                                          edges of the same feature part (Tri|Gamma is no curve
+                                          there), down to the same h/2 filter */
     /* optimisation (paper section 6, Algorithm 1) */
     UM_OPT_OPTIM_OUTER_ITERATIONS = 200, /* int; N, default 16 */
     UM_OPT_OPTIM_INNER_ITERATIONS = 201, /* int; M, default 8 */

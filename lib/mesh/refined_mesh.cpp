@@ -188,6 +188,12 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     refine::BoundaryOptions bo;
     bo.alpha = options.real(UM_OPT_REFINE_ALPHA);
     bo.beta = options.real(UM_OPT_REFINE_BETA);
+    std::vector<int64_t> part_of_arc;
+    if (options.integer(UM_OPT_REFINE_TOPOLOGY_CHECK) != 0 && arcs.size() > 0) {
+        part_of_arc.resize(arcs.size());
+        for (size_t s = 0; s < arcs.size(); ++s) part_of_arc[s] = m.gamma->segment_part(static_cast<int64_t>(s));
+        bo.part_of_arc = &part_of_arc;
+    }
     refine::SurfaceOptions so;
     so.alpha = options.real(UM_OPT_REFINE_ALPHA);
     so.rho = options.real(UM_OPT_REFINE_RHO);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <optional>
 #include <tuple>
 
 #include "refine/restricted.hpp"
@@ -91,6 +93,46 @@ int64_t count_bad(const tri::Triangulation &tri, const std::vector<RestrictedEdg
     return bad;
 }
 
+// The restricted edges of part `part` at vertex v: its spokes whose dual
+// edge crosses an arc of that part (each spoke once: the one leaving v in
+// each triangle of its star).
+int restricted_degree(const tri::Triangulation &tri, int32_t v, int64_t part, const geom::ArcTree &gamma,
+                      const std::vector<int64_t> &part_of_arc) {
+    int degree = 0;
+    tri.for_each_in_star(v, [&](int32_t t) {
+        int i = 0;
+        while (tri.vertex(t, i) != v) ++i;
+        RestrictedEdge e;
+        if (restricted_crossing(tri, t, (i + 2) % 3, gamma, &e) && part_of_arc[e.arc] == part) ++degree;
+    });
+    return degree;
+}
+
+// The topology check of BoundaryOptions::part_of_arc, with the degrees
+// found so far in this pass.
+class TopologyCheck {
+public:
+    TopologyCheck(const tri::Triangulation &tri, const geom::ArcTree &gamma, const std::vector<int64_t> &part_of_arc)
+        : tri_(tri), gamma_(gamma), part_of_arc_(part_of_arc) {}
+    bool folds(const RestrictedEdge &e) {
+        const int64_t part = part_of_arc_[e.arc];
+        for (int end = 1; end <= 2; ++end) {
+            const int32_t v = tri_.vertex(e.triangle, (e.edge + end) % 3);
+            auto [it, fresh] = degree_.try_emplace({v, part}, 0);
+            if (fresh) it->second = restricted_degree(tri_, v, part, gamma_, part_of_arc_);
+            if (it->second >= 3) return true;
+        }
+        return false;
+    }
+    void forget() { degree_.clear(); }  // after insertions
+
+private:
+    const tri::Triangulation &tri_;
+    const geom::ArcTree &gamma_;
+    const std::vector<int64_t> &part_of_arc_;
+    std::map<std::pair<int32_t, int64_t>, int> degree_;
+};
+
 // Passes: every bad restricted edge gets its ball centre (or is filtered).
 // The first pass looks at every edge (or those around `around`); later ones
 // only at the edges around the points just inserted - no other edge changed.
@@ -100,7 +142,11 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
                               const std::vector<int32_t> *around) {
     BoundaryStats stats;
     on_gamma.resize(static_cast<size_t>(tri.vertex_slots()), -1);
-    auto bad_edge = [&](const RestrictedEdge &e, EdgeMeasure *m) { return is_bad(tri, e, h, options, m); };
+    std::optional<TopologyCheck> topology;
+    if (options.part_of_arc) topology.emplace(tri, gamma, *options.part_of_arc);
+    auto bad_edge = [&](const RestrictedEdge &e, EdgeMeasure *m) {
+        return is_bad(tri, e, h, options, m) || (topology && topology->folds(e));
+    };
     std::vector<RestrictedEdge> candidates =
         around ? restricted_edges_of(ctx, tri, stars_of(tri, *around), gamma) : restricted_edges(ctx, tri, gamma);
     for (;;) {
@@ -132,6 +178,7 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
             int32_t v = tri.insert(e.centre, 0.0, next_id++, nullptr, t);
             on_gamma.resize(static_cast<size_t>(tri.vertex_slots()), -1);
             if (!tri.in_triangulation(v)) continue;
+            if (topology) topology->forget();
             if (nearest_neighbour(tri, v) < options.filter * h(e.centre)) {
                 tri.remove(v);
                 continue;

@@ -22,6 +22,13 @@ struct BoundaryOptions {
     double alpha = 4.0 / 3.0;  // restricted edges shorter than alpha h
     double beta = 0.2;         // Hausdorff bound eps < beta h
     double filter = 0.5;       // no new edge shorter than filter h
+    // The topology check (when given: the part of each Gamma arc): a
+    // restricted edge is also bad when one of its ends has three or more
+    // restricted edges of the same part - Tri|Gamma is then no curve there
+    // (the part passes through the vertex's cell twice: a narrow inlet,
+    // peninsula or channel). Refining stops at the same filter, so features
+    // below the spacing still go.
+    const std::vector<int64_t> *part_of_arc = nullptr;
 };
 
 struct BoundaryStats {

@@ -100,6 +100,57 @@ void features_below_the_spacing_are_filtered(void **) {
     assert_true(shortest * kRadiusKm > 0.5 * hkm);
 }
 
+// Vertices with three or more restricted edges (all arcs are one part).
+int64_t folded_vertices(const tri::Triangulation &tri, const geom::ArcTree &gamma) {
+    Context ctx;
+    std::vector<int> degree(static_cast<size_t>(tri.vertex_slots()), 0);
+    for (const auto &e : refine::restricted_edges(ctx, tri, gamma))
+        for (int end = 1; end <= 2; ++end) ++degree[tri.vertex(e.triangle, (e.edge + end) % 3)];
+    return std::count_if(degree.begin(), degree.end(), [](int d) { return d >= 3; });
+}
+
+// A small island ringing one vertex of a uniform mesh at 0.51 h, just
+// outside the middle of its spokes: every dual edge of the vertex crosses it
+// (about 0.1 h from the spoke's midpoint), so Tri|Gamma is the vertex's whole
+// star - no curve - while each of those restricted edges is short and close
+// to the ring (eps ~ 0.1 h < beta h), so the size and distance criteria see
+// nothing wrong. The topology check refines it into a ring of edges.
+void topology_check_mends_a_star_shaped_tri_gamma(void **) {
+    const double hkm = 240, h = hkm / kRadiusKm;
+    int64_t folded[2];
+    for (int check = 0; check <= 1; ++check) {
+        Context ctx;
+        tri::Triangulation tri = refine::icosahedron(ctx);
+        refine::refine_surface(ctx, tri, [&](const Vec3 &) { return h; }, {}, 12);
+        const int32_t v = tri.vertex(tri.triangle_count() / 2, 0);
+        const Vec3 c = tri.direction(v);
+        const Vec3 e1 = geom::normalized(geom::cross(c, Vec3{0, 0, 1})), e2 = geom::cross(c, e1);
+        std::vector<geom::ArcTree::Arc> ring;
+        const double r = 0.51 * h;
+        for (int i = 0; i < 90; ++i) {
+            auto at = [&](int j) {
+                const double a = 2 * M_PI * j / 90;
+                return geom::normalized(c + std::tan(r) * (std::cos(a) * e1 + std::sin(a) * e2));
+            };
+            ring.push_back({at(i), at(i + 1)});
+        }
+        geom::ArcTree gamma(ring);
+        const std::vector<int64_t> part_of_arc(gamma.size(), 0);
+        refine::BoundaryOptions bo;
+        if (check) bo.part_of_arc = &part_of_arc;
+        std::vector<int32_t> on_gamma;
+        int32_t next_id = tri.vertex_slots();
+        refine::refine_boundary(ctx, tri, [&](const Vec3 &) { return h; }, gamma, bo, next_id, on_gamma);
+        folded[check] = folded_vertices(tri, gamma);
+        std::string problem = tri::check_triangulation(tri);
+        if (!problem.empty()) fail_msg("%s", problem.c_str());
+    }
+    print_message("star-shaped Tri|Gamma: %lld folded vertices without the topology check, %lld with it\n",
+                  (long long)folded[0], (long long)folded[1]);
+    assert_true(folded[0] > 0);
+    assert_int_equal(folded[1], 0);
+}
+
 // A network of one closed coastline part: the circle of latitude `lat`.
 features::Network ring_network(double lat, int n) {
     std::vector<double> lon, la;
@@ -155,6 +206,7 @@ int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(smooth_coast_is_followed),
         cmocka_unit_test(features_below_the_spacing_are_filtered),
+        cmocka_unit_test(topology_check_mends_a_star_shaped_tri_gamma),
         cmocka_unit_test(land_and_ocean_sides),
     };
     return cmocka_run_group_tests_name("boundary_refinement", tests, nullptr, nullptr);
