@@ -1,6 +1,7 @@
 #include "optim/optimise.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -49,6 +50,16 @@ constexpr double kPoorMargin = 0.05;
 constexpr double kPolishAfter = 0.5;
 constexpr int kPolishRounds = 4;
 constexpr int kCompassDirections = 16;
+// (cos, sin) of direction d of the compass, computed once.
+std::pair<double, double> compass_direction(int d) {
+    static const auto table = [] {
+        std::array<std::pair<double, double>, kCompassDirections> t{};
+        for (int i = 0; i < kCompassDirections; ++i)
+            t[i] = {std::cos(2 * M_PI * i / kCompassDirections), std::sin(2 * M_PI * i / kCompassDirections)};
+        return t;
+    }();
+    return table[d];
+}
 constexpr int kCompassSteps = 5;  // h / 4, h / 8, ...: the compass step halved
 
 // Worst and mean of a star's triangle scores, and which triangle (k: the
@@ -373,8 +384,8 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
             Vec3 best{};
             double best_worst = -kInfinity;
             for (int d = 0; d < kCompassDirections; ++d) {
-                const double a = d * (2 * M_PI / kCompassDirections);
-                const Generator moved{geom::normalized(here.x + step * (std::cos(a) * e1 + std::sin(a) * e2)), here.s};
+                const auto [c, s] = compass_direction(d);
+                const Generator moved{geom::normalized(here.x + step * (c * e1 + s * e2)), here.s};
                 const LocalQuality now = ring_quality<true>(ring, moved, std::max(before.worst, best_worst), before.worst_k);
                 if (better(now, before, gain_) && now.worst > best_worst && star_is_valid(ring, moved))
                     best = moved.x, best_worst = now.worst;
