@@ -272,6 +272,7 @@ void put_back(RefinedMesh &m, Undo &&u) {
         m.tri = tri::Triangulation();
         m.on_segment.clear(), m.vertex_of_slot.clear(), m.slot_of_vertex.clear(), m.restricted.clear();
         m.vertex_side.clear(), m.triangle_side.clear();
+        m.filtered = 0, m.optimised = false, m.refined_quality = {}, m.optimisation = {};
         fail(UM_ERR_OUT_OF_MEMORY, "the optimisation failed and, out of memory, its undo too: the mesh "
              "is now empty (refine it again)");
     }

@@ -181,6 +181,7 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
             if (topology) topology->forget();
             if (nearest_neighbour(tri, v) < options.filter * h(e.centre)) {
                 tri.remove(v);
+                if (topology) topology->forget();
                 continue;
             }
             on_gamma[v] = e.arc;

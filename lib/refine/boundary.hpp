@@ -27,7 +27,10 @@ struct BoundaryOptions {
     // restricted edges of the same part - Tri|Gamma is then no curve there
     // (the part passes through the vertex's cell twice: a narrow inlet,
     // peninsula or channel). Refining stops at the same filter, so features
-    // below the spacing still go.
+    // below the spacing still go. A spoke counts for the part of the
+    // crossing restricted_crossing keeps (the largest ball) only, so folds
+    // where two parts cross one dual edge can go unseen; count_bad does not
+    // count folds.
     const std::vector<int64_t> *part_of_arc = nullptr;
 };
 

@@ -210,7 +210,7 @@ Triangulation::Snapshot Triangulation::snapshot() const {
 void Triangulation::restore(Snapshot &&s) {
     // The arrays being replaced go first: an undo is often taken because
     // memory ran out. Then the neighbours are found through the triangles
-    // around each vertex (28 bytes per vertex of scratch): the triangle
+    // around each vertex (about 32 bytes per vertex of scratch): the triangle
     // across edge (a, b) of t is the other one around a that has b.
     q_.swap(s.q), id_.swap(s.id), vertex_tri_.swap(s.vertex_tri), free_.swap(s.free);
     std::vector<Vec3>().swap(s.q);
@@ -219,17 +219,18 @@ void Triangulation::restore(Snapshot &&s) {
     std::vector<uint8_t>().swap(mark_);
     try {
         const size_t nv = q_.size(), nt = s.triangles.size();
-        std::vector<int32_t> first(nv + 1, 0), around;
+        std::vector<int64_t> first(nv + 1, 0);  // 3 per triangle: past int32 above ~357 M vertices
+        std::vector<int32_t> around;
         for (const auto &v : s.triangles)
             if (v[0] != kNone)
                 for (int k = 0; k < 3; ++k) ++first[v[k] + 1];
         for (size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
         around.resize(static_cast<size_t>(first[nv]));
-        std::vector<int32_t> fill(first.begin(), first.end() - 1);
+        std::vector<int64_t> fill(first.begin(), first.end() - 1);
         for (size_t t = 0; t < nt; ++t)
             if (s.triangles[t][0] != kNone)
                 for (int k = 0; k < 3; ++k) around[fill[s.triangles[t][k]]++] = static_cast<int32_t>(t);
-        std::vector<int32_t>().swap(fill);
+        std::vector<int64_t>().swap(fill);
         tris_.resize(nt);
         for (size_t t = 0; t < nt; ++t) {
             const auto &v = s.triangles[t];
@@ -237,7 +238,7 @@ void Triangulation::restore(Snapshot &&s) {
             if (v[0] == kNone) continue;
             for (int k = 0; k < 3; ++k) {
                 const int32_t a = v[next(k)], b = v[prev(k)];
-                for (int32_t i = first[a]; i < first[a + 1]; ++i) {
+                for (int64_t i = first[a]; i < first[a + 1]; ++i) {
                     const auto &w = s.triangles[around[i]];
                     if (around[i] != static_cast<int32_t>(t) && (w[0] == b || w[1] == b || w[2] == b))
                         tris_[t].n[k] = around[i];

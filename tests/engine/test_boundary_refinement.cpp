@@ -117,7 +117,7 @@ int64_t folded_vertices(const tri::Triangulation &tri, const geom::ArcTree &gamm
 // nothing wrong. The topology check refines it into a ring of edges.
 void topology_check_mends_a_star_shaped_tri_gamma(void **) {
     const double hkm = 240, h = hkm / kRadiusKm;
-    int64_t folded[2];
+    int64_t folded[2], added[2], degree = 0;
     for (int check = 0; check <= 1; ++check) {
         Context ctx;
         tri::Triangulation tri = refine::icosahedron(ctx);
@@ -140,8 +140,11 @@ void topology_check_mends_a_star_shaped_tri_gamma(void **) {
         if (check) bo.part_of_arc = &part_of_arc;
         std::vector<int32_t> on_gamma;
         int32_t next_id = tri.vertex_slots();
+        const int64_t vertices_before = tri.vertex_count();
         refine::refine_boundary(ctx, tri, [&](const Vec3 &) { return h; }, gamma, bo, next_id, on_gamma);
         folded[check] = folded_vertices(tri, gamma);
+        added[check] = tri.vertex_count() - vertices_before;
+        degree = static_cast<int64_t>(tri.star(v).size());
         std::string problem = tri::check_triangulation(tri);
         if (!problem.empty()) fail_msg("%s", problem.c_str());
     }
@@ -149,6 +152,28 @@ void topology_check_mends_a_star_shaped_tri_gamma(void **) {
                   (long long)folded[0], (long long)folded[1]);
     assert_true(folded[0] > 0);
     assert_int_equal(folded[1], 0);
+    // The ring is sampled, not the mesh refined wholesale: about one point
+    // per spoke of the centre, at most twice that.
+    assert_true(added[1] > added[0] && added[1] - added[0] <= 2 * degree + 2);
+}
+
+// A smooth coast has no folds: the check changes nothing there.
+void topology_check_leaves_a_smooth_coast_alone(void **) {
+    geom::ArcTree gamma(wavy_ring(0.0, 1, 0.25));
+    const std::vector<int64_t> part_of_arc(gamma.size(), 0);
+    int64_t vertices[2];
+    for (int check = 0; check <= 1; ++check) {
+        Context ctx;
+        tri::Triangulation tri = refine::icosahedron(ctx);
+        std::vector<int32_t> on_gamma;
+        int32_t next_id = 12;
+        refine::BoundaryOptions bo;
+        if (check) bo.part_of_arc = &part_of_arc;
+        refine::refine_boundary(ctx, tri, [](const Vec3 &) { return 240.0 / kRadiusKm; }, gamma, bo, next_id,
+                                on_gamma);
+        vertices[check] = tri.vertex_count();
+    }
+    assert_int_equal(vertices[1], vertices[0]);
 }
 
 // A network of one closed coastline part: the circle of latitude `lat`.
@@ -207,6 +232,7 @@ int main() {
         cmocka_unit_test(smooth_coast_is_followed),
         cmocka_unit_test(features_below_the_spacing_are_filtered),
         cmocka_unit_test(topology_check_mends_a_star_shaped_tri_gamma),
+        cmocka_unit_test(topology_check_leaves_a_smooth_coast_alone),
         cmocka_unit_test(land_and_ocean_sides),
     };
     return cmocka_run_group_tests_name("boundary_refinement", tests, nullptr, nullptr);
