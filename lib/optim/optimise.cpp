@@ -19,7 +19,7 @@ namespace um::optim {
 namespace {
 
 uint64_t link_fingerprint(const StarGraph &g, int32_t v);
-std::vector<uint64_t> link_fingerprints(Context &ctx, const StarGraph &g);
+std::vector<uint32_t> link_fingerprints(Context &ctx, const StarGraph &g);
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) {
@@ -147,7 +147,7 @@ private:
 
     // Topology -------------------------------------------------------------
     int64_t restore_regularity(int32_t since);
-    void mark_changed_links(const std::vector<uint64_t> &before, const StarGraph &now);
+    void mark_changed_links(const std::vector<uint32_t> &before, const StarGraph &now);
     int64_t improve_valence();
     int64_t flip_for_valence();
     bool relax_into_regularity(const int32_t (&quad)[4]);
@@ -197,6 +197,7 @@ private:
     // weight or link) and when an update of it last failed. A vertex whose
     // closed star has not changed since its last failure is skipped.
     std::vector<int32_t> changed_at_, move_failed_at_, weight_failed_at_;
+    bool weighing_ = false;  // the weight phase has begun (weight_failed_at_ exists)
     int32_t clock_ = 1;
     int32_t next_id_ = 0;
     double poor_star_ = -kInfinity;  // stars scoring below get the compass search
@@ -210,15 +211,17 @@ void Optimiser::grow_slots() {
     if (h_at_.capacity() == 0) {  // the room the triangulation has (Triangulation::reserve_extra)
         const size_t room = std::max(n, tri_.vertex_capacity());
         h_at_.reserve(room), changed_at_.reserve(room), move_failed_at_.reserve(room);
-        weight_failed_at_.reserve(room), on_segment_.reserve(room);
+        on_segment_.reserve(room);
     }
     reserve_for(h_at_, n), reserve_for(changed_at_, n);
-    reserve_for(move_failed_at_, n), reserve_for(weight_failed_at_, n), reserve_for(on_segment_, n);
+    reserve_for(move_failed_at_, n), reserve_for(on_segment_, n);
     h_at_.resize(n, 0);
     changed_at_.resize(n, clock_);
     move_failed_at_.resize(n, 0);
-    weight_failed_at_.resize(n, 0);
     on_segment_.resize(n, -1);
+    // Only from the weight phase on (the shape phase, where the topology
+    // changes and memory peaks, has no use for it).
+    if (weighing_) reserve_for(weight_failed_at_, n), weight_failed_at_.resize(n, 0);
 }
 
 void Optimiser::load_spacing() {
@@ -496,23 +499,27 @@ uint64_t link_fingerprint(const StarGraph &g, int32_t v) {
     return sum;
 }
 
-std::vector<uint64_t> link_fingerprints(Context &ctx, const StarGraph &g) {
-    std::vector<uint64_t> out(static_cast<size_t>(g.vertex_slots()), 0);
+// Kept in 32 bits (4 bytes per vertex at the moment the new graph is built,
+// where memory peaks): a collision only leaves one changed link unmarked.
+uint32_t folded(uint64_t x) { return static_cast<uint32_t>(x ^ (x >> 32)); }
+
+std::vector<uint32_t> link_fingerprints(Context &ctx, const StarGraph &g) {
+    std::vector<uint32_t> out(static_cast<size_t>(g.vertex_slots()), 0);
     ctx.parallel_for(g.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
-        for (int64_t v = b; v < e; ++v) out[v] = link_fingerprint(g, static_cast<int32_t>(v));
+        for (int64_t v = b; v < e; ++v) out[v] = folded(link_fingerprint(g, static_cast<int32_t>(v)));
     });
     return out;
 }
 
 // A vertex whose link changed (by flips, collapses or splits) counts as
 // changed, so that it and its neighbours are tried again.
-void Optimiser::mark_changed_links(const std::vector<uint64_t> &before, const StarGraph &now) {
+void Optimiser::mark_changed_links(const std::vector<uint32_t> &before, const StarGraph &now) {
     // Compared as they are computed: a second list would be alive with the
     // new graph, where the optimisation's memory peaks.
     ctx_.parallel_for(now.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
         for (int64_t v = b; v < e; ++v)
             if (v >= static_cast<int64_t>(before.size()) ||
-                before[v] != link_fingerprint(now, static_cast<int32_t>(v)))
+                before[v] != folded(link_fingerprint(now, static_cast<int32_t>(v))))
                 changed_at_[v] = clock_;
     });
 }
@@ -844,6 +851,7 @@ OptimiseStats Optimiser::run() {
     for (int n = 0; n < o_.outer_iterations; ++n) {
         ctx_.progress("optimise", double(n) / o_.outer_iterations);
         const bool shape_phase = n < shape_iterations;
+        if (!shape_phase && !weighing_) weighing_ = true, grow_slots();
         const int32_t outer_start = clock_;
         int64_t changes = 0;
         for (int m = 0; m < o_.inner_iterations; ++m) {
@@ -876,7 +884,7 @@ OptimiseStats Optimiser::run() {
         const int64_t topology = flips + collapsed + split + valence;
         if (topology > 0) {  // else the generators and the graph are still those of the mesh
             load_spacing();
-            const std::vector<uint64_t> links_before = link_fingerprints(ctx_, *graph);
+            const std::vector<uint32_t> links_before = link_fingerprints(ctx_, *graph);
             graph.reset();  // one graph alive at a time
             graph = std::make_unique<StarGraph>(ctx_, tri_);
             mark_changed_links(links_before, *graph);

@@ -163,12 +163,26 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
         new_of_old[old_of_new[i]] = i;
     }
     std::vector<uint64_t>().swap(keys);
-    auto permuted = [&](auto &values) {
-        std::remove_reference_t<decltype(values)> out(values.size());
-        for (int32_t i = 0; i < n; ++i) out[i] = values[old_of_new[i]];
-        values.swap(out);
+    // In place, cycle by cycle: this runs after the optimisation too, with
+    // its undo alive, and copies of the largest arrays would set the peak.
+    std::vector<bool> placed;
+    auto permute = [&](auto &values, const std::vector<int32_t> &new_index, auto &&remap) {
+        placed.assign(values.size(), false);
+        for (size_t start = 0; start < values.size(); ++start) {
+            if (placed[start]) continue;
+            auto carried = values[start];
+            size_t at = start;
+            do {  // carried is the old value of slot `at`: it goes to new_index[at]
+                const size_t to = static_cast<size_t>(new_index[at]);
+                auto next = values[to];
+                values[to] = remap(carried);
+                placed[to] = true;
+                carried = next, at = to;
+            } while (at != start);
+        }
     };
-    permuted(q_), permuted(id_), permuted(vertex_tri_);
+    auto same = [](const auto &x) { return x; };
+    permute(q_, new_of_old, same), permute(id_, new_of_old, same), permute(vertex_tri_, new_of_old, same);
 
     // Triangles by smallest new vertex (a stable counting sort).
     const int32_t nt = triangle_slots();
@@ -179,12 +193,10 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
     for (const Tri &t : tris_) ++first[smallest(t) + 1];
     for (int32_t i = 0; i < n; ++i) first[i + 1] += first[i];
     for (int32_t t = 0; t < nt; ++t) new_tri[t] = first[smallest(tris_[t])]++;
-    std::vector<Tri> out(tris_.size());
-    for (int32_t t = 0; t < nt; ++t) {
-        Tri &o = out[new_tri[t]];
-        for (int k = 0; k < 3; ++k) o.v[k] = new_of_old[tris_[t].v[k]], o.n[k] = new_tri[tris_[t].n[k]];
-    }
-    tris_.swap(out);
+    permute(tris_, new_tri, [&](Tri t) {
+        for (int k = 0; k < 3; ++k) t.v[k] = new_of_old[t.v[k]], t.n[k] = new_tri[t.n[k]];
+        return t;
+    });
     for (int32_t &t : vertex_tri_)
         if (t >= 0) t = new_tri[t];
     return old_of_new;
