@@ -67,6 +67,27 @@ public:
 #endif
     }
 
+    // Calls fn(i, out) for every i in [0, n) in parallel over fixed blocks of
+    // `block` indices, each block appending to its own list, and returns the
+    // lists joined in block order: the same result for any thread count.
+    template <class T, class Fn>
+    std::vector<T> collect_in_order(int64_t n, int64_t block, Fn &&fn) {
+        std::vector<std::vector<T>> found(static_cast<size_t>(n > 0 ? (n + block - 1) / block : 0));
+        parallel_for(static_cast<int64_t>(found.size()), 1, [&](int64_t b0, int64_t b1) {
+            for (int64_t b = b0; b < b1; ++b)
+                for (int64_t i = b * block; i < std::min(n, (b + 1) * block); ++i) fn(i, found[b]);
+        });
+        size_t total = 0;
+        for (const auto &f : found) total += f.size();
+        std::vector<T> out;
+        out.reserve(total);
+        for (auto &f : found) {
+            out.insert(out.end(), f.begin(), f.end());
+            std::vector<T>().swap(f);
+        }
+        return out;
+    }
+
 #ifdef UNIMESH_PLAIN_THREADS
     template <class Fn>
     void plain_threads_for(int64_t n, Fn &fn) {

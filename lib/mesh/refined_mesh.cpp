@@ -232,7 +232,6 @@ struct Undo {
     tri::Triangulation::Snapshot tri;
     // on_segment as (slot, segment) for the slots on Gamma: most are not.
     std::vector<std::pair<int32_t, int32_t>> on_gamma;
-    size_t slots = 0;
     std::vector<int32_t> vertex_of_slot, slot_of_vertex;
     std::vector<refine::RestrictedEdge> restricted;
     std::vector<refine::Side> vertex_side, triangle_side;
@@ -247,7 +246,6 @@ Undo set_aside(RefinedMesh &m) {
     u.tri = m.tri.snapshot();
     for (size_t v = 0; v < m.on_segment.size(); ++v)
         if (m.on_segment[v] >= 0) u.on_gamma.push_back({static_cast<int32_t>(v), m.on_segment[v]});
-    u.slots = m.on_segment.size();
     u.refined_quality = m.refined_quality;
     u.optimised = m.optimised, u.optimisation = m.optimisation;
     u.vertex_of_slot = std::move(m.vertex_of_slot), u.slot_of_vertex = std::move(m.slot_of_vertex);
@@ -266,7 +264,7 @@ void put_back(RefinedMesh &m, Undo &&u) {
     m.optimised = u.optimised, m.refined_quality = std::move(u.refined_quality), m.optimisation = u.optimisation;
     try {
         m.tri.restore(std::move(u.tri));
-        m.on_segment.assign(u.slots, -1);  // no larger than it was: no allocation
+        m.on_segment.assign(static_cast<size_t>(m.tri.vertex_slots()), -1);  // no larger than it was: no allocation
         for (const auto &[v, segment] : u.on_gamma) m.on_segment[v] = segment;
     } catch (...) {
         m.tri = tri::Triangulation();

@@ -463,22 +463,15 @@ int64_t Optimiser::restore_regularity(int32_t since) {
     // most of the work, and most triangles pass them); the flips are serial.
     // A triangle left out cannot need a flip before one next to it has
     // flipped, and the flip puts it back on the stack.
-    constexpr int64_t kBlock = 8192;
-    const int32_t n = tri_.triangle_slots();
-    std::vector<std::vector<int32_t>> found(static_cast<size_t>((n + kBlock - 1) / kBlock));
-    ctx_.parallel_for(static_cast<int64_t>(found.size()), 1, [&](int64_t b0, int64_t b1) {
-        for (int64_t blk = b0; blk < b1; ++blk)
-            for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
-                const int32_t ti = static_cast<int32_t>(t);
-                if (tri_.is_free(ti)) continue;
-                bool changed = false, regular = true;
-                for (int k = 0; k < 3; ++k) changed |= changed_at_[tri_.vertex(ti, k)] >= since;
-                for (int k = 0; k < 3 && changed && regular; ++k) regular = tri_.is_locally_regular(ti, k);
-                if (!regular) found[blk].push_back(ti);
-            }
-    });
-    std::vector<int32_t> seeds;
-    for (const auto &f : found) seeds.insert(seeds.end(), f.begin(), f.end());
+    std::vector<int32_t> seeds =
+        ctx_.collect_in_order<int32_t>(tri_.triangle_slots(), 8192, [&](int64_t t, std::vector<int32_t> &out) {
+            const int32_t ti = static_cast<int32_t>(t);
+            if (tri_.is_free(ti)) return;
+            bool changed = false, regular = true;
+            for (int k = 0; k < 3; ++k) changed |= changed_at_[tri_.vertex(ti, k)] >= since;
+            for (int k = 0; k < 3 && changed && regular; ++k) regular = tri_.is_locally_regular(ti, k);
+            if (!regular) out.push_back(ti);
+        });
     return tri_.restore_regularity(std::move(seeds));
 }
 
@@ -525,28 +518,16 @@ void Optimiser::mark_changed_links(const std::vector<uint32_t> &before, const St
 }
 // The edges whose length over the spacing is below `below` or above `above`.
 std::vector<Optimiser::EdgeRatio> Optimiser::edge_ratios(double below, double above) const {
-    // Fixed blocks scanned in parallel, joined in block order: the same list
-    // for any thread count.
-    constexpr int64_t kBlock = 16384;
-    const int32_t n = tri_.triangle_slots();
-    std::vector<std::vector<EdgeRatio>> found(static_cast<size_t>((n + kBlock - 1) / kBlock));
-    ctx_.parallel_for(static_cast<int64_t>(found.size()), 1, [&](int64_t b0, int64_t b1) {
-        for (int64_t blk = b0; blk < b1; ++blk)
-            for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
-                const int32_t ti = static_cast<int32_t>(t);
-                if (tri_.is_free(ti)) continue;
-                for (int k = 0; k < 3; ++k) {
-                    if (tri_.neighbour(ti, k) < ti) continue;  // each edge once
-                    const int32_t a = tri_.vertex(ti, (k + 1) % 3), b = tri_.vertex(ti, (k + 2) % 3);
-                    const double ratio = geom::norm(tri_.direction(a) - tri_.direction(b)) / (0.5 * (h_at_[a] + h_at_[b]));
-                    if (ratio < below || ratio > above)
-                        found[blk].push_back({ratio, std::min(a, b), std::max(a, b)});
-                }
-            }
+    return ctx_.collect_in_order<EdgeRatio>(tri_.triangle_slots(), 16384, [&](int64_t t, std::vector<EdgeRatio> &out) {
+        const int32_t ti = static_cast<int32_t>(t);
+        if (tri_.is_free(ti)) return;
+        for (int k = 0; k < 3; ++k) {
+            if (tri_.neighbour(ti, k) < ti) continue;  // each edge once
+            const int32_t a = tri_.vertex(ti, (k + 1) % 3), b = tri_.vertex(ti, (k + 2) % 3);
+            const double ratio = geom::norm(tri_.direction(a) - tri_.direction(b)) / (0.5 * (h_at_[a] + h_at_[b]));
+            if (ratio < below || ratio > above) out.push_back({ratio, std::min(a, b), std::max(a, b)});
+        }
     });
-    std::vector<EdgeRatio> out;
-    for (const auto &f : found) out.insert(out.end(), f.begin(), f.end());
-    return out;
 }
 
 // Claims v and its neighbours for this pass's one change around them; false

@@ -32,30 +32,21 @@ struct Bad {
 };
 
 // The restricted edges among the edges of the given triangles, each once.
-// Found in parallel over fixed blocks joined in order: the same list for any
-// thread count.
 std::vector<RestrictedEdge> restricted_edges_of(Context &ctx, const tri::Triangulation &tri,
                                                 const std::vector<int32_t> &triangles,
                                                 const geom::ArcTree &gamma) {
     using Found = std::pair<std::pair<int32_t, int32_t>, RestrictedEdge>;
-    constexpr int64_t kBlock = 1024;
-    const int64_t n = static_cast<int64_t>(triangles.size());
-    std::vector<std::vector<Found>> blocks(static_cast<size_t>((n + kBlock - 1) / kBlock));
-    ctx.parallel_for(static_cast<int64_t>(blocks.size()), 1, [&](int64_t b0, int64_t b1) {
-        for (int64_t blk = b0; blk < b1; ++blk)
-            for (int64_t i = blk * kBlock; i < std::min(n, (blk + 1) * kBlock); ++i) {
-                const int32_t t = triangles[i];
-                if (tri.is_free(t)) continue;
-                for (int k = 0; k < 3; ++k) {
-                    RestrictedEdge e;
-                    if (!restricted_crossing(tri, t, k, gamma, &e)) continue;
-                    int32_t a = tri.vertex(t, (k + 1) % 3), b = tri.vertex(t, (k + 2) % 3);
-                    blocks[blk].push_back({{std::min(a, b), std::max(a, b)}, e});
-                }
+    std::vector<Found> found = ctx.collect_in_order<Found>(
+        static_cast<int64_t>(triangles.size()), 1024, [&](int64_t i, std::vector<Found> &out) {
+            const int32_t t = triangles[i];
+            if (tri.is_free(t)) return;
+            for (int k = 0; k < 3; ++k) {
+                RestrictedEdge e;
+                if (!restricted_crossing(tri, t, k, gamma, &e)) continue;
+                int32_t a = tri.vertex(t, (k + 1) % 3), b = tri.vertex(t, (k + 2) % 3);
+                out.push_back({{std::min(a, b), std::max(a, b)}, e});
             }
-    });
-    std::vector<Found> found;
-    for (const auto &b : blocks) found.insert(found.end(), b.begin(), b.end());
+        });
     std::sort(found.begin(), found.end(),
               [](const auto &x, const auto &y) { return x.first < y.first; });
     std::vector<RestrictedEdge> out;
@@ -70,16 +61,6 @@ bool is_bad(const tri::Triangulation &tri, const RestrictedEdge &e, const Spacin
     return m->length >= options.alpha * m->h || m->eps >= options.beta * m->h;
 }
 
-// The triangles of the stars of `vertices` (those in the triangulation),
-// sorted, each once.
-std::vector<int32_t> stars_of(const tri::Triangulation &tri, const std::vector<int32_t> &vertices) {
-    std::vector<int32_t> out;
-    for (int32_t v : vertices)
-        if (tri.in_triangulation(v)) tri.for_each_in_star(v, [&](int32_t t) { out.push_back(t); });
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
-}
 
 }  // namespace
 
@@ -148,7 +129,7 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
         return is_bad(tri, e, h, options, m) || (topology && topology->folds(e));
     };
     std::vector<RestrictedEdge> candidates =
-        around ? restricted_edges_of(ctx, tri, stars_of(tri, *around), gamma) : restricted_edges(ctx, tri, gamma);
+        around ? restricted_edges_of(ctx, tri, tri.triangles_around(*around), gamma) : restricted_edges(ctx, tri, gamma);
     for (;;) {
         ++stats.passes;
         ctx.progress("refine boundary", 0.0);
@@ -190,7 +171,7 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
         stats.inserted += static_cast<int64_t>(added.size());
         stats.added.insert(stats.added.end(), added.begin(), added.end());
         if (added.empty()) break;
-        candidates = restricted_edges_of(ctx, tri, stars_of(tri, added), gamma);
+        candidates = restricted_edges_of(ctx, tri, tri.triangles_around(added), gamma);
     }
     return stats;
 }

@@ -38,29 +38,16 @@ std::vector<RestrictedEdge> restricted_edges(Context &ctx, const tri::Triangulat
         for (int64_t t = b; t < e; ++t)
             if (!tri.is_free(static_cast<int32_t>(t))) centre[t] = tri.orthocentre(static_cast<int32_t>(t));
     });
-    constexpr int64_t kChunk = 4096;
-    const int64_t chunks = (n + kChunk - 1) / kChunk;
-    std::vector<std::vector<RestrictedEdge>> found(static_cast<size_t>(chunks));
-    // Fixed chunks, concatenated in order: the result does not depend on how
-    // the loop is scheduled.
-    ctx.parallel_for(chunks, 1, [&](int64_t b, int64_t e) {
-        for (int64_t c = b; c < e; ++c) {
-            for (int64_t t = c * kChunk; t < std::min(n, (c + 1) * kChunk); ++t) {
-                const int32_t ti = static_cast<int32_t>(t);
-                if (tri.is_free(ti)) continue;
-                for (int k = 0; k < 3; ++k) {
-                    const int32_t u = tri.neighbour(ti, k);
-                    if (u < ti) continue;  // each edge once
-                    RestrictedEdge r;
-                    if (restricted_crossing(tri, ti, k, centre[t], centre[u], gamma, &r))
-                        found[c].push_back(r);
-                }
-            }
+    return ctx.collect_in_order<RestrictedEdge>(n, 4096, [&](int64_t t, std::vector<RestrictedEdge> &out) {
+        const int32_t ti = static_cast<int32_t>(t);
+        if (tri.is_free(ti)) return;
+        for (int k = 0; k < 3; ++k) {
+            const int32_t u = tri.neighbour(ti, k);
+            if (u < ti) continue;  // each edge once
+            RestrictedEdge r;
+            if (restricted_crossing(tri, ti, k, centre[t], centre[u], gamma, &r)) out.push_back(r);
         }
     });
-    std::vector<RestrictedEdge> out;
-    for (auto &f : found) out.insert(out.end(), f.begin(), f.end());
-    return out;
 }
 
 }  // namespace um::refine

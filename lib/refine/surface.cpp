@@ -125,12 +125,7 @@ SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const Spacing
             queue.push_back({t, tri.vertex(t, 0), tri.vertex(t, 1), tri.vertex(t, 2)});
     };
     if (around) {
-        std::vector<int32_t> first;
-        for (int32_t v : *around)
-            if (tri.in_triangulation(v)) tri.for_each_in_star(v, [&](int32_t t) { first.push_back(t); });
-        std::sort(first.begin(), first.end());
-        first.erase(std::unique(first.begin(), first.end()), first.end());
-        for (int32_t t : first) consider(t);
+        for (int32_t t : tri.triangles_around(*around)) consider(t);
     } else {
         for (int32_t t = 0; t < tri.triangle_slots(); ++t)
             if (!tri.is_free(t)) consider(t);

@@ -202,6 +202,15 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
     return old_of_new;
 }
 
+std::vector<int32_t> Triangulation::triangles_around(const std::vector<int32_t> &vertices) const {
+    std::vector<int32_t> out;
+    for (int32_t v : vertices)
+        if (in_triangulation(v)) for_each_in_star(v, [&](int32_t t) { out.push_back(t); });
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
 void Triangulation::reserve_extra(double vertices, double triangles) {
     auto grow = [](auto &values, double share) {
         values.reserve(values.size() + static_cast<size_t>(share * double(values.size())) + 16);

@@ -105,6 +105,9 @@ public:
     std::vector<int32_t> hidden_ids() const;
     // Triangles around v, counter-clockwise seen from outside.
     std::vector<int32_t> star(int32_t v) const;
+    // The triangles around any of `vertices` (those in the triangulation),
+    // ascending, each once: where a batch of insertions changed the mesh.
+    std::vector<int32_t> triangles_around(const std::vector<int32_t> &vertices) const;
     // Calls fn(t) for the triangles around v in the order star() gives,
     // without building the list (for hot loops).
     template <class Fn>

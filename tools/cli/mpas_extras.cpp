@@ -35,6 +35,54 @@ bool write_graph_info(const std::string &mesh_nc, const std::string &path, std::
     return out ? true : fail(error, "cannot write " + path);
 }
 
+namespace {
+
+// A VTK unstructured grid of polygons (ASCII): points, each cell's corners
+// (0-based) and where each cell's corners end, one real and one optional
+// integer value per cell.
+struct VtuGrid {
+    const std::vector<double> &x, &y, &z;
+    std::vector<int64_t> corners, ends;
+    int vtk_type;  // 7 polygon, 5 triangle
+    const char *real_name;
+    const std::vector<double> &real;
+    const char *int_name;
+    const std::vector<int32_t> *ints;  // null: none
+};
+
+bool write_vtu(const std::string &path, const VtuGrid &g, std::string *error) {
+    std::ofstream out(path);
+    out.precision(9);  // for viewing: float precision is plenty, and 17 digits cost time
+    const size_t n_points = g.x.size(), n_cells = g.ends.size();
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
+           "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
+        << n_points << "\" NumberOfCells=\"" << n_cells << "\">\n<Points>\n"
+        << "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (size_t v = 0; v < n_points; ++v) out << g.x[v] << ' ' << g.y[v] << ' ' << g.z[v] << '\n';
+    out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    for (size_t c = 0, k = 0; c < n_cells; ++c) {
+        for (; k < static_cast<size_t>(g.ends[c]); ++k) out << g.corners[k] << ' ';
+        out << '\n';
+    }
+    out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+    for (int64_t end : g.ends) out << end << '\n';
+    out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+    for (size_t c = 0; c < n_cells; ++c) out << g.vtk_type << '\n';
+    out << "</DataArray>\n</Cells>\n<CellData>\n<DataArray type=\"Float64\" Name=\"" << g.real_name
+        << "\" format=\"ascii\">\n";
+    for (double v : g.real) out << v << '\n';
+    out << "</DataArray>\n";
+    if (g.ints) {
+        out << "<DataArray type=\"Int32\" Name=\"" << g.int_name << "\" format=\"ascii\">\n";
+        for (int32_t v : *g.ints) out << v << '\n';
+        out << "</DataArray>\n";
+    }
+    out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+    return out ? true : fail(error, "cannot write " + path);
+}
+
+}  // namespace
+
 bool write_cells_vtu(const std::string &mesh_nc, const std::string &path, std::string *error) {
     NcFile f(mesh_nc);
     if (!f.ok()) return fail(error, "cannot read " + mesh_nc);
@@ -47,33 +95,12 @@ bool write_cells_vtu(const std::string &mesh_nc, const std::string &path, std::s
         !f.var("zVertex", z, n_vertices) || !f.var("areaCell", area, n_cells))
         return fail(error, mesh_nc + " lacks the cell polygons (verticesOnCell, x/y/zVertex, areaCell)");
     const bool has_side = f.var("cellSide", side, n_cells);
-    std::ofstream out(path);
-    out.precision(9);  // for viewing: float precision is plenty, and 17 digits cost time
-    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
-           "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
-        << n_vertices << "\" NumberOfCells=\"" << n_cells << "\">\n<Points>\n"
-        << "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (size_t v = 0; v < n_vertices; ++v) out << x[v] << ' ' << y[v] << ' ' << z[v] << '\n';
-    out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    VtuGrid g{x, y, z, {}, {}, 7 /* VTK_POLYGON */, "areaCell", area, "cellSide", has_side ? &side : nullptr};
     for (size_t c = 0; c < n_cells; ++c) {
-        for (int32_t j = 0; j < n_on[c]; ++j) out << verts_on[c * max_edges + j] - 1 << ' ';
-        out << '\n';
+        for (int32_t j = 0; j < n_on[c]; ++j) g.corners.push_back(verts_on[c * max_edges + j] - 1);
+        g.ends.push_back(static_cast<int64_t>(g.corners.size()));
     }
-    out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    int64_t offset = 0;
-    for (size_t c = 0; c < n_cells; ++c) out << (offset += n_on[c]) << '\n';
-    out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-    for (size_t c = 0; c < n_cells; ++c) out << "7\n";  // VTK_POLYGON
-    out << "</DataArray>\n</Cells>\n<CellData>\n<DataArray type=\"Float64\" Name=\"areaCell\" format=\"ascii\">\n";
-    for (size_t c = 0; c < n_cells; ++c) out << area[c] << '\n';
-    out << "</DataArray>\n";
-    if (has_side) {
-        out << "<DataArray type=\"Int32\" Name=\"cellSide\" format=\"ascii\">\n";
-        for (size_t c = 0; c < n_cells; ++c) out << side[c] << '\n';
-        out << "</DataArray>\n";
-    }
-    out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-    return out ? true : fail(error, "cannot write " + path);
+    return write_vtu(path, g, error);
 }
 
 bool write_triangles_vtu(const std::string &mesh_nc, const std::string &path, std::string *error) {
@@ -87,29 +114,10 @@ bool write_triangles_vtu(const std::string &mesh_nc, const std::string &path, st
         !f.var("yCell", y, n_cells) || !f.var("zCell", z, n_cells) || !f.var("areaTriangle", area, n_vertices))
         return fail(error, mesh_nc + " lacks the triangles (cellsOnVertex, x/y/zCell, areaTriangle)");
     const bool has_side = f.var("vertexSide", side, n_vertices);
-    std::ofstream out(path);
-    out.precision(9);  // for viewing: float precision is plenty, and 17 digits cost time
-    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
-           "byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
-        << n_cells << "\" NumberOfCells=\"" << n_vertices << "\">\n<Points>\n"
-        << "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (size_t c = 0; c < n_cells; ++c) out << x[c] << ' ' << y[c] << ' ' << z[c] << '\n';
-    out << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-    for (size_t v = 0; v < n_vertices; ++v)
-        out << cells_on_vertex[3 * v] - 1 << ' ' << cells_on_vertex[3 * v + 1] - 1 << ' '
-            << cells_on_vertex[3 * v + 2] - 1 << '\n';
-    out << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    for (size_t v = 0; v < n_vertices; ++v) out << 3 * (v + 1) << '\n';
-    out << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-    for (size_t v = 0; v < n_vertices; ++v) out << "5\n";  // VTK_TRIANGLE
-    out << "</DataArray>\n</Cells>\n<CellData>\n<DataArray type=\"Float64\" Name=\"areaTriangle\" format=\"ascii\">\n";
-    for (size_t v = 0; v < n_vertices; ++v) out << area[v] << '\n';
-    out << "</DataArray>\n";
-    if (has_side) {
-        out << "<DataArray type=\"Int32\" Name=\"vertexSide\" format=\"ascii\">\n";
-        for (size_t v = 0; v < n_vertices; ++v) out << side[v] << '\n';
-        out << "</DataArray>\n";
+    VtuGrid g{x, y, z, {}, {}, 5 /* VTK_TRIANGLE */, "areaTriangle", area, "vertexSide", has_side ? &side : nullptr};
+    for (size_t v = 0; v < n_vertices; ++v) {
+        for (int k = 0; k < 3; ++k) g.corners.push_back(cells_on_vertex[3 * v + k] - 1);
+        g.ends.push_back(static_cast<int64_t>(g.corners.size()));
     }
-    out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-    return out ? true : fail(error, "cannot write " + path);
+    return write_vtu(path, g, error);
 }
