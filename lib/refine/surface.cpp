@@ -107,93 +107,268 @@ tri::Triangulation icosahedron(Context &ctx) {
     return tri;
 }
 
-SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
-                            const SurfaceOptions &options, int32_t next_id,
-                            const std::vector<int32_t> *around) {
-    SurfaceStats stats;
-    std::deque<Candidate> queue;  // first in, first out: deterministic and cache-friendly
-    auto consider = [&](int32_t t) {
+namespace {
+
+// The surface pass's state. Each triangle slot caches whether its triangle is
+// bad, so a front test reads three bytes instead of re-measuring neighbours
+// (only the new fan of an insertion changes). Bad triangles wait in two
+// queues:
+//  - the front: bad triangles beside a good one, first in, first out. Their
+//    point is placed off the shared (front) edge so that the new triangle is
+//    about equilateral with side h, as in frontal-Delaunay refinement: the
+//    mesh grows in layers of well-sized triangles, with edges close to h;
+//  - the reserve: bad triangles with no good neighbour, last in, first out,
+//    so that refinement goes depth-first at one place until the first good
+//    triangle starts a front (at 120 km, 36 of 40,000 points come from here).
+//    While a front exists, new bad triangles off it are not queued (the
+//    front soon reaches or destroys them); those left when the front runs
+//    out are collected from the cache.
+// Against one first-in first-out queue of all bad triangles, this leaves 2 %
+// rather than 7 % of uniform edges above 1.35 h, none below 0.77 h, and an
+// optimisation that takes half the time to a better mesh.
+class SurfaceRefiner {
+public:
+    SurfaceRefiner(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
+                   const SurfaceOptions &options, int32_t next_id)
+        : ctx_(ctx), tri_(tri), h_(h), options_(options) {
+        stats_.next_id = next_id;
+    }
+
+    SurfaceStats run(const std::vector<int32_t> *around) {
+        std::vector<int32_t> first;
+        if (around) {
+            first = tri_.triangles_around(*around);  // the others are known to be good
+        } else {
+            for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
+                if (!tri_.is_free(t)) first.push_back(t);
+        }
+        for (int32_t t : first) classify(t);
+        for (int32_t t : first)
+            if (bad(t)) enqueue(t);
+        int64_t steps = 0;
+        Candidate c;
+        while (pop(&c)) {
+            if (!still_there(tri_, c)) continue;
+            if (++steps % 65536 == 0) ctx_.progress("refine surface", 0.0);
+            refine(c);
+        }
+        return std::move(stats_);
+    }
+
+private:
+    // Per slot: bad or not, and whether it already waits on the front (a
+    // triangle joins it once, however many good neighbours it gets).
+    enum : uint8_t { kGood = 0, kBad = 1, kOnFront = 2 };
+
+    bool bad(int32_t t) const { return static_cast<size_t>(t) < state_.size() && (state_[t] & kBad); }
+
+    void classify(int32_t t) {
+        if (state_.size() < static_cast<size_t>(tri_.triangle_slots()))
+            state_.resize(static_cast<size_t>(tri_.triangle_slots()), kGood);
         double r, e;
-        triangle_size(tri, t, &r, &e);
-        double ht = h(tri.orthocentre(t));
+        triangle_size(tri_, t, &r, &e);
+        double ht = h_(tri_.orthocentre(t));
         if (!(ht > 0) || !std::isfinite(ht))
             fail(UM_ERR_NUMERICAL, "the spacing is ", ht, " (not a positive length) at a "
                  "triangle's circumcentre");
-        bool too_big = std::sqrt(3.0) * r >= options.alpha * ht;
-        bool badly_shaped = r / e >= options.rho;
-        if (too_big || badly_shaped)
-            queue.push_back({t, tri.vertex(t, 0), tri.vertex(t, 1), tri.vertex(t, 2)});
-    };
-    if (around) {
-        for (int32_t t : tri.triangles_around(*around)) consider(t);
-    } else {
-        for (int32_t t = 0; t < tri.triangle_slots(); ++t)
-            if (!tri.is_free(t)) consider(t);
+        bool too_big = std::sqrt(3.0) * r >= options_.alpha * ht;
+        bool badly_shaped = r / e >= options_.rho;
+        state_[t] = too_big || badly_shaped ? kBad : kGood;
     }
 
-    int64_t steps = 0;
-    while (!queue.empty()) {
-        Candidate c = queue.front();
-        queue.pop_front();
-        if (!still_there(tri, c)) continue;
-        if (++steps % 65536 == 0) ctx.progress("refine surface", 0.0);
-        // The shortest edge (a, b) and its bisector towards the circumcentre.
-        int k_short = 0;
-        double e_short = 1e300;
-        for (int k = 0; k < 3; ++k) {
-            double e = geom::arc_length(tri.direction(tri.vertex(c.t, (k + 1) % 3)),
-                                        tri.direction(tri.vertex(c.t, (k + 2) % 3)));
-            if (e < e_short) e_short = e, k_short = k;
+    bool on_front(int32_t t) const {
+        for (int k = 0; k < 3; ++k)
+            if (!bad(tri_.neighbour(t, k))) return true;
+        return false;
+    }
+
+    void enqueue(int32_t t) {
+        if (on_front(t)) {
+            join_front(t);
+        } else {
+            reserve_.push_back({t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)});
         }
-        Vec3 a = tri.direction(tri.vertex(c.t, (k_short + 1) % 3));
-        Vec3 b = tri.direction(tri.vertex(c.t, (k_short + 2) % 3));
-        Vec3 m = geom::normalized(a + b);
-        Vec3 centre = tri.orthocentre(c.t);
-        double d_centre = geom::arc_length(m, centre);
-        double half = 0.5 * e_short;
-        double off = e_short * std::sqrt(options.rho * options.rho - 0.25);
-        double target = h(m);
-        // Spherical right triangle: cos(target) = cos(half) cos(d).
-        double d_front = target > half ? std::acos(std::min(1.0, std::cos(target) / std::cos(half)))
-                                       : 0.0;
-        double d = std::min({d_centre, off, d_front});
-        if (d <= 1e-3 * e_short) d = d_centre;
-        Vec3 p = towards(m, centre, d);
+    }
+
+    void join_front(int32_t t) {
+        if (state_[t] & kOnFront) return;
+        state_[t] |= kOnFront;
+        front_.push_back({t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)});
+    }
+
+    bool pop(Candidate *c) {
+        if (!front_.empty()) {
+            *c = front_.front();
+            front_.pop_front();
+            return true;
+        }
+        if (reserve_.empty()) collect_unqueued();
+        if (!reserve_.empty()) {
+            *c = reserve_.back();
+            reserve_.pop_back();
+            return true;
+        }
+        return false;
+    }
+
+    // The bad triangles that no queue holds (bad beside bad ones only, made
+    // while a front was growing elsewhere), last slot first out.
+    void collect_unqueued() {
+        for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
+            if (!tri_.is_free(t) && bad(t) && !(state_[t] & kOnFront))
+                reserve_.push_back({t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)});
+    }
+
+
+    // Classifies the fan of a new vertex and queues its bad triangles; the
+    // bad triangles beside its good ones have just joined the front.
+    void after_insertion(int32_t v) {
+        tri_.for_each_in_star(v, [&](int32_t t) { classify(t); });
+        tri_.for_each_in_star(v, [&](int32_t t) {
+            if (bad(t)) {
+                // Off the front, it waits only while no front exists (the
+                // reserve would fill with triangles the front soon destroys).
+                if (on_front(t)) join_front(t);
+                else if (front_.empty()) reserve_.push_back({t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)});
+                return;
+            }
+            int32_t across = tri_.neighbour(t, local_index(t, v));
+            if (bad(across)) join_front(across);
+        });
+    }
+
+    int local_index(int32_t t, int32_t v) const {
+        return tri_.vertex(t, 0) == v ? 0 : (tri_.vertex(t, 1) == v ? 1 : 2);
+    }
+
+    void refine(const Candidate &c) {
+        double target = 0;
+        Vec3 p = place(c.t, &target);
         int32_t arc = -1;
         RestrictedEdge enc;
-        const bool near = options.gamma && near_gamma(*options.gamma, p, 3 * target);
-        if (near && encroached_edge(tri, p, c.t, *options.gamma, &enc)) {
-            if (enc.radius < options.filter * h(enc.centre)) {
-                ++stats.rejected;  // left as it is: refining would over-refine Gamma
-                continue;
+        const bool near = options_.gamma && near_gamma(*options_.gamma, p, 3 * target);
+        if (near && encroached_edge(tri_, p, c.t, *options_.gamma, &enc)) {
+            if (enc.radius < options_.filter * h_(enc.centre)) {
+                ++stats_.rejected;  // left as it is: refining would over-refine Gamma
+                return;
             }
             p = enc.centre, arc = enc.arc;
         }
-        std::vector<int32_t> buried;
-        int32_t v = tri.insert(p, 0.0, next_id++, &buried, c.t);
-        if (!tri.in_triangulation(v)) {
-            ++stats.rejected;
-            continue;
+        int32_t v = tri_.insert(p, 0.0, stats_.next_id++, nullptr, c.t);
+        if (!tri_.in_triangulation(v)) {
+            ++stats_.rejected;
+            return;
         }
         // A point this close to an existing vertex (one on Gamma, placed
-        // where the front did not expect it) would over-refine: take it back.
-        if (nearest_neighbour(tri, v) < options.filter * h(p)) {
-            tri.remove(v);
-            ++stats.rejected;
-            continue;
+        // where the front did not expect it) would over-refine: take it back,
+        // and re-measure the re-triangulated hole (not queued again).
+        if (nearest_neighbour(tri_, v) < options_.filter * h_(p)) {
+            std::vector<int32_t> link;
+            tri_.for_each_in_star(v, [&](int32_t t) { link.push_back(tri_.vertex(t, (local_index(t, v) + 1) % 3)); });
+            tri_.remove(v);
+            for (int32_t u : link) tri_.for_each_in_star(u, [&](int32_t t) { classify(t); });
+            ++stats_.rejected;
+            return;
         }
-        if (options.on_gamma) {
-            options.on_gamma->resize(static_cast<size_t>(tri.vertex_slots()), -1);
-            (*options.on_gamma)[v] = arc;
+        if (options_.on_gamma) {
+            options_.on_gamma->resize(static_cast<size_t>(tri_.vertex_slots()), -1);
+            (*options_.on_gamma)[v] = arc;
         }
-        ++stats.inserted;
+        ++stats_.inserted;
         // Its cavity's dual edges lie within about 2 r < 2 alpha h / sqrt(3)
         // of it (1.54 h by default): only then may it have changed Tri|Gamma.
-        if (near && near_gamma(*options.gamma, p, 1.2 * options.alpha * target)) stats.near_gamma.push_back(v);
-        for (int32_t t : tri.star(v)) consider(t);  // only the new fan changed
+        if (near && near_gamma(*options_.gamma, p, 1.2 * options_.alpha * target))
+            stats_.near_gamma.push_back(v);
+        after_insertion(v);
     }
-    stats.next_id = next_id;
-    return stats;
+
+    // The new point for bad triangle t, and the spacing there (*target).
+    Vec3 place(int32_t t, double *target) {
+        Vec3 p;
+        if (frontal_point(t, &p, target)) return p;
+        return shortest_edge_point(t, target);
+    }
+
+    // On the front edge's bisector, on t's side: the apex of the triangle
+    // whose new edges have length h, or t's circumcentre if nearer; only
+    // inside t's circumcircle (so that t is in the cavity). The front edge
+    // is the one shared with a good triangle whose length is nearest h.
+    bool frontal_point(int32_t t, Vec3 *p, double *target) {
+        int k_front = -1;
+        double best = 1e300, e_front = 0;
+        for (int k = 0; k < 3; ++k) {
+            if (bad(tri_.neighbour(t, k))) continue;
+            Vec3 a = tri_.direction(tri_.vertex(t, (k + 1) % 3)), b = tri_.direction(tri_.vertex(t, (k + 2) % 3));
+            double e = geom::arc_length(a, b);
+            double score = std::fabs(e - h_(geom::normalized(a + b)));
+            if (score < best) best = score, k_front = k, e_front = e;
+        }
+        if (k_front < 0) return false;
+        const Vec3 a = tri_.direction(tri_.vertex(t, (k_front + 1) % 3));
+        const Vec3 b = tri_.direction(tri_.vertex(t, (k_front + 2) % 3));
+        const Vec3 m = geom::normalized(a + b);
+        Vec3 side = geom::normalized(geom::cross(a, b));  // the bisector's tangent at m
+        if (geom::dot(side, tri_.direction(tri_.vertex(t, k_front))) < 0) side = -1.0 * side;
+        const Vec3 centre = tri_.orthocentre(t);
+        const double d_centre = std::atan2(geom::dot(centre, side), geom::dot(centre, m));  // signed
+        const double radius = geom::arc_length(centre, a);
+        *target = h_(m);
+        double d = std::min(frontal_height(*target, e_front), shape_height(e_front));
+        if (d_centre > 0) d = std::min(d, d_centre);
+        if (!(d > 1e-3 * e_front && d < 0.98 * (radius + d_centre))) return false;
+        *p = geom::normalized(std::cos(d) * m + std::sin(d) * side);
+        return true;
+    }
+
+    // The earlier rule, for triangles off the front (or whose front point
+    // would miss them): on the bisector of the shortest edge towards the
+    // circumcentre, at the least of the circumcentre, the off-centre of
+    // radius-edge ratio rho and the frontal apex.
+    Vec3 shortest_edge_point(int32_t t, double *target) {
+        int k_short = 0;
+        double e_short = 1e300;
+        for (int k = 0; k < 3; ++k) {
+            double e = geom::arc_length(tri_.direction(tri_.vertex(t, (k + 1) % 3)),
+                                        tri_.direction(tri_.vertex(t, (k + 2) % 3)));
+            if (e < e_short) e_short = e, k_short = k;
+        }
+        Vec3 a = tri_.direction(tri_.vertex(t, (k_short + 1) % 3));
+        Vec3 b = tri_.direction(tri_.vertex(t, (k_short + 2) % 3));
+        Vec3 m = geom::normalized(a + b);
+        Vec3 centre = tri_.orthocentre(t);
+        double d_centre = geom::arc_length(m, centre);
+        *target = h_(m);
+        double d = std::min({d_centre, shape_height(e_short), frontal_height(*target, e_short)});
+        if (d <= 1e-3 * e_short) d = d_centre;
+        return towards(m, centre, d);
+    }
+
+    // Height over an edge of length e of the apex whose two edges have
+    // length target (spherical right triangle: cos(target) = cos(e/2) cos(d)).
+    static double frontal_height(double target, double e) {
+        double half = 0.5 * e;
+        return target > half ? std::acos(std::min(1.0, std::cos(target) / std::cos(half))) : 0.0;
+    }
+    // Height of the off-centre whose triangle has radius-edge ratio rho.
+    double shape_height(double e) const {
+        return e * std::sqrt(options_.rho * options_.rho - 0.25);
+    }
+
+    Context &ctx_;
+    tri::Triangulation &tri_;
+    const SpacingRadians &h_;
+    const SurfaceOptions &options_;
+    SurfaceStats stats_;
+    std::vector<uint8_t> state_;
+    std::deque<Candidate> front_, reserve_;
+};
+
+}  // namespace
+
+SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
+                            const SurfaceOptions &options, int32_t next_id,
+                            const std::vector<int32_t> *around) {
+    return SurfaceRefiner(ctx, tri, h, options, next_id).run(around);
 }
 
 }  // namespace um::refine

@@ -1,13 +1,15 @@
 // Surface refinement (paper section 5.2): from the icosahedron, insert
-// frontal off-centre points until every triangle is small enough
-// (sqrt(3) r < alpha h at its circumcentre) and well shaped (r / e_min < rho).
-// The new point of a bad triangle lies on the bisector of its shortest edge,
-// at the least of: the circumcentre, the off-centre that makes the new
-// triangle's radius-edge ratio rho, and the apex of a triangle whose new
-// edges have the target length h (the "frontal" point). Deterministic: bad
-// triangles are refined first in, first out (the initial ones in slot order,
-// then each new fan in its star order) - a queue, not a heap by size: as
-// good a mesh here and twice as fast, the heap's pops missing the cache.
+// off-centre points until every triangle is small enough (sqrt(3) r < alpha h
+// at its circumcentre) and well shaped (r / e_min < rho). Frontal-Delaunay
+// order: a bad triangle beside a good one gets a point off their shared edge,
+// at the apex of the triangle whose new edges have the target length h
+// (capped by its circumcentre and the off-centre of radius-edge ratio rho),
+// so the mesh grows from the first good triangles in layers of edges close
+// to h. Bad triangles away from any good one (at the start) take the point on
+// their shortest edge's bisector at the least of the same three distances.
+// Deterministic: the front is first in, first out (the initial triangles in
+// slot order, then each new fan in its star order), the rest last in, first
+// out; see surface.cpp.
 #pragma once
 
 #include <functional>
