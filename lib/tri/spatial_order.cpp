@@ -120,7 +120,12 @@ uint64_t brio_round_key(int64_t index, int64_t n) {
     return round << kHilbertBits;
 }
 
-std::vector<int32_t> brio_order_from_keys(Context &ctx, std::vector<uint64_t> &keys) {
+int brio_round(int64_t index, int64_t n) {
+    return static_cast<int>(brio_round_key(index, n) >> kHilbertBits);
+}
+
+std::vector<int32_t> brio_order_from_keys(Context &ctx, std::vector<uint64_t> &keys,
+                                          std::vector<uint32_t> *sorted_keys) {
     // Pack (key, index) into one word: the key (round + Hilbert, 36 bits)
     // above a 28-bit index. An LSD radix sort on the key bits is stable, so
     // equal keys keep index order: the result is fully determined by the keys.
@@ -150,6 +155,12 @@ std::vector<int32_t> brio_order_from_keys(Context &ctx, std::vector<uint64_t> &k
     std::vector<int32_t> order(n);
     const uint64_t index_mask = (uint64_t(1) << kIndexBits) - 1;
     for (size_t i = 0; i < n; ++i) order[i] = static_cast<int32_t>(keys[i] & index_mask);
+    if (sorted_keys) {
+        sorted_keys->resize(n);
+        const uint64_t hilbert_mask = (uint64_t(1) << kHilbertBits) - 1;
+        for (size_t i = 0; i < n; ++i)
+            (*sorted_keys)[i] = static_cast<uint32_t>((keys[i] >> kIndexBits) & hilbert_mask);
+    }
     std::vector<uint64_t>().swap(keys);
     return order;
 }

@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/growth.hpp"
 #include "geom/predicates.hpp"
+#include "tri/spatial_order.hpp"
 
 namespace um::tri {
 
@@ -57,14 +58,37 @@ void Triangulation::insert_all(Context &ctx) {
     mark_.reserve(max_triangles);
     init_virtual_octahedron();
 
+    // prepare() sorted the slots by BRIO round and kept their Hilbert keys:
+    // the big rounds go in parallel by regions, the small first ones (big,
+    // overlapping cavities) one by one.
+    constexpr int32_t kParallelRound = 8192;
+    const int32_t last = static_cast<int32_t>(q_.size());
+    auto round_of = [&](int32_t v) { return brio_round(id_[v], n_real); };
     int32_t hint = 0;
-    const int64_t report_every = std::max<int64_t>(n_real / 20, 65536);
-    for (int32_t v = kVirtual; v < static_cast<int32_t>(q_.size()); ++v) {
-        int32_t other = kNone;
-        if (insert_slot(v, hint, &other) == InsertResult::duplicate) fail_on_duplicates();
-        if ((v - kVirtual + 1) % report_every == 0)
-            ctx.progress("triangulate", double(v - kVirtual + 1) / double(n_real));
+    int32_t prev_begin = kVirtual;  // the previous round's first slot
+    for (int32_t begin = kVirtual; begin < last;) {
+        const int round = round_of(begin);
+        int32_t end = last;  // the first slot of a later round (rounds ascend)
+        if (round_of(last - 1) != round) {
+            int32_t lo = begin;  // round_of(lo) == round != round_of(end)
+            while (end - lo > 1) {
+                int32_t mid = lo + (end - lo) / 2;
+                (round_of(mid) == round ? lo : end) = mid;
+            }
+        }
+        if (end - begin >= kParallelRound && key_.size() == q_.size()) {
+            insert_round_in_parallel(ctx, prev_begin, begin, end, hint);
+        } else {
+            for (int32_t v = begin; v < end; ++v) {
+                int32_t other = kNone;
+                if (insert_slot(v, hint, &other) == InsertResult::duplicate) fail_on_duplicates();
+            }
+        }
+        ctx.progress("triangulate", double(end - kVirtual) / double(n_real));
+        prev_begin = begin;
+        begin = end;
     }
+    std::vector<uint32_t>().swap(key_);
     for (int32_t v = 0; v < kVirtual; ++v)
         if (vertex_tri_[v] >= 0)
             fail(UM_ERR_DEGENERATE_INPUT,
@@ -328,10 +352,11 @@ Triangulation::InsertResult Triangulation::insert_slot(int32_t v, int32_t &hint,
         hint = t;
         return InsertResult::hidden;
     }
-    fill_cavity(v, start);
-    collect_horizon();
-    stitch_new_triangles(v);
-    hint = new_tris_[0];
+    fill_cavity(v, start, scratch_, nullptr);
+    collect_horizon(scratch_);
+    SlotPool pool{&free_};
+    stitch_new_triangles(v, scratch_, pool);
+    hint = scratch_.new_tris[0];
     return InsertResult::inserted;
 }
 
@@ -342,10 +367,24 @@ Triangulation::InsertResult Triangulation::insert_slot(int32_t v, int32_t &hint,
 int32_t Triangulation::locate(const Vec3 &p, int32_t t, int zero_edges[3],
                               int &n_zero) const {
     const int64_t max_steps = 64 + 4 * static_cast<int64_t>(tris_.size());
+    const int32_t found = walk(p, t, zero_edges, n_zero, walk_counter_, max_steps, nullptr, nullptr);
+    if (found != kNone) return found;
+    t = locate_brute_force(p);
+    n_zero = 0;
+    for (int k = 0; k < 3; ++k)
+        if (orient_origin(q_[tris_[t].v[next(k)]].data(), q_[tris_[t].v[prev(k)]].data(),
+                          p.data()) == 0)
+            zero_edges[n_zero++] = k;
+    return t;
+}
+
+int32_t Triangulation::walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero,
+                            uint32_t &counter, int64_t max_steps, const KeyRange *owner,
+                            int32_t *last_owned) const {
     int32_t from = kNone;  // the edge just crossed is known to have p inside
     for (int64_t step = 0; step < max_steps; ++step) {
         const Tri &tr = tris_[t];
-        int k0 = static_cast<int>(walk_counter_++ % 3);
+        int k0 = static_cast<int>(counter++ % 3);
         n_zero = 0;
         int32_t to = kNone;
         for (int j = 0; j < 3; ++j) {
@@ -368,16 +407,14 @@ int32_t Triangulation::locate(const Vec3 &p, int32_t t, int zero_edges[3],
             }
             return t;
         }
+        // Beyond a triangle the region does not own, another region may be
+        // changing the mesh.
+        if (owner && !owns(*owner, t)) return kNone;
+        if (owner) *last_owned = t;
         from = t;
         t = to;
     }
-    t = locate_brute_force(p);
-    n_zero = 0;
-    for (int k = 0; k < 3; ++k)
-        if (orient_origin(q_[tris_[t].v[next(k)]].data(), q_[tris_[t].v[prev(k)]].data(),
-                          p.data()) == 0)
-            zero_edges[n_zero++] = k;
-    return t;
+    return kNone;
 }
 
 int32_t Triangulation::live_triangle_near(int32_t t) const {
@@ -422,34 +459,40 @@ int32_t Triangulation::find_visible_start(int32_t v, int32_t t, const int zero_e
     return kNone;
 }
 
-void Triangulation::fill_cavity(int32_t v, int32_t start) {
-    cavity_.clear();
-    touched_.clear();
-    cavity_.push_back(start);
+bool Triangulation::fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyRange *owner) {
+    s.cavity.clear();
+    s.touched.clear();
+    s.cavity.push_back(start);
     mark_[start] = 1;
-    for (size_t i = 0; i < cavity_.size(); ++i) {
-        int32_t c = cavity_[i];
+    for (size_t i = 0; i < s.cavity.size(); ++i) {
+        int32_t c = s.cavity[i];
         for (int k = 0; k < 3; ++k) {
             int32_t u = tris_[c].n[k];
             if (mark_[u] != 0) continue;
             if (visible(u, v)) {
+                if (owner && !owns(*owner, u)) {
+                    for (int32_t t : s.cavity) mark_[t] = 0;
+                    for (int32_t t : s.touched) mark_[t] = 0;
+                    return false;
+                }
                 mark_[u] = 1;
-                cavity_.push_back(u);
+                s.cavity.push_back(u);
             } else {
                 mark_[u] = 2;
-                touched_.push_back(u);
+                s.touched.push_back(u);
             }
         }
     }
+    return true;
 }
 
 // The boundary of the cavity (a topological disc) as a cycle of edges, each
 // directed as in its cavity triangle.
-void Triangulation::collect_horizon() {
-    horizon_.clear();
+void Triangulation::collect_horizon(Scratch &s) {
+    s.horizon.clear();
     int32_t c = kNone;
     int k = 0;
-    for (int32_t t : cavity_) {
+    for (int32_t t : s.cavity) {
         for (k = 0; k < 3; ++k)
             if (mark_[tris_[t].n[k]] != 1) break;
         if (k < 3) {
@@ -461,7 +504,7 @@ void Triangulation::collect_horizon() {
     const int start_k = k;
     do {
         int32_t a = tris_[c].v[next(k)], b = tris_[c].v[prev(k)];
-        horizon_.push_back({a, b, tris_[c].n[k]});
+        s.horizon.push_back({a, b, tris_[c].n[k]});
         // Turn around b through cavity triangles to the boundary edge leaving b.
         int kk = next(k);  // the edge of c leaving b = v(c, k + 2)
         while (mark_[tris_[c].n[kk]] == 1) {
@@ -472,12 +515,13 @@ void Triangulation::collect_horizon() {
     } while (!(c == start_c && k == start_k));
 }
 
-int32_t Triangulation::new_triangle_slot() {
-    if (!free_.empty()) {
-        int32_t t = free_.back();
-        free_.pop_back();
+int32_t Triangulation::new_triangle_slot(SlotPool &pool) {
+    if (!pool.reuse->empty()) {
+        int32_t t = pool.reuse->back();
+        pool.reuse->pop_back();
         return t;
     }
+    if (pool.fresh < pool.fresh_end) return pool.fresh++;
     int32_t t = static_cast<int32_t>(tris_.size());
     reserve_for(tris_, tris_.size() + 1), reserve_for(mark_, mark_.size() + 1);
     tris_.push_back({{kNone, kNone, kNone}, {kNone, kNone, kNone}});
@@ -485,46 +529,51 @@ int32_t Triangulation::new_triangle_slot() {
     return t;
 }
 
-void Triangulation::stitch_new_triangles(int32_t v) {
+void Triangulation::stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool) {
     // A cavity of k triangles bounded by m edges has (k - m + 2) / 2 vertices
     // inside it; those are buried (hidden) by v. Only then do the cavity's
     // vertices need a fresh incident triangle from the new fan.
-    const bool buries = cavity_.size() + 2 != horizon_.size();
-    cavity_vertices_.clear();
-    for (int32_t t : cavity_) {
+    const bool buries = s.cavity.size() + 2 != s.horizon.size();
+    s.cavity_vertices.clear();
+    for (int32_t t : s.cavity) {
         mark_[t] = 0;
         if (buries)
             for (int k = 0; k < 3; ++k) {
                 int32_t u = tris_[t].v[k];
-                if (vertex_tri_[u] >= 0) cavity_vertices_.push_back(u);
+                if (vertex_tri_[u] >= 0) s.cavity_vertices.push_back(u);
                 vertex_tri_[u] = kNone;
             }
     }
-    for (int32_t t : touched_) mark_[t] = 0;
-    for (auto it = cavity_.rbegin(); it != cavity_.rend(); ++it) free_triangle_slot(*it);
+    for (int32_t t : s.touched) mark_[t] = 0;
+    for (auto it = s.cavity.rbegin(); it != s.cavity.rend(); ++it) free_triangle_slot(*it, pool);
 
-    const size_t m = horizon_.size();
-    new_tris_.resize(m);
-    for (size_t i = 0; i < m; ++i) new_tris_[i] = new_triangle_slot();
+    const size_t m = s.horizon.size();
+    s.new_tris.resize(m);
+    for (size_t i = 0; i < m; ++i) s.new_tris[i] = new_triangle_slot(pool);
     for (size_t i = 0; i < m; ++i) {
-        const HorizonEdge &h = horizon_[i];
-        int32_t t = new_tris_[i];
+        const HorizonEdge &h = s.horizon[i];
+        int32_t t = s.new_tris[i];
         tris_[t].v[0] = v, tris_[t].v[1] = h.a, tris_[t].v[2] = h.b;
         tris_[t].n[0] = h.outside;
-        tris_[t].n[1] = new_tris_[i + 1 == m ? 0 : i + 1];
-        tris_[t].n[2] = new_tris_[i == 0 ? m - 1 : i - 1];
+        tris_[t].n[1] = s.new_tris[i + 1 == m ? 0 : i + 1];
+        tris_[t].n[2] = s.new_tris[i == 0 ? m - 1 : i - 1];
         // The outside triangle's edge from b to a now faces t.
         set_neighbour(h.outside, h.b, h.a, t);
         vertex_tri_[h.a] = t;
     }
-    vertex_tri_[v] = new_tris_[0];
+    vertex_tri_[v] = s.new_tris[0];
 }
 
 // ------------------------------------------------------------------ updates
 
-void Triangulation::free_triangle_slot(int32_t t) {
+void Triangulation::free_triangle_slot(int32_t t, SlotPool &pool) {
     tris_[t].v[0] = tris_[t].v[1] = tris_[t].v[2] = kNone;
-    free_.push_back(t);
+    pool.reuse->push_back(t);
+}
+
+void Triangulation::free_triangle_slot(int32_t t) {
+    SlotPool pool{&free_};
+    free_triangle_slot(t, pool);
 }
 
 int32_t Triangulation::insert(const Vec3 &direction, double weight, int32_t id,
@@ -555,7 +604,7 @@ int32_t Triangulation::reinsert(int32_t v, std::vector<int32_t> *buried, int32_t
              id_[other], " (lon ", lon, ", lat ", lat, " degrees)");
     }
     if (r == InsertResult::inserted && buried)
-        for (int32_t u : cavity_vertices_)
+        for (int32_t u : scratch_.cavity_vertices)
             if (vertex_tri_[u] == kNone) buried->push_back(u);
     return v;
 }

@@ -45,8 +45,9 @@ public:
     // build() in two steps, so that a caller can free the input it made for
     // `direction` in between: prepare() copies the points in insertion order
     // (BRIO rounds along a Hilbert curve), finish_build() triangulates them.
-    // Insertion is serial and in that fixed order, so the triangles and their
-    // numbering are the same for any thread count.
+    // The first rounds are inserted one by one in that order, the big ones
+    // by 16 regions in parallel (parallel_insertion.cpp); nothing depends on
+    // the thread count, so neither do the triangles nor their numbering.
     template <class DirectionFn>
     void prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights);
     void finish_build(Context &ctx) { insert_all(ctx); }
@@ -188,6 +189,29 @@ public:
 
 private:
     enum class InsertResult { inserted, hidden, duplicate };
+    struct HorizonEdge {
+        int32_t a, b;     // directed as in the cavity triangle
+        int32_t outside;  // triangle across the edge, not in the cavity
+    };
+    // The lists of one insertion: one set for the serial path, one per
+    // region of a parallel round.
+    struct Scratch {
+        std::vector<int32_t> cavity, touched, new_tris;
+        std::vector<int32_t> cavity_vertices;  // filled only when an insertion buries vertices
+        std::vector<HorizonEdge> horizon;
+    };
+    // Where an insertion's new triangle slots come from: `reuse` first (last
+    // in, first out: the cavity's own slots), then [fresh, fresh_end), then
+    // the end of tris_ (only on the serial path).
+    struct SlotPool {
+        std::vector<int32_t> *reuse;
+        int32_t fresh = 0, fresh_end = 0;
+    };
+    // The vertices a region of a parallel round owns: Hilbert keys in [lo, hi).
+    struct KeyRange {
+        uint32_t lo, hi;
+    };
+    struct Region;  // parallel_insertion.cpp
 
     void init_virtual_octahedron();
     void insert_all(Context &ctx);
@@ -196,20 +220,43 @@ private:
     // coinciding vertex.
     InsertResult insert_slot(int32_t v, int32_t &hint, int32_t *other);
     int32_t locate(const Vec3 &p, int32_t start, int zero_edges[3], int &n_zero) const;
+    // The visibility walk of locate(): at most max_steps, and with `owner`
+    // it leaves only triangles the region owns (*last_owned: the last one it
+    // left). kNone when it gave up.
+    int32_t walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero, uint32_t &counter,
+                 int64_t max_steps, const KeyRange *owner, int32_t *last_owned) const;
+    bool owns(const KeyRange &range, int32_t t) const {
+        const int32_t *tv = tris_[t].v;
+        auto in = [&](int32_t v) { return key_[v] >= range.lo && key_[v] < range.hi; };
+        return in(tv[0]) && in(tv[1]) && in(tv[2]);
+    }
+    // Parallel insertion of one BRIO round, region by region (parallel_insertion.cpp).
+    void insert_round_in_parallel(Context &ctx, int32_t prev_begin, int32_t begin, int32_t end,
+                                  int32_t &hint);
+    std::vector<int32_t> insert_by_regions(Context &ctx, const std::vector<int32_t> &points,
+                                           const std::vector<uint32_t> &bounds,
+                                           int32_t search_begin, int32_t search_end);
+    enum class RegionInsert { inserted, hidden, deferred };
+    RegionInsert insert_in_region(int32_t v, Region &region);
+    int32_t region_start(const KeyRange &range, uint32_t key, int32_t prev_begin,
+                         int32_t prev_end) const;
     int32_t locate_brute_force(const Vec3 &p) const;
     int32_t live_triangle_near(int32_t t) const;
     int32_t find_visible_start(int32_t v, int32_t t, const int zero_edges[3], int n_zero,
                                int32_t *coincident);
-    void fill_cavity(int32_t v, int32_t start);
-    void collect_horizon();
-    void stitch_new_triangles(int32_t v);
+    // The visible triangles connected to `start`. With `owner`, false (and
+    // nothing marked) when one of them is not the region's.
+    bool fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyRange *owner);
+    void collect_horizon(Scratch &s);
+    void stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool);
     bool visible(int32_t t, int32_t v) const;
     int64_t priority(int32_t v) const;
     int local_index(int32_t t, int32_t v) const;
     // The neighbour of `outer` across its edge from -> to becomes t.
     void set_neighbour(int32_t outer, int32_t from, int32_t to, int32_t t);
-    int32_t new_triangle_slot();
+    int32_t new_triangle_slot(SlotPool &pool);
     void free_triangle_slot(int32_t t);
+    void free_triangle_slot(int32_t t, SlotPool &pool);
     bool flippable(int32_t t, int k) const;
     int32_t remove_degree_three(int32_t v);
     bool nudge_off_diagonals(int32_t v, const std::vector<int32_t> &link);
@@ -232,20 +279,19 @@ private:
     std::vector<uint8_t> mark_;       // per-triangle scratch of the insertion
     std::vector<int32_t> free_;       // free triangle slots
 
-    struct HorizonEdge {
-        int32_t a, b;     // directed as in the cavity triangle
-        int32_t outside;  // triangle across the edge, not in the cavity
-    };
-    std::vector<int32_t> cavity_, touched_, new_tris_;
-    std::vector<int32_t> cavity_vertices_;  // filled only when an insertion buries vertices
-    std::vector<HorizonEdge> horizon_;
+    Scratch scratch_;                 // the serial path's
+    std::vector<uint32_t> key_;       // Hilbert key per vertex slot, while building
     mutable uint32_t walk_counter_ = 0;  // rotates the walk's first edge
 };
 
 template <class DirectionFn>
 void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights) {
-    std::vector<int32_t> order = brio_order(ctx, n, direction);
+    std::vector<uint32_t> keys;
+    std::vector<int32_t> order = brio_order(ctx, n, direction, &keys);
     constexpr int kVirtual = 6;
+    key_.assign(kVirtual, ~uint32_t(0));  // the virtual vertices: owned by no region
+    key_.insert(key_.end(), keys.begin(), keys.end());
+    std::vector<uint32_t>().swap(keys);
     q_.assign(static_cast<size_t>(n) + kVirtual, Vec3{});
     id_.assign(q_.size(), kNone);
     vertex_tri_.assign(q_.size(), kNone);

@@ -104,12 +104,14 @@ static void matches_qhull(um_context *ctx, int64_t n, const double *weights) {
     free(ours), free(theirs), free(lon), free(lat), free(xyz);
 }
 
+/* Big enough for several BRIO rounds to go the parallel way (rounds of 8192
+   points and more are inserted by regions). */
 static void same_triangles_as_qhull(void **state) {
-    matches_qhull(*state, 20000, NULL);
+    matches_qhull(*state, 100000, NULL);
 }
 
 static void same_triangles_as_qhull_with_weights(void **state) {
-    const int64_t n = 20000;
+    const int64_t n = 50000;
     double *w = malloc(n * sizeof *w);
     for (int64_t i = 0; i < n; ++i) w[i] = (uniform() - 0.5) * 4e-3;
     matches_qhull(*state, n, w);
