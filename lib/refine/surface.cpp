@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <deque>
+#include <set>
 
 #include "core/error.hpp"
 #include "refine/restricted.hpp"
@@ -213,10 +215,17 @@ private:
 
     // The bad triangles that no queue holds (bad beside bad ones only, made
     // while a front was growing elsewhere), last slot first out.
+    // Not those whose point was rejected: they would come back for ever.
     void collect_unqueued() {
         for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
-            if (!tri_.is_free(t) && bad(t) && !(state_[t] & kOnFront))
+            if (!tri_.is_free(t) && bad(t) && !(state_[t] & kOnFront) &&
+                !given_up_.count({tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)}))
                 reserve_.push_back({t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)});
+    }
+
+    void give_up(const Candidate &c) {
+        ++stats_.rejected;
+        given_up_.insert({c.v0, c.v1, c.v2});
     }
 
 
@@ -249,14 +258,14 @@ private:
         const bool near = options_.gamma && near_gamma(*options_.gamma, p, 3 * target);
         if (near && encroached_edge(tri_, p, c.t, *options_.gamma, &enc)) {
             if (enc.radius < options_.filter * h_(enc.centre)) {
-                ++stats_.rejected;  // left as it is: refining would over-refine Gamma
+                give_up(c);  // left as it is: refining would over-refine Gamma
                 return;
             }
             p = enc.centre, arc = enc.arc;
         }
         int32_t v = tri_.insert(p, 0.0, stats_.next_id++, nullptr, c.t);
         if (!tri_.in_triangulation(v)) {
-            ++stats_.rejected;
+            give_up(c);
             return;
         }
         // A point this close to an existing vertex (one on Gamma, placed
@@ -267,7 +276,7 @@ private:
             tri_.for_each_in_star(v, [&](int32_t t) { link.push_back(tri_.vertex(t, (local_index(t, v) + 1) % 3)); });
             tri_.remove(v);
             for (int32_t u : link) tri_.for_each_in_star(u, [&](int32_t t) { classify(t); });
-            ++stats_.rejected;
+            give_up(c);
             return;
         }
         if (options_.on_gamma) {
@@ -361,6 +370,7 @@ private:
     SurfaceStats stats_;
     std::vector<uint8_t> state_;
     std::deque<Candidate> front_, reserve_;
+    std::set<std::array<int32_t, 3>> given_up_;  // candidates whose point was rejected
 };
 
 }  // namespace

@@ -135,32 +135,52 @@ std::vector<int32_t> brio_order_from_keys(Context &ctx, std::vector<uint64_t> &k
     ctx.parallel_for(static_cast<int64_t>(n), 16384, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) keys[i] = (keys[i] << kIndexBits) | uint64_t(i);
     });
+    // Each pass in parallel over a fixed number of chunks (so the result
+    // does not depend on the threads): per-chunk digit counts, then every
+    // chunk scatters its keys to where the digits of earlier chunks end.
+    constexpr int kChunks = 16;
+    constexpr size_t kDigits = size_t(1) << kDigitBits;
     std::vector<uint64_t> buffer(n);
-    std::vector<size_t> count(size_t(1) << kDigitBits);
+    std::vector<size_t> count(kDigits * kChunks);  // [chunk][digit]
+    auto chunk_begin = [&](int64_t c) { return n * static_cast<size_t>(c) / kChunks; };
     for (int shift = kIndexBits; shift < 64; shift += kDigitBits) {
-        std::fill(count.begin(), count.end(), 0);
-        const uint64_t mask = (uint64_t(1) << kDigitBits) - 1;
-        for (uint64_t k : keys) ++count[(k >> shift) & mask];
+        const uint64_t mask = kDigits - 1;
+        ctx.parallel_for(kChunks, 1, [&](int64_t c0, int64_t c1) {
+            for (int64_t c = c0; c < c1; ++c) {
+                size_t *cnt = &count[kDigits * c];
+                std::fill(cnt, cnt + kDigits, 0);
+                for (size_t i = chunk_begin(c); i < chunk_begin(c + 1); ++i) ++cnt[(keys[i] >> shift) & mask];
+            }
+        });
         size_t sum = 0;
-        for (auto &c : count) {
-            size_t here = c;
-            c = sum;
-            sum += here;
-        }
-        for (uint64_t k : keys) buffer[count[(k >> shift) & mask]++] = k;
+        for (size_t d = 0; d < kDigits; ++d)
+            for (int c = 0; c < kChunks; ++c) {
+                size_t here = count[kDigits * c + d];
+                count[kDigits * c + d] = sum;
+                sum += here;
+            }
+        ctx.parallel_for(kChunks, 1, [&](int64_t c0, int64_t c1) {
+            for (int64_t c = c0; c < c1; ++c) {
+                size_t *next = &count[kDigits * c];
+                for (size_t i = chunk_begin(c); i < chunk_begin(c + 1); ++i)
+                    buffer[next[(keys[i] >> shift) & mask]++] = keys[i];
+            }
+        });
         keys.swap(buffer);
     }
     static_assert((kKeyBits % kDigitBits) == 0, "whole digits");
     std::vector<uint64_t>().swap(buffer);
     std::vector<int32_t> order(n);
     const uint64_t index_mask = (uint64_t(1) << kIndexBits) - 1;
-    for (size_t i = 0; i < n; ++i) order[i] = static_cast<int32_t>(keys[i] & index_mask);
-    if (sorted_keys) {
-        sorted_keys->resize(n);
-        const uint64_t hilbert_mask = (uint64_t(1) << kHilbertBits) - 1;
-        for (size_t i = 0; i < n; ++i)
-            (*sorted_keys)[i] = static_cast<uint32_t>((keys[i] >> kIndexBits) & hilbert_mask);
-    }
+    if (sorted_keys) sorted_keys->resize(n);
+    const uint64_t hilbert_mask = (uint64_t(1) << kHilbertBits) - 1;
+    ctx.parallel_for(static_cast<int64_t>(n), 16384, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            order[i] = static_cast<int32_t>(keys[i] & index_mask);
+            if (sorted_keys)
+                (*sorted_keys)[i] = static_cast<uint32_t>((keys[i] >> kIndexBits) & hilbert_mask);
+        }
+    });
     std::vector<uint64_t>().swap(keys);
     return order;
 }
