@@ -88,13 +88,15 @@ double nearest_neighbour(const tri::Triangulation &tri, int32_t v) {
     return 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(d2)));
 }
 
-void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, double *shortest) {
+void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, double *shortest,
+                   Vec3 *circumcentre) {
     // Chords first, one arc conversion each (2 asin(chord / 2)): this runs
     // for every new triangle of the refinement.
     Vec3 a = tri.direction(tri.vertex(t, 0)), b = tri.direction(tri.vertex(t, 1)),
          c = tri.direction(tri.vertex(t, 2));
     double e2 = std::min({geom::dot(a - b, a - b), geom::dot(b - c, b - c), geom::dot(c - a, c - a)});
     Vec3 centre = tri.orthocentre(t);
+    if (circumcentre) *circumcentre = centre;
     double r2 = geom::dot(centre - a, centre - a);
     *radius = 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(r2)));
     *shortest = 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(e2)));
@@ -168,8 +170,9 @@ private:
         if (state_.size() < static_cast<size_t>(tri_.triangle_slots()))
             state_.resize(static_cast<size_t>(tri_.triangle_slots()), kGood);
         double r, e;
-        triangle_size(tri_, t, &r, &e);
-        double ht = h_(tri_.orthocentre(t));
+        Vec3 centre;
+        triangle_size(tri_, t, &r, &e, &centre);
+        double ht = h_(centre);
         if (!(ht > 0) || !std::isfinite(ht))
             fail(UM_ERR_NUMERICAL, "the spacing is ", ht, " (not a positive length) at a "
                  "triangle's circumcentre");

@@ -58,7 +58,9 @@ tri::Triangulation icosahedron(Context &ctx);
 // Arc distance (radians) from vertex v to its nearest neighbour.
 double nearest_neighbour(const tri::Triangulation &tri, int32_t v);
 
-// Circumradius (radians) and shortest edge of triangle t (unweighted view).
-void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, double *shortest);
+// Circumradius (radians) and shortest edge of triangle t (unweighted view),
+// and its circumcentre when asked.
+void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, double *shortest,
+                   geom::Vec3 *circumcentre = nullptr);
 
 }  // namespace um::refine

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/radix_sort.hpp"
+
 
 namespace um::tri {
 
@@ -129,47 +131,12 @@ std::vector<int32_t> brio_order_from_keys(Context &ctx, std::vector<uint64_t> &k
     // Pack (key, index) into one word: the key (round + Hilbert, 36 bits)
     // above a 28-bit index. An LSD radix sort on the key bits is stable, so
     // equal keys keep index order: the result is fully determined by the keys.
-    constexpr int kIndexBits = 28, kDigitBits = 12;
-    constexpr int kKeyBits = 64 - kIndexBits;
+    constexpr int kIndexBits = 28;
     const size_t n = keys.size();
     ctx.parallel_for(static_cast<int64_t>(n), 16384, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) keys[i] = (keys[i] << kIndexBits) | uint64_t(i);
     });
-    // Each pass in parallel over a fixed number of chunks (so the result
-    // does not depend on the threads): per-chunk digit counts, then every
-    // chunk scatters its keys to where the digits of earlier chunks end.
-    constexpr int kChunks = 16;
-    constexpr size_t kDigits = size_t(1) << kDigitBits;
-    std::vector<uint64_t> buffer(n);
-    std::vector<size_t> count(kDigits * kChunks);  // [chunk][digit]
-    auto chunk_begin = [&](int64_t c) { return n * static_cast<size_t>(c) / kChunks; };
-    for (int shift = kIndexBits; shift < 64; shift += kDigitBits) {
-        const uint64_t mask = kDigits - 1;
-        ctx.parallel_for(kChunks, 1, [&](int64_t c0, int64_t c1) {
-            for (int64_t c = c0; c < c1; ++c) {
-                size_t *cnt = &count[kDigits * c];
-                std::fill(cnt, cnt + kDigits, 0);
-                for (size_t i = chunk_begin(c); i < chunk_begin(c + 1); ++i) ++cnt[(keys[i] >> shift) & mask];
-            }
-        });
-        size_t sum = 0;
-        for (size_t d = 0; d < kDigits; ++d)
-            for (int c = 0; c < kChunks; ++c) {
-                size_t here = count[kDigits * c + d];
-                count[kDigits * c + d] = sum;
-                sum += here;
-            }
-        ctx.parallel_for(kChunks, 1, [&](int64_t c0, int64_t c1) {
-            for (int64_t c = c0; c < c1; ++c) {
-                size_t *next = &count[kDigits * c];
-                for (size_t i = chunk_begin(c); i < chunk_begin(c + 1); ++i)
-                    buffer[next[(keys[i] >> shift) & mask]++] = keys[i];
-            }
-        });
-        keys.swap(buffer);
-    }
-    static_assert((kKeyBits % kDigitBits) == 0, "whole digits");
-    std::vector<uint64_t>().swap(buffer);
+    radix_sort(ctx, keys, kIndexBits, 64);
     std::vector<int32_t> order(n);
     const uint64_t index_mask = (uint64_t(1) << kIndexBits) - 1;
     if (sorted_keys) sorted_keys->resize(n);

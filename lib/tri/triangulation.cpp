@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "core/error.hpp"
+#include "core/radix_sort.hpp"
 #include "core/growth.hpp"
 #include "geom/predicates.hpp"
 #include "tri/spatial_order.hpp"
@@ -180,7 +181,7 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
             keys[v] = key << 32 | static_cast<uint64_t>(v);
         }
     });
-    std::sort(keys.begin(), keys.end());
+    radix_sort(ctx, keys, 32, 64);  // the slot below makes every key unique
     std::vector<int32_t> old_of_new(static_cast<size_t>(n)), new_of_old(static_cast<size_t>(n));
     for (int32_t i = 0; i < n; ++i) {
         old_of_new[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);

@@ -1,0 +1,17 @@
+// A stable LSD radix sort of 64-bit words by a range of their bits, in
+// parallel over a fixed number of chunks, so the result is the same for any
+// thread count (and, the sort being stable, fully determined by the input).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/context.hpp"
+
+namespace um {
+
+// Sorts keys by bits [low_bit, high_bit) (0 <= low_bit < high_bit <= 64);
+// equal digits keep their order. Uses a second buffer of keys.size() words.
+void radix_sort(Context &ctx, std::vector<uint64_t> &keys, int low_bit, int high_bit);
+
+}  // namespace um
