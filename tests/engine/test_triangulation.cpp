@@ -45,6 +45,16 @@ void expect_complete(const tri::Triangulation &t, size_t n) {
     assert_int_equal(t.triangle_count(), 2 * static_cast<int64_t>(n) - 4);
 }
 
+void expect_identical(const tri::Triangulation &a, const tri::Triangulation &b) {
+    assert_int_equal(a.triangle_count(), b.triangle_count());
+    assert_int_equal(a.vertex_slots(), b.vertex_slots());
+    for (int32_t f = 0; f < a.triangle_count(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            assert_int_equal(a.id(a.vertex(f, k)), b.id(b.vertex(f, k)));
+            assert_int_equal(a.neighbour(f, k), b.neighbour(f, k));
+        }
+}
+
 std::set<std::array<int32_t, 3>> triangle_set(const tri::Triangulation &t) {
     std::set<std::array<int32_t, 3>> out;
     for (int32_t f = 0; f < t.triangle_count(); ++f) {
@@ -130,6 +140,38 @@ void exact_duplicates_are_named(void **) {
     }
 }
 
+// Duplicates among the big rounds (those go the parallel way, the pair is
+// found by the serial fallback): the same smallest pair for any thread count.
+void exact_duplicates_in_parallel_rounds_are_named(void **) {
+    auto pts = test::random_points(100000, 31);
+    pts[90000] = pts[4321];
+    pts[77777] = pts[50000];
+    for (int threads : {1, 2}) {
+        try {
+            build(pts, nullptr, threads);
+            fail_msg("duplicates accepted");
+        } catch (const Error &e) {
+            assert_int_equal(e.status(), UM_ERR_DUPLICATE_POINTS);
+            assert_non_null(strstr(e.what(), "points 4321 and 90000"));
+        }
+    }
+}
+
+// Points crowded into a small cap (plus the six axis directions to surround
+// the centre): the early hull keeps virtual vertices for long, and the
+// regions of the parallel rounds are tiny and meet everywhere.
+void clustered_points_in_parallel_rounds(void **) {
+    std::vector<Vec3> pts;
+    std::mt19937_64 rng(41);
+    std::uniform_real_distribution<double> u(-0.01, 0.01);
+    for (int i = 0; i < 60000; ++i) pts.push_back(geom::normalized({1.0, u(rng), u(rng)}));
+    for (Vec3 a : {Vec3{1, 0, 0}, Vec3{-1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, -1, 0}, Vec3{0, 0, 1}, Vec3{0, 0, -1}})
+        pts.push_back(geom::normalized(a + Vec3{1e-3, 2e-3, 3e-3}));
+    auto one = build(pts, nullptr, 1);
+    expect_complete(one, pts.size());
+    expect_identical(one, build(pts, nullptr, 2));
+}
+
 void one_hemisphere_or_great_circle_is_rejected(void **) {
     auto pts = test::random_points(1000, 13);
     for (auto &p : pts) p.z = std::fabs(p.z) + 1e-3, p = geom::normalized(p);
@@ -163,16 +205,6 @@ void weights_hide_points(void **) {
         assert_true(std::binary_search(hidden.begin(), hidden.end(), int32_t(i * 7)));
     assert_int_equal(t.vertex_count() + static_cast<int64_t>(hidden.size()),
                      static_cast<int64_t>(pts.size()));
-}
-
-void expect_identical(const tri::Triangulation &a, const tri::Triangulation &b) {
-    assert_int_equal(a.triangle_count(), b.triangle_count());
-    assert_int_equal(a.vertex_slots(), b.vertex_slots());
-    for (int32_t f = 0; f < a.triangle_count(); ++f)
-        for (int k = 0; k < 3; ++k) {
-            assert_int_equal(a.id(a.vertex(f, k)), b.id(b.vertex(f, k)));
-            assert_int_equal(a.neighbour(f, k), b.neighbour(f, k));
-        }
 }
 
 // The big BRIO rounds are inserted by regions in parallel: the same
@@ -452,6 +484,8 @@ int main() {
         cmocka_unit_test(antipodal_pairs),
         cmocka_unit_test(near_duplicates_are_distinct_vertices),
         cmocka_unit_test(exact_duplicates_are_named),
+        cmocka_unit_test(exact_duplicates_in_parallel_rounds_are_named),
+        cmocka_unit_test(clustered_points_in_parallel_rounds),
         cmocka_unit_test(one_hemisphere_or_great_circle_is_rejected),
         cmocka_unit_test(weights_hide_points),
         cmocka_unit_test(same_result_for_any_thread_count),
