@@ -57,7 +57,19 @@ public:
 
     // Calls visit(i) for every arc whose box overlaps `box`, in a fixed order.
     template <class Visit>
-    void query(const Box &box, Visit &&visit) const;
+    void query(const Box &box, Visit &&visit) const {
+        query_until(box, [&](int32_t i) {
+            visit(i);
+            return false;
+        });
+    }
+    // The same until visit(i) returns true; whether it did.
+    template <class Visit>
+    bool query_until(const Box &box, Visit &&visit) const;
+    // Whether any arc's box overlaps `box` (stops at the first).
+    bool any_overlaps(const Box &box) const {
+        return query_until(box, [](int32_t) { return true; });
+    }
 
     // The arc nearest to unit point p and its distance (radians); -1 when empty.
     int32_t nearest(const Vec3 &p, double *distance) const;
@@ -77,8 +89,8 @@ private:
 };
 
 template <class Visit>
-void ArcTree::query(const Box &box, Visit &&visit) const {
-    if (nodes_.empty()) return;
+bool ArcTree::query_until(const Box &box, Visit &&visit) const {
+    if (nodes_.empty()) return false;
     int32_t stack[128];
     int depth = 0;
     stack[depth++] = 0;
@@ -87,12 +99,13 @@ void ArcTree::query(const Box &box, Visit &&visit) const {
         if (!node.box.overlaps(box)) continue;
         if (node.left < 0) {
             for (int32_t j = node.first; j < node.first + node.count; ++j)
-                if (boxes_[order_[j]].overlaps(box)) visit(order_[j]);
+                if (boxes_[order_[j]].overlaps(box) && visit(order_[j])) return true;
         } else {
             stack[depth++] = node.right;
             stack[depth++] = node.left;
         }
     }
+    return false;
 }
 
 }  // namespace um::geom

@@ -51,10 +51,20 @@ void check_cells(const std::vector<double> &cells, size_t n_lon, size_t n_lat, c
     }
 }
 
-// Position of x among strictly increasing nodes v, x within [v.front(), v.back()].
+// Position of x among strictly increasing nodes v, x within [v.front(), v.back()]:
+// the last i <= size - 2 with v[i] <= x (0 if none). Guessed from the mean
+// step (right at once on the usual uniform axes) and checked; a binary
+// search when the guess is off: the same answer either way.
 size_t cell_below(const std::vector<double> &v, double x) {
+    const size_t last = v.size() - 2;
+    auto fits = [&](size_t i) { return (i == 0 || v[i] <= x) && (i == last || v[i + 1] > x); };
+    const double g = (x - v.front()) / (v.back() - v.front()) * double(v.size() - 1);
+    const size_t guess = g <= 0 ? 0 : std::min(static_cast<size_t>(g), last);
+    if (fits(guess)) return guess;
+    if (guess > 0 && fits(guess - 1)) return guess - 1;
+    if (guess < last && fits(guess + 1)) return guess + 1;
     size_t i = static_cast<size_t>(std::upper_bound(v.begin(), v.end(), x) - v.begin());
-    return std::min(i == 0 ? 0 : i - 1, v.size() - 2);
+    return std::min(i == 0 ? 0 : i - 1, last);
 }
 
 double clamp01(double t) { return std::min(std::max(t, 0.0), 1.0); }

@@ -42,9 +42,7 @@ bool near_gamma(const geom::ArcTree &gamma, const Vec3 &p, double reach) {
     geom::Box box;
     box.add(p);
     box.grow(reach);
-    bool any = false;
-    gamma.query(box, [&](int32_t) { any = true; });
-    return any;
+    return gamma.any_overlaps(box);
 }
 
 
