@@ -151,6 +151,8 @@ public:
         Candidate c;
         while (pop(&c)) {
             if (!still_there(tri_, c)) continue;
+            state_[c.t] &= ~kOnFront;  // its entry is taken: it may join again
+            if (given_up_.count(key_of(c))) continue;
             if (++steps % 65536 == 0) ctx_.progress("refine surface", 0.0);
             refine(c);
         }
@@ -158,8 +160,8 @@ public:
     }
 
 private:
-    // Per slot: bad or not, and whether it already waits on the front (a
-    // triangle joins it once, however many good neighbours it gets).
+    // Per slot: bad or not, and whether an entry of it waits on the front (a
+    // triangle joins once, however many good neighbours it gets).
     enum : uint8_t { kGood = 0, kBad = 1, kOnFront = 2 };
 
     bool bad(int32_t t) const { return static_cast<size_t>(t) < state_.size() && (state_[t] & kBad); }
@@ -214,19 +216,29 @@ private:
         return false;
     }
 
-    // The bad triangles that no queue holds (bad beside bad ones only, made
-    // while a front was growing elsewhere), last slot first out.
-    // Not those whose point was rejected: they would come back for ever.
+    // The bad triangles no queue holds any more (bad beside bad ones only,
+    // made while a front grew elsewhere; or a triangle whose point landed
+    // elsewhere, on Gamma), last slot first out. Not those whose point was
+    // rejected: they would come back for ever.
     void collect_unqueued() {
-        for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
-            if (!tri_.is_free(t) && bad(t) && !(state_[t] & kOnFront) &&
-                !given_up_.count({tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)}))
-                reserve_.push_back({t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)});
+        for (int32_t t = 0; t < tri_.triangle_slots(); ++t) {
+            if (tri_.is_free(t) || !bad(t)) continue;
+            Candidate c{t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)};
+            if (!given_up_.count(key_of(c))) reserve_.push_back(c);
+        }
+    }
+
+    // A triangle by its vertices from the smallest on (removal may rebuild
+    // it with another first vertex).
+    static std::array<int32_t, 3> key_of(const Candidate &c) {
+        if (c.v0 < c.v1 && c.v0 < c.v2) return {c.v0, c.v1, c.v2};
+        if (c.v1 < c.v2) return {c.v1, c.v2, c.v0};
+        return {c.v2, c.v0, c.v1};
     }
 
     void give_up(const Candidate &c) {
         ++stats_.rejected;
-        given_up_.insert({c.v0, c.v1, c.v2});
+        given_up_.insert(key_of(c));
     }
 
 
@@ -264,6 +276,15 @@ private:
             }
             p = enc.centre, arc = enc.arc;
         }
+        // How far the insertion may change dual edges: its cavity holds t,
+        // whose dual edges lie within about 2 r_t of p, and the new
+        // triangles, within about 2 r < 2 alpha h / sqrt(3) (1.54 h).
+        double change_reach = 1.2 * options_.alpha * target;
+        if (options_.gamma) {
+            double r, e;
+            triangle_size(tri_, c.t, &r, &e);
+            change_reach = std::max(change_reach, 2 * r);
+        }
         int32_t v = tri_.insert(p, 0.0, stats_.next_id++, nullptr, c.t);
         if (!tri_.in_triangulation(v)) {
             give_up(c);
@@ -285,10 +306,8 @@ private:
             (*options_.on_gamma)[v] = arc;
         }
         ++stats_.inserted;
-        // Its cavity's dual edges lie within about 2 r < 2 alpha h / sqrt(3)
-        // of it (1.54 h by default): only then may it have changed Tri|Gamma.
-        if (near && near_gamma(*options_.gamma, p, 1.2 * options_.alpha * target))
-            stats_.near_gamma.push_back(v);
+        // Only within that reach of Gamma may it have changed Tri|Gamma.
+        if (options_.gamma && near_gamma(*options_.gamma, p, change_reach)) stats_.near_gamma.push_back(v);
         after_insertion(v);
     }
 
@@ -327,7 +346,10 @@ private:
         if (d_centre > 0) d = std::min(d, d_centre);
         if (!(d > 1e-3 * e_front && d < 0.98 * (radius + d_centre))) return false;
         *p = geom::normalized(std::cos(d) * m + std::sin(d) * side);
-        return true;
+        // Beside an obtuse apex (circumcentre across the front edge) the
+        // point may come close to the apex: the other rule then does better.
+        const Vec3 apex = tri_.direction(tri_.vertex(t, k_front));
+        return geom::arc_length(*p, apex) >= options_.filter * *target;
     }
 
     // The earlier rule, for triangles off the front (or whose front point

@@ -63,18 +63,27 @@ void Triangulation::insert_round_in_parallel(Context &ctx, int32_t prev_begin, i
     // middles of these gained nothing: a region borders regions far from
     // it along the curve.)
     for (int32_t v : insert_by_regions(ctx, points, bounds, prev_begin, begin)) {
-        // Deferred points are far apart: start next to the round's vertex
-        // before v along the curve.
-        const int32_t near = static_cast<int32_t>(
-            std::lower_bound(key_.begin() + begin, key_.begin() + end, key_[v]) - key_.begin());
-        for (int32_t u = std::min(near, end - 1); u >= begin && u > near - 8; --u)
-            if (vertex_tri_[u] >= 0) {
-                hint = vertex_tri_[u];
-                break;
-            }
+        // Deferred points are far apart: start next to a vertex of this
+        // round or the previous one near v along the curve, else from the
+        // last hint (made live: a region may have emptied its slot).
+        int32_t start = vertex_near_key(key_[v], begin, end);
+        if (start == kNone) start = vertex_near_key(key_[v], prev_begin, begin);
+        hint = start != kNone ? start : live_triangle_near(hint);
         int32_t other = kNone;
         if (insert_slot(v, hint, &other) == InsertResult::duplicate) fail_on_duplicates();
     }
+}
+
+// vertex_tri_ of a vertex in the triangulation among the slots [begin, end)
+// (sorted by key) nearest to `key` in that order, within a few; else kNone.
+int32_t Triangulation::vertex_near_key(uint32_t key, int32_t begin, int32_t end) const {
+    if (end <= begin) return kNone;
+    const int32_t at = static_cast<int32_t>(
+        std::lower_bound(key_.begin() + begin, key_.begin() + end, key) - key_.begin());
+    for (int32_t d = 0; d < 8; ++d)
+        for (int32_t u : {at - 1 - d, at + d})
+            if (u >= begin && u < end && vertex_tri_[u] >= 0) return vertex_tri_[u];
+    return kNone;
 }
 
 // One pass: region r takes the points (sorted by key) whose keys are in
@@ -113,8 +122,6 @@ std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx,
     ctx.parallel_for(n_regions, 1, [&](int64_t r0, int64_t r1) {
         for (int64_t r = r0; r < r1; ++r) {
             Region &g = regions[r];
-            if (g.count == 0 || g.keys.lo >= g.keys.hi) continue;
-            g.hint = region_start(g.keys, key_[g.points[0]], search_begin, search_end);
             for (int64_t i = 0; i < g.count; ++i)
                 if (insert_in_region(g.points[i], g) == RegionInsert::deferred)
                     g.deferred.push_back(g.points[i]);
@@ -125,8 +132,6 @@ std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx,
     for (Region &g : regions) {
         free_.insert(free_.end(), g.reuse.begin(), g.reuse.end());
         for (int32_t t = g.pool.fresh; t < g.pool.fresh_end; ++t) free_.push_back(t);
-        if (g.count > 0 && g.keys.lo >= g.keys.hi)  // an empty key range (ties): all deferred
-            g.deferred.assign(g.points, g.points + g.count);
         deferred.insert(deferred.end(), g.deferred.begin(), g.deferred.end());
     }
     return deferred;
@@ -134,6 +139,8 @@ std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx,
 
 // Inserts the point in slot v if the region owns everything it needs.
 Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g) {
+    // No start yet (the first point): one near v.
+    if (g.hint == kNone) g.hint = region_start(g.keys, key_[v], g.search_begin, g.search_end);
     if (g.hint == kNone) return RegionInsert::deferred;
     int zero_edges[3], n_zero = 0;
     int32_t last_owned = g.hint;
@@ -165,14 +172,9 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
         return RegionInsert::deferred;
     collect_horizon(g.scratch);
     stitch_new_triangles(v, g.scratch, g.pool);
-    // The next walk starts from a new triangle the region owns (v itself may
-    // be another region's when Hilbert keys tie at a border).
-    g.hint = kNone;
-    for (int32_t u : g.scratch.new_tris)
-        if (owns(g.keys, u)) {
-            g.hint = u;
-            break;
-        }
+    // The next walk starts from the new fan, which the region owns (v and
+    // the horizon vertices are its own).
+    g.hint = g.scratch.new_tris[0];
     return RegionInsert::inserted;
 }
 

@@ -225,6 +225,14 @@ void same_result_for_any_thread_count(void **) {
     expect_valid(wone);
     assert_true(!wone.hidden_ids().empty());
     expect_identical(wone, build(wpts, &w, 3));
+    // Heavy weights: most insertions bury vertices, regions empty slots and
+    // the deferred points start from emptied regions.
+    std::uniform_real_distribution<double> heavy(-3e-2, 3e-2);
+    for (auto &x : w) x = heavy(rng);
+    auto hone = build(wpts, &w, 1);
+    expect_valid(hone);
+    assert_true(hone.hidden_ids().size() > wpts.size() / 10);
+    expect_identical(hone, build(wpts, &w, 2));
 
     auto ico = test::icosahedral_points(7);
     auto ione = build(ico, nullptr, 1);
