@@ -46,28 +46,39 @@ bool near_gamma(const geom::ArcTree &gamma, const Vec3 &p, double reach) {
 }
 
 
-// A restricted edge near p whose surface ball holds p: such an edge has a
-// triangle whose circumcircle holds p, so the triangle containing p and its
-// neighbours are searched (p's cavity in a well-shaped mesh).
+// A restricted edge whose surface ball holds p. Such a ball lies within the
+// circumcircles of the edge's two triangles (balls through the edge's ends
+// centred on its dual edge do), so one of them holds p: only the edges of
+// p's cavity (the triangles whose circumcircle holds p, connected to the one
+// containing p) need a look. Cavity order, each edge once: deterministic.
 bool encroached_edge(const tri::Triangulation &tri, const Vec3 &p, int32_t hint,
                      const geom::ArcTree &gamma, RestrictedEdge *out) {
-    int32_t t0 = tri.locate(p, hint);
-    const Vec3 c0 = tri.orthocentre(t0);
-    for (int k0 = 0; k0 < 3; ++k0) {
-        // Edge k0 of t0, then the two other edges of its neighbour t1.
-        const int32_t t1 = tri.neighbour(t0, k0);
-        const Vec3 c1 = tri.orthocentre(t1);
-        RestrictedEdge e;
-        if (restricted_crossing(tri, t0, k0, c0, c1, gamma, &e) && geom::arc_length(p, e.centre) < e.radius)
-            return *out = e, true;
-        for (int k1 = 0; k1 < 3; ++k1) {
-            const int32_t t2 = tri.neighbour(t1, k1);
-            if (t2 == t0) continue;
-            if (restricted_crossing(tri, t1, k1, c1, tri.orthocentre(t2), gamma, &e) &&
+    constexpr size_t kMaxCavity = 256;  // a huge cavity (coarse start): its first triangles
+    std::vector<int32_t> cavity{tri.locate(p, hint)};
+    std::vector<Vec3> centre{tri.orthocentre(cavity[0])};
+    auto index_of = [&](int32_t t) {
+        for (size_t i = 0; i < cavity.size(); ++i)
+            if (cavity[i] == t) return static_cast<int>(i);
+        return -1;
+    };
+    for (size_t i = 0; i < cavity.size() && cavity.size() < kMaxCavity; ++i)
+        for (int k = 0; k < 3; ++k) {
+            const int32_t u = tri.neighbour(cavity[i], k);
+            if (index_of(u) >= 0) continue;
+            const Vec3 c = tri.orthocentre(u);
+            const Vec3 a = tri.direction(tri.vertex(u, 0));
+            if (geom::dot(p - c, p - c) < geom::dot(a - c, a - c)) cavity.push_back(u), centre.push_back(c);
+        }
+    for (size_t i = 0; i < cavity.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            const int32_t u = tri.neighbour(cavity[i], k);
+            const int j = index_of(u);
+            if (j >= 0 && static_cast<size_t>(j) < i) continue;  // seen from u
+            RestrictedEdge e;
+            if (restricted_crossing(tri, cavity[i], k, centre[i], j >= 0 ? centre[j] : tri.orthocentre(u), gamma, &e) &&
                 geom::arc_length(p, e.centre) < e.radius)
                 return *out = e, true;
         }
-    }
     return false;
 }
 
