@@ -40,10 +40,9 @@ constexpr int64_t kRegionWalkSteps = 4096;
 
 struct Triangulation::Region {
     KeyRange keys;
-    const int32_t *points = nullptr;  // its points (vertex slots), by key
-    int64_t count = 0;
+    int32_t begin = 0, end = 0;       // its points: vertex slots, sorted by key
     int32_t hint = kNone;             // a triangle it owns near its last point
-    int32_t search_begin = 0, search_end = 0;  // slots, by key, to find starts among
+    int32_t prev_begin = 0, prev_end = 0;  // the previous round's slots, to find starts among
     uint32_t walk = 0;
     SlotPool pool;                    // its own triangle slots: two per point
     std::vector<int32_t> reuse;       // slots its insertions emptied
@@ -53,16 +52,10 @@ struct Triangulation::Region {
 
 void Triangulation::insert_round_in_parallel(Context &ctx, int32_t prev_begin, int32_t begin,
                                              int32_t end, int32_t &hint) {
-    std::vector<int32_t> points(static_cast<size_t>(end - begin));
-    for (int32_t v = begin; v < end; ++v) points[v - begin] = v;
-    std::vector<uint32_t> bounds(kRegions + 1);
-    bounds[0] = 0;
-    bounds[kRegions] = ~uint32_t(0);
-    for (int r = 1; r < kRegions; ++r) bounds[r] = key_[begin + (end - begin) * int64_t(r) / kRegions];
     // (A second pass over the deferred points with regions cut at the
     // middles of these gained nothing: a region borders regions far from
     // it along the curve.)
-    for (int32_t v : insert_by_regions(ctx, points, bounds, prev_begin, begin)) {
+    for (int32_t v : insert_by_regions(ctx, prev_begin, begin, end)) {
         // Deferred points are far apart: start next to a vertex of this
         // round or the previous one near v along the curve, else from the
         // last hint (made live: a region may have emptied its slot).
@@ -74,57 +67,54 @@ void Triangulation::insert_round_in_parallel(Context &ctx, int32_t prev_begin, i
     }
 }
 
+// The first slot in [begin, end) (sorted by key) whose key is >= key.
+int32_t Triangulation::first_slot_with_key(uint32_t key, int32_t begin, int32_t end) const {
+    return static_cast<int32_t>(std::lower_bound(key_.begin() + begin, key_.begin() + end, key) -
+                                key_.begin());
+}
+
 // vertex_tri_ of a vertex in the triangulation among the slots [begin, end)
 // (sorted by key) nearest to `key` in that order, within a few; else kNone.
 int32_t Triangulation::vertex_near_key(uint32_t key, int32_t begin, int32_t end) const {
-    if (end <= begin) return kNone;
-    const int32_t at = static_cast<int32_t>(
-        std::lower_bound(key_.begin() + begin, key_.begin() + end, key) - key_.begin());
+    const int32_t at = first_slot_with_key(key, begin, end);
     for (int32_t d = 0; d < 8; ++d)
         for (int32_t u : {at - 1 - d, at + d})
             if (u >= begin && u < end && vertex_tri_[u] >= 0) return vertex_tri_[u];
     return kNone;
 }
 
-// One pass: region r takes the points (sorted by key) whose keys are in
-// [bounds[r], bounds[r + 1]) and owns the vertices with those keys; starts
-// are found among the slots [search_begin, search_end). Returns the points
+// The round [begin, end) in kRegions runs of equal length; region r owns
+// the keys from its first point's to the next region's. Returns the points
 // deferred, in order.
-std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx,
-                                                      const std::vector<int32_t> &points,
-                                                      const std::vector<uint32_t> &bounds,
-                                                      int32_t search_begin, int32_t search_end) {
-    const int n_regions = static_cast<int>(bounds.size()) - 1;
+std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx, int32_t prev_begin,
+                                                      int32_t begin, int32_t end) {
     // A fan has two triangles more than its cavity: two fresh slots per
     // point, a contiguous range per region, so that triangles near each
     // other stay near each other in memory, as on the serial path.
     const int32_t base = static_cast<int32_t>(tris_.size());
-    tris_.resize(tris_.size() + 2 * points.size(), {{kNone, kNone, kNone}, {kNone, kNone, kNone}});
+    tris_.resize(tris_.size() + 2 * static_cast<size_t>(end - begin),
+                 {{kNone, kNone, kNone}, {kNone, kNone, kNone}});
     mark_.resize(tris_.size(), 0);
-    std::vector<Region> regions(static_cast<size_t>(n_regions));
-    auto first_with_key = [&](uint32_t key) {
-        return std::lower_bound(points.begin(), points.end(), key,
-                                [&](int32_t v, uint32_t k) { return key_[v] < k; }) -
-               points.begin();
-    };
-    for (int r = 0; r < n_regions; ++r) {
+    uint32_t bounds[kRegions + 1];
+    bounds[0] = 0;
+    bounds[kRegions] = ~uint32_t(0);  // the virtual vertices' key: owned by none
+    for (int r = 1; r < kRegions; ++r) bounds[r] = key_[begin + (end - begin) * int64_t(r) / kRegions];
+    std::vector<Region> regions(kRegions);
+    for (int r = 0; r < kRegions; ++r) {
         Region &g = regions[r];
         g.keys = {bounds[r], bounds[r + 1]};
-        const int64_t first = first_with_key(bounds[r]);
-        const int64_t last = r + 1 == n_regions ? static_cast<int64_t>(points.size())
-                                                : first_with_key(bounds[r + 1]);
-        g.points = points.data() + first;
-        g.count = last - first;
-        g.search_begin = search_begin, g.search_end = search_end;
-        g.walk = static_cast<uint32_t>(first);
-        g.pool = {&g.reuse, base + 2 * static_cast<int32_t>(first), base + 2 * static_cast<int32_t>(last)};
+        // Equal keys all go to one region (the first with that key).
+        g.begin = first_slot_with_key(bounds[r], begin, end);
+        g.end = r + 1 == kRegions ? end : first_slot_with_key(bounds[r + 1], begin, end);
+        g.prev_begin = prev_begin, g.prev_end = begin;
+        g.walk = static_cast<uint32_t>(g.begin - begin);
+        g.pool = {&g.reuse, base + 2 * (g.begin - begin), base + 2 * (g.end - begin)};
     }
-    ctx.parallel_for(n_regions, 1, [&](int64_t r0, int64_t r1) {
+    ctx.parallel_for(kRegions, 1, [&](int64_t r0, int64_t r1) {
         for (int64_t r = r0; r < r1; ++r) {
             Region &g = regions[r];
-            for (int64_t i = 0; i < g.count; ++i)
-                if (insert_in_region(g.points[i], g) == RegionInsert::deferred)
-                    g.deferred.push_back(g.points[i]);
+            for (int32_t v = g.begin; v < g.end; ++v)
+                if (insert_in_region(v, g) == RegionInsert::deferred) g.deferred.push_back(v);
         }
     });
     // The regions' unused slots are for the serial path.
@@ -140,7 +130,7 @@ std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx,
 // Inserts the point in slot v if the region owns everything it needs.
 Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g) {
     // No start yet (the first point): one near v.
-    if (g.hint == kNone) g.hint = region_start(g.keys, key_[v], g.search_begin, g.search_end);
+    if (g.hint == kNone) g.hint = region_start(g.keys, key_[v], g.prev_begin, g.prev_end);
     if (g.hint == kNone) return RegionInsert::deferred;
     int zero_edges[3], n_zero = 0;
     int32_t last_owned = g.hint;
@@ -150,7 +140,7 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
         // The walk reached the border (deferred points leave the hint
         // behind them): start again from a vertex of the previous round
         // next to v along the curve.
-        const int32_t restart = region_start(g.keys, key_[v], g.search_begin, g.search_end);
+        const int32_t restart = region_start(g.keys, key_[v], g.prev_begin, g.prev_end);
         if (restart != kNone)
             t = walk(q_[v], restart, zero_edges, n_zero, g.walk, kRegionWalkSteps, &g.keys,
                      &last_owned);
@@ -180,14 +170,13 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
 
 // A triangle the region owns around one of the first vertices among the
 // slots [prev_begin, prev_end) (a round: sorted by key) from `key` on, in
-// the region's range; kNone if none of the first few has one. Safe while other regions insert:
-// a triangle around a vertex the region owns keeps its vertices, and the
-// edges at that vertex their neighbours (other regions change neither).
+// the region's range; kNone if none of the first few has one. Safe while
+// other regions insert: a triangle around a vertex the region owns keeps its
+// vertices, and the edges at that vertex their neighbours (other regions
+// change neither).
 int32_t Triangulation::region_start(const KeyRange &range, uint32_t key, int32_t prev_begin,
                                     int32_t prev_end) const {
-    const int32_t first = static_cast<int32_t>(
-        std::lower_bound(key_.begin() + prev_begin, key_.begin() + prev_end, key) -
-        key_.begin());
+    const int32_t first = first_slot_with_key(key, prev_begin, prev_end);
     constexpr int kTries = 64;
     for (int32_t u = first; u < prev_end && u < first + kTries && key_[u] < range.hi; ++u) {
         if (key_[u] < range.lo || vertex_tri_[u] < 0) continue;

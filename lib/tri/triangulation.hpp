@@ -233,14 +233,14 @@ private:
     // Parallel insertion of one BRIO round, region by region (parallel_insertion.cpp).
     void insert_round_in_parallel(Context &ctx, int32_t prev_begin, int32_t begin, int32_t end,
                                   int32_t &hint);
-    std::vector<int32_t> insert_by_regions(Context &ctx, const std::vector<int32_t> &points,
-                                           const std::vector<uint32_t> &bounds,
-                                           int32_t search_begin, int32_t search_end);
+    std::vector<int32_t> insert_by_regions(Context &ctx, int32_t prev_begin, int32_t begin,
+                                           int32_t end);
     enum class RegionInsert { inserted, hidden, deferred };
     RegionInsert insert_in_region(int32_t v, Region &region);
     int32_t region_start(const KeyRange &range, uint32_t key, int32_t prev_begin,
                          int32_t prev_end) const;
     int32_t vertex_near_key(uint32_t key, int32_t begin, int32_t end) const;
+    int32_t first_slot_with_key(uint32_t key, int32_t begin, int32_t end) const;
     int32_t locate_brute_force(const Vec3 &p) const;
     int32_t live_triangle_near(int32_t t) const;
     int32_t find_visible_start(int32_t v, int32_t t, const int zero_edges[3], int n_zero,
