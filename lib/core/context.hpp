@@ -3,13 +3,13 @@
 // context may be destroyed before its objects.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <string>
-#ifdef UNIMESH_PLAIN_THREADS
-#include <algorithm>
-#include <thread>
 #include <vector>
+#ifdef UNIMESH_PLAIN_THREADS
+#include <thread>
 #endif
 
 #include <oneapi/tbb/blocked_range.h>

@@ -95,9 +95,10 @@ int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri) {
     return changed;
 }
 
-// Peak bytes per cell of the two stages, measured by tools/bench/bench_refine
-// (uniform 30 km: refinement ~140, the optimisation ~260 with its undo
-// snapshot), with a margin.
+// Peak bytes per cell of the two stages for the memory cap's up-front check,
+// with a margin. Measured by tools/bench/bench_refine: uniform 30 km about
+// 170 for the refinement and 233-242 for the whole pipeline (undo snapshot
+// included); coastline cases up to 340, hence the optimisation's 480.
 constexpr int64_t kRefineBytesPerCell = 200;
 constexpr int64_t kOptimiseBytesPerCell = 480;
 constexpr double kOptimiseNewVertices = 0.125, kOptimiseNewTriangles = 0.05;  // room reserved

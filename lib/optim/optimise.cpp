@@ -18,9 +18,6 @@ namespace um::optim {
 
 namespace {
 
-uint64_t link_fingerprint(const StarGraph &g, int32_t v);
-std::vector<uint32_t> link_fingerprints(Context &ctx, const StarGraph &g);
-
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -142,7 +139,7 @@ private:
     int64_t polish_poor_stars(const StarGraph &g);
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
-    // The two targets of a move of v (at `here`, link `ring` from the graph).
+    // The ODT target of a move of v (at `here`, link `ring` from the graph).
     Vec3 odt_target(const StarGraph &g, int32_t v, const Generator &here, const Ring &ring) const;
 
     // Topology -------------------------------------------------------------
@@ -158,9 +155,9 @@ private:
         int32_t a, b;
     };
     std::vector<EdgeRatio> edge_ratios(double below, double above) const;
-    // Collapses the edges of `edges` shorter than collapse_ratio h, then splits
-    // those longer than split_ratio h (`edges` holds both kinds; found again
-    // when a collapse changed the mesh).
+    // Collapses the edges shorter than collapse_ratio h, then splits those
+    // longer than split_ratio h: one scan finds both kinds (the long ones are
+    // found again when a collapse changed the mesh).
     std::pair<int64_t, int64_t> collapse_and_split();
     int64_t collapse_short_edges(std::vector<EdgeRatio> edges);
     int64_t split_long_edges(std::vector<EdgeRatio> edges);
@@ -347,6 +344,12 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
     const Generator here = generator(v);
     const LocalQuality before = ring_quality<true>(ring, here, -kInfinity);
     // Tries the move to x (slid onto Gamma when v is on it); true if taken.
+    auto take = [&](const Generator &moved, int64_t segment) {
+        set_generator(v, moved);
+        on_segment_[v] = static_cast<int32_t>(segment);
+        h_at_[v] = static_cast<float>(h_(moved.x));
+        changed_at_[v] = clock_;
+    };
     auto try_move = [&](const Vec3 &x) {
         Generator moved = here;
         moved.x = x;
@@ -358,10 +361,7 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
         // The cheaper test first: most trials fail on quality.
         if (!better(ring_quality<true>(ring, moved, before.worst, before.worst_k), before, gain_)) return false;
         if (!star_is_valid(ring, moved)) return false;
-        set_generator(v, moved);
-        on_segment_[v] = static_cast<int32_t>(segment);
-        h_at_[v] = static_cast<float>(h_(moved.x));
-        changed_at_[v] = clock_;
+        take(moved, segment);
         return true;
     };
     Vec3 link_sum{};
@@ -384,16 +384,20 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
         for (int m = 0; m < kCompassSteps; ++m, step *= 0.5) {
             // The best of the directions at this step, not the first that is
             // BETTER: the worst triangle is what limits the mesh.
-            Vec3 best{};
+            Generator best{};
             double best_worst = -kInfinity;
             for (int d = 0; d < kCompassDirections; ++d) {
                 const auto [c, s] = compass_direction(d);
                 const Generator moved{geom::normalized(here.x + step * (c * e1 + s * e2)), here.s};
                 const LocalQuality now = ring_quality<true>(ring, moved, std::max(before.worst, best_worst), before.worst_k);
                 if (better(now, before, gain_) && now.worst > best_worst && star_is_valid(ring, moved))
-                    best = moved.x, best_worst = now.worst;
+                    best = moved, best_worst = now.worst;
             }
-            if (best_worst > -kInfinity && try_move(best)) return true;
+            // Tested already (off Gamma nothing slides): taken as it is.
+            if (best_worst > -kInfinity) {
+                take(best, on_segment_[v]);
+                return true;
+            }
         }
     }
     if (on_gamma) {
@@ -542,9 +546,7 @@ bool Optimiser::lock_neighbourhood(int32_t v, std::vector<uint8_t> &locked) cons
     return true;
 }
 
-// Section 6.4: an edge much shorter than h loses a vertex (the one off Gamma,
-// or the later slot), the other moving to the edge's midpoint when it is free
-// to move. Shortest first, one change per neighbourhood per pass.
+// Section 6.4, collapse and refinement from one edge scan.
 std::pair<int64_t, int64_t> Optimiser::collapse_and_split() {
     const double below = o_.collapse_ratio > 0 ? o_.collapse_ratio : -kInfinity;
     std::vector<EdgeRatio> edges = edge_ratios(below, o_.split_ratio);
@@ -553,6 +555,9 @@ std::pair<int64_t, int64_t> Optimiser::collapse_and_split() {
     return {collapsed, split_long_edges(std::move(edges))};
 }
 
+// An edge much shorter than h loses a vertex (the one off Gamma, or the
+// later slot), the other moving to the edge's midpoint when it is free to
+// move. Shortest first, one change per neighbourhood per pass.
 int64_t Optimiser::collapse_short_edges(std::vector<Optimiser::EdgeRatio> edges) {
     if (o_.collapse_ratio <= 0) return 0;
     edges.erase(std::remove_if(edges.begin(), edges.end(),
@@ -863,7 +868,7 @@ OptimiseStats Optimiser::run() {
             n + 1 < o_.outer_iterations ? improve_valence() + (n < 2 ? flip_for_valence() : 0) : 0;
         stats_.flips += flips, stats_.collapses += collapsed, stats_.splits += split;
         const int64_t topology = flips + collapsed + split + valence;
-        if (topology > 0) {  // else the generators and the graph are still those of the mesh
+        if (topology > 0) {  // else the spacing (h_at_) and the graph are still those of the mesh
             load_spacing();
             const std::vector<uint32_t> links_before = link_fingerprints(ctx_, *graph);
             graph.reset();  // one graph alive at a time

@@ -81,10 +81,8 @@ int restricted_degree(const tri::Triangulation &tri, int32_t v, int64_t part, co
                       const std::vector<int64_t> &part_of_arc) {
     int degree = 0;
     tri.for_each_in_star(v, [&](int32_t t) {
-        int i = 0;
-        while (tri.vertex(t, i) != v) ++i;
         RestrictedEdge e;
-        if (restricted_crossing(tri, t, (i + 2) % 3, gamma, &e) && part_of_arc[e.arc] == part) ++degree;
+        if (restricted_crossing(tri, t, (tri.local_index(t, v) + 2) % 3, gamma, &e) && part_of_arc[e.arc] == part) ++degree;
     });
     return degree;
 }
@@ -159,10 +157,9 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
             int32_t v = tri.insert(e.centre, 0.0, next_id++, nullptr, t);
             on_gamma.resize(static_cast<size_t>(tri.vertex_slots()), -1);
             if (!tri.in_triangulation(v)) continue;
-            if (topology) topology->forget();
+            if (topology) topology->forget();  // the mesh changed (a removal below changes it again)
             if (nearest_neighbour(tri, v) < options.filter * h(e.centre)) {
                 tri.remove(v);
-                if (topology) topology->forget();
                 continue;
             }
             on_gamma[v] = e.arc;

@@ -265,13 +265,9 @@ private:
                 else if (front_.empty()) reserve_.push_back({t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)});
                 return;
             }
-            int32_t across = tri_.neighbour(t, local_index(t, v));
+            int32_t across = tri_.neighbour(t, tri_.local_index(t, v));
             if (bad(across)) join_front(across);
         });
-    }
-
-    int local_index(int32_t t, int32_t v) const {
-        return tri_.vertex(t, 0) == v ? 0 : (tri_.vertex(t, 1) == v ? 1 : 2);
     }
 
     void refine(const Candidate &c) {
@@ -306,7 +302,7 @@ private:
         // and re-measure the re-triangulated hole (not queued again).
         if (nearest_neighbour(tri_, v) < options_.filter * h_(p)) {
             std::vector<int32_t> link;
-            tri_.for_each_in_star(v, [&](int32_t t) { link.push_back(tri_.vertex(t, (local_index(t, v) + 1) % 3)); });
+            tri_.for_each_in_star(v, [&](int32_t t) { link.push_back(tri_.vertex(t, (tri_.local_index(t, v) + 1) % 3)); });
             tri_.remove(v);
             for (int32_t u : link) tri_.for_each_in_star(u, [&](int32_t t) { classify(t); });
             give_up(c);
@@ -335,13 +331,13 @@ private:
     // is the one shared with a good triangle whose length is nearest h.
     bool frontal_point(int32_t t, Vec3 *p, double *target) {
         int k_front = -1;
-        double best = 1e300, e_front = 0;
+        double best = 1e300, e_front = 0, h_front = 0;
         for (int k = 0; k < 3; ++k) {
             if (bad(tri_.neighbour(t, k))) continue;
             Vec3 a = tri_.direction(tri_.vertex(t, (k + 1) % 3)), b = tri_.direction(tri_.vertex(t, (k + 2) % 3));
-            double e = geom::arc_length(a, b);
-            double score = std::fabs(e - h_(geom::normalized(a + b)));
-            if (score < best) best = score, k_front = k, e_front = e;
+            const double e = geom::arc_length(a, b), h_mid = h_(geom::normalized(a + b));
+            const double score = std::fabs(e - h_mid);
+            if (score < best) best = score, k_front = k, e_front = e, h_front = h_mid;
         }
         if (k_front < 0) return false;
         const Vec3 a = tri_.direction(tri_.vertex(t, (k_front + 1) % 3));
@@ -352,7 +348,7 @@ private:
         const Vec3 centre = tri_.orthocentre(t);
         const double d_centre = std::atan2(geom::dot(centre, side), geom::dot(centre, m));  // signed
         const double radius = geom::arc_length(centre, a);
-        *target = h_(m);
+        *target = h_front;  // h at m
         double d = std::min(frontal_height(*target, e_front), shape_height(e_front));
         if (d_centre > 0) d = std::min(d, d_centre);
         if (!(d > 1e-3 * e_front && d < 0.98 * (radius + d_centre))) return false;

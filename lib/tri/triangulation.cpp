@@ -328,11 +328,6 @@ bool Triangulation::visible(int32_t t, int32_t v) const {
                               q_[v].data(), ids) > 0;
 }
 
-int Triangulation::local_index(int32_t t, int32_t v) const {
-    const int32_t *tv = &tris_[t].v[0];
-    return tv[0] == v ? 0 : (tv[1] == v ? 1 : 2);
-}
-
 void Triangulation::set_neighbour(int32_t outer, int32_t from, int32_t to, int32_t t) {
     Tri &o = tris_[outer];
     for (int m = 0; m < 3; ++m)

@@ -106,6 +106,11 @@ public:
     std::vector<int32_t> hidden_ids() const;
     // Triangles around v, counter-clockwise seen from outside.
     std::vector<int32_t> star(int32_t v) const;
+    // The corner (0, 1, 2) of triangle t at vertex v, a vertex of t.
+    int local_index(int32_t t, int32_t v) const {
+        const int32_t *tv = tris_[t].v;
+        return tv[0] == v ? 0 : (tv[1] == v ? 1 : 2);
+    }
     // The triangles around any of `vertices` (those in the triangulation),
     // ascending, each once: where a batch of insertions changed the mesh.
     std::vector<int32_t> triangles_around(const std::vector<int32_t> &vertices) const;
@@ -252,7 +257,6 @@ private:
     void stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool);
     bool visible(int32_t t, int32_t v) const;
     int64_t priority(int32_t v) const;
-    int local_index(int32_t t, int32_t v) const;
     // The neighbour of `outer` across its edge from -> to becomes t.
     void set_neighbour(int32_t outer, int32_t from, int32_t to, int32_t t);
     int32_t new_triangle_slot(SlotPool &pool);

@@ -39,9 +39,12 @@ void streamed_report_matches_sorted_values(void **) {
         ctx.set_threads(threads);
         tri::Triangulation tri = refine::icosahedron(ctx);
         refine::SurfaceOptions so;
-        // Spacing from 150 to 450 km: a spread of edge ratios and shapes.
-        auto h = [](const Vec3 &x) { return (150.0 + 300.0 * x.z * x.z) / 6371.22; };
+        // Spacing from 60 to 180 km: a spread of edge ratios and shapes, and
+        // more triangles than two of the report's blocks (32768 each), so
+        // that the blocks' results are merged.
+        auto h = [](const Vec3 &x) { return (60.0 + 120.0 * x.z * x.z) / 6371.22; };
         refine::refine_surface(ctx, tri, h, so, 12);
+        assert_true(tri.triangle_slots() > 2 * 32768);
         for (int i = 0; i < 40; ++i) tri.remove(100 + 37 * i);  // free slots, odd shapes
         const quality::Report r = quality::measure(ctx, tri, h);
         std::vector<double> v[5];
