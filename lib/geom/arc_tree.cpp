@@ -30,6 +30,10 @@ ArcTree::ArcTree(std::vector<Arc> arcs) : arcs_(std::move(arcs)) {
         nodes_.reserve(2 * arcs_.size() / kLeafSize + 2);
         build(0, static_cast<int32_t>(arcs_.size()));
     }
+    // Boxes by leaf position from now on: a leaf's boxes are read in a row.
+    std::vector<Box> by_position(boxes_.size());
+    for (size_t j = 0; j < order_.size(); ++j) by_position[j] = boxes_[order_[j]];
+    boxes_.swap(by_position);
 }
 
 // Top-down: split at the median of box centres along the widest axis. Ties

@@ -83,7 +83,7 @@ private:
     int32_t build(int32_t first, int32_t count);
 
     std::vector<Arc> arcs_;
-    std::vector<Box> boxes_;
+    std::vector<Box> boxes_;      // by position in order_ (by arc while building)
     std::vector<int32_t> order_;
     std::vector<Node> nodes_;
 };
@@ -99,7 +99,7 @@ bool ArcTree::query_until(const Box &box, Visit &&visit) const {
         if (!node.box.overlaps(box)) continue;
         if (node.left < 0) {
             for (int32_t j = node.first; j < node.first + node.count; ++j)
-                if (boxes_[order_[j]].overlaps(box) && visit(order_[j])) return true;
+                if (boxes_[j].overlaps(box) && visit(order_[j])) return true;
         } else {
             stack[depth++] = node.right;
             stack[depth++] = node.left;

@@ -51,18 +51,9 @@ void check_cells(const std::vector<double> &cells, size_t n_lon, size_t n_lat, c
     }
 }
 
-// Position of x among strictly increasing nodes v, x within [v.front(), v.back()]:
-// the last i <= size - 2 with v[i] <= x (0 if none). Guessed from the mean
-// step (right at once on the usual uniform axes) and checked; a binary
-// search when the guess is off: the same answer either way.
-size_t cell_below(const std::vector<double> &v, double x) {
+// The definition AxisIndex answers by: a binary search.
+size_t cell_below_by_search(const std::vector<double> &v, double x) {
     const size_t last = v.size() - 2;
-    auto fits = [&](size_t i) { return (i == 0 || v[i] <= x) && (i == last || v[i + 1] > x); };
-    const double g = (x - v.front()) / (v.back() - v.front()) * double(v.size() - 1);
-    const size_t guess = g <= 0 ? 0 : std::min(static_cast<size_t>(g), last);
-    if (fits(guess)) return guess;
-    if (guess > 0 && fits(guess - 1)) return guess - 1;
-    if (guess < last && fits(guess + 1)) return guess + 1;
     size_t i = static_cast<size_t>(std::upper_bound(v.begin(), v.end(), x) - v.begin());
     return std::min(i == 0 ? 0 : i - 1, last);
 }
@@ -71,6 +62,38 @@ double clamp01(double t) { return std::min(std::max(t, 0.0), 1.0); }
 
 }  // namespace
 
+GridSpacing::AxisIndex::AxisIndex(const std::vector<double> &v) {
+    // Bins no wider than the narrowest step where that fits in kMaxBins
+    // (a quarter of a megabyte), else as many as that.
+    constexpr double kMaxBins = 1 << 16;
+    double narrowest = v.back() - v.front();
+    for (size_t i = 1; i < v.size(); ++i) narrowest = std::min(narrowest, v[i] - v[i - 1]);
+    const double span = v.back() - v.front();
+    const double bins = std::min(kMaxBins, std::max(double(v.size() - 1), std::ceil(span / narrowest)));
+    origin_ = v.front();
+    bins_per_unit_ = bins / span;
+    first_.resize(static_cast<size_t>(bins));
+    for (size_t b = 0; b < first_.size(); ++b)
+        first_[b] = static_cast<int32_t>(cell_below_by_search(v, origin_ + double(b) / bins_per_unit_));
+}
+
+size_t GridSpacing::AxisIndex::cell_below(const std::vector<double> &v, double x) const {
+    constexpr int kMaxSteps = 8;
+    const size_t last = v.size() - 2;
+    const double g = (x - origin_) * bins_per_unit_;
+    const double top = double(first_.size() - 1);
+    const size_t bin = !(g > 0) ? 0 : static_cast<size_t>(std::min(g, top));
+    // From the bin's first cell (rounding may put x just outside the bin:
+    // the steps go either way).
+    size_t i = static_cast<size_t>(first_[bin]);
+    for (int step = 0; step < kMaxSteps; ++step) {
+        if (i < last && v[i + 1] <= x) ++i;
+        else if (i > 0 && v[i] > x) --i;
+        else return i;
+    }
+    return cell_below_by_search(v, x);
+}
+
 GridSpacing::GridSpacing(std::vector<double> lon_deg, std::vector<double> lat_deg,
                          std::vector<double> cells_km, const GridNames &names)
     : lon_(std::move(lon_deg)), lat_(std::move(lat_deg)), cells_(std::move(cells_km)) {
@@ -78,6 +101,7 @@ GridSpacing::GridSpacing(std::vector<double> lon_deg, std::vector<double> lat_de
     check_lon_span(lon_, names.lon);
     check_axis(lat_, names.lat, true);
     check_cells(cells_, lon_.size(), lat_.size(), names);
+    lon_index_ = AxisIndex(lon_), lat_index_ = AxisIndex(lat_);
     // Round the sphere when the wrap gap is no wider than the widest step.
     double widest = 0;
     for (size_t i = 1; i < lon_.size(); ++i) widest = std::max(widest, lon_[i] - lon_[i - 1]);
@@ -87,13 +111,17 @@ GridSpacing::GridSpacing(std::vector<double> lon_deg, std::vector<double> lat_de
 
 GridSpacing::Span GridSpacing::lon_span(double lon_deg) const {
     const double first = lon_.front(), last = lon_.back();
-    // Into [first, first + 360): any longitude convention reads any grid.
-    double r = std::fmod(lon_deg - first, 360.0);
-    if (r < 0) r += 360.0;
+    // Into [first, first + 360): any longitude convention reads any grid
+    // (fmod returns r itself when r is in range already: skipped then).
+    double r = lon_deg - first;
+    if (!(r >= 0 && r < 360.0)) {
+        r = std::fmod(r, 360.0);
+        if (r < 0) r += 360.0;
+    }
     const double x = first + r;
     const int64_t n = n_lon();
     if (x <= last) {
-        size_t i = cell_below(lon_, x);
+        size_t i = lon_index_.cell_below(lon_, x);
         return {int64_t(i), int64_t(i) + 1, clamp01((x - lon_[i]) / (lon_[i + 1] - lon_[i]))};
     }
     const double gap = first + 360.0 - last;  // > 0 here, since x < first + 360
@@ -106,7 +134,7 @@ GridSpacing::Span GridSpacing::lat_span(double lat_deg) const {
     const int64_t n = n_lat();
     if (lat_deg <= lat_.front()) return {0, 0, 0.0};
     if (lat_deg >= lat_.back()) return {n - 1, n - 1, 0.0};
-    size_t j = cell_below(lat_, lat_deg);
+    size_t j = lat_index_.cell_below(lat_, lat_deg);
     return {int64_t(j), int64_t(j) + 1, clamp01((lat_deg - lat_[j]) / (lat_[j + 1] - lat_[j]))};
 }
 

@@ -55,6 +55,20 @@ public:
     bool periodic() const { return periodic_; }
 
 private:
+    // The cell of a strictly increasing axis holding x: the last i <= size - 2
+    // with v[i] <= x (0 if none). Equal-width bins over the axis remember
+    // the cell at their start, so a lookup takes a step or two from there
+    // on any axis, uniform or not (a binary search only past kMaxSteps).
+    class AxisIndex {
+    public:
+        AxisIndex() = default;
+        explicit AxisIndex(const std::vector<double> &v);
+        size_t cell_below(const std::vector<double> &v, double x) const;
+
+    private:
+        double origin_ = 0, bins_per_unit_ = 0;
+        std::vector<int32_t> first_;  // per bin
+    };
     // Interpolation along one axis: value = (1 - t) v[i0] + t v[i1].
     struct Span {
         int64_t i0, i1;
@@ -67,6 +81,7 @@ private:
     void limit_gradient_in_place(double g, double radius_km);
 
     std::vector<double> lon_, lat_, cells_;
+    AxisIndex lon_index_, lat_index_;
     bool periodic_ = false;
 };
 

@@ -137,7 +137,7 @@ void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
     number_vertices(m);
     if (arcs.size() > 0) {
         m.restricted = refine::restricted_edges(ctx, m.tri, arcs);
-        m.triangle_side = refine::triangle_sides(m.tri, *m.gamma);
+        m.triangle_side = refine::triangle_sides(m.tri, *m.gamma, &m.restricted);
         m.vertex_side = refine::vertex_sides(m.tri, m.triangle_side, m.on_segment, *m.gamma);
     } else {
         m.restricted.clear();

@@ -31,28 +31,36 @@ struct Bad {
     }
 };
 
-// The restricted edges among the edges of the given triangles, each once.
+// The restricted edges among the edges of the given triangles (ascending,
+// each once), each edge once, seen from its smaller triangle as in
+// restricted_edges(); every orthocentre computed once.
 std::vector<RestrictedEdge> restricted_edges_of(Context &ctx, const tri::Triangulation &tri,
                                                 const std::vector<int32_t> &triangles,
                                                 const geom::ArcTree &gamma) {
-    using Found = std::pair<std::pair<int32_t, int32_t>, RestrictedEdge>;
-    std::vector<Found> found = ctx.collect_in_order<Found>(
-        static_cast<int64_t>(triangles.size()), 1024, [&](int64_t i, std::vector<Found> &out) {
-            const int32_t t = triangles[i];
-            if (tri.is_free(t)) return;
-            for (int k = 0; k < 3; ++k) {
-                RestrictedEdge e;
-                if (!restricted_crossing(tri, t, k, gamma, &e)) continue;
-                int32_t a = tri.vertex(t, (k + 1) % 3), b = tri.vertex(t, (k + 2) % 3);
-                out.push_back({{std::min(a, b), std::max(a, b)}, e});
-            }
-        });
-    std::sort(found.begin(), found.end(),
-              [](const auto &x, const auto &y) { return x.first < y.first; });
-    std::vector<RestrictedEdge> out;
-    for (size_t i = 0; i < found.size(); ++i)
-        if (i == 0 || found[i].first != found[i - 1].first) out.push_back(found[i].second);
-    return out;
+    const int64_t n = static_cast<int64_t>(triangles.size());
+    std::vector<Vec3> centre(static_cast<size_t>(n));
+    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i)
+            if (!tri.is_free(triangles[i])) centre[i] = tri.orthocentre(triangles[i]);
+    });
+    auto listed = [&](int32_t u) -> int64_t {
+        auto it = std::lower_bound(triangles.begin(), triangles.end(), u);
+        return it != triangles.end() && *it == u ? it - triangles.begin() : -1;
+    };
+    return ctx.collect_in_order<RestrictedEdge>(n, 1024, [&](int64_t i, std::vector<RestrictedEdge> &out) {
+        const int32_t t = triangles[i];
+        if (tri.is_free(t)) return;
+        for (int k = 0; k < 3; ++k) {
+            const int32_t u = tri.neighbour(t, k);
+            const int64_t j = listed(u);
+            if (j >= 0 && u < t) continue;  // found from u
+            const Vec3 cu = j >= 0 ? centre[j] : tri.orthocentre(u);
+            RestrictedEdge e;
+            const bool found = u < t ? restricted_crossing(tri, u, tri.mirror_edge(t, k), cu, centre[i], gamma, &e)
+                                     : restricted_crossing(tri, t, k, centre[i], cu, gamma, &e);
+            if (found) out.push_back(e);
+        }
+    });
 }
 
 bool is_bad(const tri::Triangulation &tri, const RestrictedEdge &e, const SpacingRadians &h,

@@ -65,10 +65,22 @@ geom::ArcTree closed_coastline_arcs(const features::Network &net, std::vector<in
     return geom::ArcTree(std::move(arcs));
 }
 
-std::vector<Side> triangle_sides(const tri::Triangulation &tri, const features::Network &net) {
+std::vector<Side> triangle_sides(const tri::Triangulation &tri, const features::Network &net,
+                                 const std::vector<RestrictedEdge> *may_cross) {
     std::vector<Side> side(static_cast<size_t>(tri.triangle_slots()), Side::ocean);
     geom::ArcTree coast = closed_coastline_arcs(net, nullptr);
     if (coast.size() == 0) return side;
+    // Per triangle, a bit per edge whose dual edge may cross a coastline.
+    std::vector<uint8_t> tested;
+    if (may_cross) {
+        tested.assign(side.size(), 0);
+        for (const RestrictedEdge &e : *may_cross) {
+            const int32_t u = tri.neighbour(e.triangle, e.edge);
+            tested[e.triangle] |= uint8_t(1u << e.edge);
+            tested[u] |= uint8_t(1u << tri.mirror_edge(e.triangle, e.edge));
+        }
+    }
+    auto may_flip = [&](int32_t t, int k) { return !may_cross || (tested[t] >> k & 1u); };
     std::vector<uint8_t> seen(side.size(), 0);
     std::vector<int32_t> stack;
     // Each connected piece of the dual graph (one, on a sphere) from an anchor.
@@ -84,7 +96,7 @@ std::vector<Side> triangle_sides(const tri::Triangulation &tri, const features::
             for (int k = 0; k < 3; ++k) {
                 int32_t u = tri.neighbour(t, k);
                 if (seen[u]) continue;
-                bool flip = crossings(coast, ct, tri.orthocentre(u)) % 2 == 1;
+                bool flip = may_flip(t, k) && crossings(coast, ct, tri.orthocentre(u)) % 2 == 1;
                 side[u] = flip ? (side[t] == Side::land ? Side::ocean : Side::land) : side[t];
                 seen[u] = 1;
                 stack.push_back(u);

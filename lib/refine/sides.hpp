@@ -12,6 +12,7 @@
 
 #include "features/network.hpp"
 #include "geom/arc_tree.hpp"
+#include "refine/restricted.hpp"
 #include "tri/triangulation.hpp"
 
 namespace um::refine {
@@ -24,8 +25,12 @@ bool is_land(const features::Network &net, const geom::Vec3 &x);
 // The closed coastline segments of net as arcs, and their segment indices.
 geom::ArcTree closed_coastline_arcs(const features::Network &net, std::vector<int64_t> *segments);
 
-// Per triangle slot: ocean or land (free slots: ocean).
-std::vector<Side> triangle_sides(const tri::Triangulation &tri, const features::Network &net);
+// Per triangle slot: ocean or land (free slots: ocean). `may_cross`, when
+// given, lists every dual edge that crosses any arc of net (the restricted
+// edges of the same triangulation, found with a tolerance that makes them a
+// superset): only those are tested, the rest cross nothing.
+std::vector<Side> triangle_sides(const tri::Triangulation &tri, const features::Network &net,
+                                 const std::vector<RestrictedEdge> *may_cross = nullptr);
 
 // Per vertex slot: coastal when on_gamma marks it on a closed coastline,
 // else the side of its incident triangles (the first one, which all share

@@ -88,12 +88,10 @@ bool encroached_edge(const tri::Triangulation &tri, const Vec3 &p, int32_t hint,
 double nearest_neighbour(const tri::Triangulation &tri, int32_t v) {
     double d2 = 1e300;
     const Vec3 x = tri.direction(v);
-    for (int32_t t : tri.star(v))
-        for (int k = 0; k < 3; ++k)
-            if (tri.vertex(t, k) != v) {
-                Vec3 d = x - tri.direction(tri.vertex(t, k));
-                d2 = std::min(d2, geom::dot(d, d));
-            }
+    tri.for_each_in_star(v, [&](int32_t t) {  // each neighbour once: the one after v
+        const Vec3 d = x - tri.direction(tri.vertex(t, (tri.local_index(t, v) + 1) % 3));
+        d2 = std::min(d2, geom::dot(d, d));
+    });
     return 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(d2)));
 }
 
@@ -148,6 +146,7 @@ public:
     }
 
     SurfaceStats run(const std::vector<int32_t> *around) {
+        ctx_.progress("refine surface", 0.0);  // the phase starts (timed by its reports)
         std::vector<int32_t> first;
         if (around) {
             first = tri_.triangles_around(*around);  // the others are known to be good

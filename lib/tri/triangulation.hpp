@@ -111,6 +111,14 @@ public:
         const int32_t *tv = tris_[t].v;
         return tv[0] == v ? 0 : (tv[1] == v ? 1 : 2);
     }
+    // The index in neighbour(t, k) of the edge it shares with t.
+    int mirror_edge(int32_t t, int k) const {
+        // The edge runs a -> b in t and b -> a in the neighbour, where a is
+        // at the index after the edge's.
+        const int32_t a = tris_[t].v[k == 2 ? 0 : k + 1];
+        const int i = local_index(tris_[t].n[k], a);
+        return i == 2 ? 0 : i + 1;
+    }
     // The triangles around any of `vertices` (those in the triangulation),
     // ascending, each once: where a batch of insertions changed the mesh.
     std::vector<int32_t> triangles_around(const std::vector<int32_t> &vertices) const;

@@ -112,6 +112,41 @@ void grid_bilinear_is_exact_on_linear_fields(void **) {
     }
 }
 
+// Axes whose steps differ by orders of magnitude (a fine nest in a coarse
+// grid, as in regional spacing files; one with more fine steps than the
+// lookup has bins): every point, random or a rounding step off a node, is
+// read from its own cell (a wrong one would clamp, off the linear field).
+void grid_finds_cells_on_very_uneven_axes(void **) {
+    // Fine longitudes (3,000 steps of 0.01 degrees) on a few latitudes, and
+    // fine latitudes (200,000 steps of 1e-5 degrees) on a few longitudes.
+    std::vector<double> fine_lon{-180, -100}, fine_lat{-90, -40};
+    for (int i = 1; i <= 3000; ++i) fine_lon.push_back(-100 + 0.01 * i);   // to -70
+    for (int i = 1; i <= 200000; ++i) fine_lat.push_back(-40 + 1e-5 * i);  // to -38
+    fine_lon.push_back(0), fine_lon.push_back(179.5);
+    fine_lat.push_back(10), fine_lat.push_back(90);
+    const std::vector<double> few_lon{-180, -120, 0, 150}, few_lat{-90, -45, 0, 60, 90};
+    auto f = [](double x, double y) { return 500 + 0.7 * x + 0.3 * y; };
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> ux(-180, 150), uy(-90, 90), fx(-100, -70), fy(-40, -38);
+    for (bool lon_is_fine : {true, false}) {
+        const std::vector<double> &lon = lon_is_fine ? fine_lon : few_lon;
+        const std::vector<double> &lat = lon_is_fine ? few_lat : fine_lat;
+        auto grid = grid_of(lon, lat, f);
+        auto check = [&](double x, double y) { assert_close(grid->km_at_lonlat(x, y), f(x, y), 1e-9); };
+        auto fine = [&] { return lon_is_fine ? fx(rng) : fy(rng); };
+        for (int k = 0; k < 20000; ++k) {
+            check(std::min(ux(rng), lon.back()), uy(rng));
+            lon_is_fine ? check(fine(), uy(rng)) : check(std::min(ux(rng), lon.back()), fine());
+        }
+        const std::vector<double> &axis = lon_is_fine ? lon : lat;
+        for (size_t i = 0; i < axis.size(); i += lon_is_fine ? 7 : 97)
+            for (double a : {std::nextafter(axis[i], -1e9), axis[i], std::nextafter(axis[i], 1e9)}) {
+                if (a < axis.front() || a > axis.back()) continue;
+                lon_is_fine ? check(a, uy(rng)) : check(std::min(ux(rng), lon.back()), a);
+            }
+    }
+}
+
 // -180..180 (last column repeats the first), 0..360, and cell-centred
 // -176.25..176.25 all read round the dateline as one periodic field.
 void grid_is_periodic_across_the_dateline(void **) {
@@ -554,6 +589,7 @@ int main() {
         cmocka_unit_test(constant_spacing_and_its_checks),
         cmocka_unit_test(grid_bilinear_is_exact_on_linear_fields),
         cmocka_unit_test(grid_is_periodic_across_the_dateline),
+        cmocka_unit_test(grid_finds_cells_on_very_uneven_axes),
         cmocka_unit_test(regional_grid_clamps_to_the_nearer_edge),
         cmocka_unit_test(grid_clamps_towards_the_poles),
         cmocka_unit_test(grid_checks_name_the_array_index_and_value),
