@@ -128,6 +128,7 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
                               int32_t &next_id, std::vector<int32_t> &on_gamma,
                               const std::vector<int32_t> *around) {
     BoundaryStats stats;
+    ctx.progress("refine boundary", 0.0);  // the phase starts (timed by its reports)
     on_gamma.resize(static_cast<size_t>(tri.vertex_slots()), -1);
     std::optional<TopologyCheck> topology;
     if (options.part_of_arc) topology.emplace(tri, gamma, *options.part_of_arc);

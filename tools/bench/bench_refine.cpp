@@ -19,7 +19,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -38,8 +41,16 @@ struct Quality {
     int64_t not_well_centred = 0;
 };
 
+// Edge lengths of the refined mesh over h at their midpoints (the
+// refinement stage's own criterion: issue "every edge within [0.75, 1.35] h").
+struct EdgeRatios {
+    double min = 0, max = 0, share_below = 0, share_above = 0;  // shares in %
+};
+
 struct Result {
     double total_s = 0, boundary_s = 0, surface_s = 0, optimise_s = 0;
+    EdgeRatios edges;
+    int has_edges = 0;
     Quality before, after;
     int64_t cells = 0, triangles = 0, restricted = 0, filtered = 0;
     double peak_mb = 0;
@@ -158,6 +169,46 @@ void add_global_coast_outside_box(um_context *ctx, um_features *dst, const std::
     um_features_destroy(all);
 }
 
+EdgeRatios edge_ratios(const um_mesh *m, const um_spacing *h) {
+    constexpr double kRadiusKm = 6371.22, kDeg = M_PI / 180;  // the default sphere
+    int64_t nv = 0, nt = 0;
+    um_mesh_counts(m, &nv, &nt, nullptr, nullptr);
+    std::vector<double> lon(nv), lat(nv);
+    std::vector<int32_t> tri(3 * nt);
+    um_mesh_copy_vertices(m, lon.data(), lat.data(), nv);
+    um_mesh_copy_triangles(m, 0, tri.data(), 3 * nt);
+    auto unit = [&](int32_t v) {
+        return std::array<double, 3>{std::cos(lat[v] * kDeg) * std::cos(lon[v] * kDeg),
+                                     std::cos(lat[v] * kDeg) * std::sin(lon[v] * kDeg), std::sin(lat[v] * kDeg)};
+    };
+    std::vector<double> length_km, mid_lon, mid_lat;
+    for (int64_t t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = tri[3 * t + k], b = tri[3 * t + (k + 1) % 3];
+            if (a > b) continue;  // each edge once: it runs b -> a in the other triangle
+            const auto x = unit(a), y = unit(b);
+            const std::array<double, 3> c{x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+            const double d = x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+            length_km.push_back(kRadiusKm * std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), d));
+            const double mx = x[0] + y[0], my = x[1] + y[1], mz = x[2] + y[2];
+            mid_lon.push_back(std::atan2(my, mx) / kDeg);
+            mid_lat.push_back(std::atan2(mz, std::sqrt(mx * mx + my * my)) / kDeg);
+        }
+    std::vector<double> h_km(length_km.size());
+    um_spacing_evaluate(h, static_cast<int64_t>(h_km.size()), mid_lon.data(), mid_lat.data(), h_km.data());
+    EdgeRatios r;
+    r.min = 1e300, r.max = 0;
+    int64_t below = 0, above = 0;
+    for (size_t i = 0; i < h_km.size(); ++i) {
+        const double q = length_km[i] / h_km[i];
+        r.min = std::min(r.min, q), r.max = std::max(r.max, q);
+        below += q < 0.75, above += q > 1.35;
+    }
+    const double n = std::max<double>(1, double(h_km.size()));
+    r.share_below = 100.0 * double(below) / n, r.share_above = 100.0 * double(above) / n;
+    return r;
+}
+
 Result run_case(const std::string &name, const std::string &data, int threads, bool optimise) {
     Result r;
     um_context *ctx = nullptr;
@@ -204,6 +255,9 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
         std::snprintf(r.error, sizeof r.error, "%s", um_context_last_error(ctx));
     } else {
         um_mesh_counts(m, &r.cells, &r.triangles, &r.restricted, &r.filtered);
+        // Of the refined mesh: only without the optimisation, and after the
+        // peak was read (the edge lists would be part of it).
+        if (!optimise) r.edges = edge_ratios(m, h), r.has_edges = 1;
         const std::string json = quality_json(m);
         r.after = quality_in(json, 0);
         const size_t before = json.find("\"before_optimisation\"");
@@ -279,9 +333,10 @@ int main(int argc, char **argv) {
     std::printf("# each run in its own child; peak_MB = growth of its max RSS during refine + optimise\n"
                 "# (the quality report is read afterwards; the optimisation's own report of the\n"
                 "# refined mesh is part of it)\n");
-    std::printf("%-18s %3s %8s %8s %8s %8s %8s %8s %8s %7s  %-34s  %-34s\n", "case", "thr", "cells",
+    std::printf("%-18s %3s %8s %8s %8s %8s %8s %8s %8s %7s  %-34s  %-34s  %s\n", "case", "thr", "cells",
                 "restrict", "boundary", "surface", "optimise", "total_s", "peak_MB", "B/cell",
-                "before: QTmin QPmin maxang obt% nwc", "after: QTmin QPmin maxang obt% nwc");
+                "before: QTmin QPmin maxang obt% nwc", "after: QTmin QPmin maxang obt% nwc",
+                "refined l/h: min max <0.75% >1.35%");
     int failures = 0;
     auto quality_text = [](const Quality &q) {
         char buf[64];
@@ -297,14 +352,19 @@ int main(int argc, char **argv) {
                 ++failures;
                 continue;
             }
-            std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %8.3f %8.3f %8.1f %7.0f  %-34s  %-34s\n",
+            char edges[64] = "-";
+            if (r.has_edges)
+                std::snprintf(edges, sizeof edges, "%.3f %.3f %6.2f %6.2f", r.edges.min, r.edges.max,
+                              r.edges.share_below, r.edges.share_above);
+            std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %8.3f %8.3f %8.1f %7.0f  %-34s  %-34s  %s\n",
                         c.c_str(), threads, (long long)r.cells, (long long)r.restricted, r.boundary_s,
                         r.surface_s, r.optimise_s, r.total_s, r.peak_mb,
                         r.peak_mb * 1048576.0 / double(r.cells), quality_text(r.before).c_str(),
-                        quality_text(r.after).c_str());
+                        quality_text(r.after).c_str(), edges);
             std::fflush(stdout);
         }
     std::printf("# boundary = boundary refinement; surface = surface refinement and the tags;\n"
+                "# refined l/h = edge length over h at its midpoint, of the refined mesh (--no-optimise runs)\n"
                 "# QT = area-length ratio, QP = primal-dual, obt%% = %% of triangles with an angle > 90,\n"
                 "# nwc = triangles not containing their orthocentre\n");
     return failures ? 1 : 0;
