@@ -39,9 +39,13 @@ constexpr double kShortestMove = 1e-4;
 
 // Once an outer iteration of the shape phase moves fewer than kPolishAfter
 // vertices per vertex, the stars whose worst shape score is within
-// kPoorMargin of the mesh's worst (and below kPoorStar) get serial rounds of
-// sweeps with a compass search (polish_poor_stars): the two targets leave a
-// few stars poor, and the mesh's worst triangle is among them.
+// kPoorMargin of the mesh's worst (and below kPoorStar), and every star with
+// an obtuse triangle (a shape score below kObtuseOffset), get serial rounds
+// of sweeps with a compass search (polish_poor_stars): the two targets leave
+// a few stars poor, the mesh's worst triangle among them, and beside Gamma
+// many triangles just past a right angle (on the coastline case at 60 km
+// this takes the obtuse share from 0.50 to 0.38 % and the triangles not
+// holding their orthocentre from 13 to 4).
 constexpr double kPoorStar = 0.95;
 constexpr double kPoorMargin = 0.05;
 constexpr double kPolishAfter = 0.5;
@@ -265,7 +269,8 @@ int64_t Optimiser::polish_poor_stars(const StarGraph &g) {
                 score[t] = shape_score(tri_.direction(tri_.vertex(t, 0)), tri_.direction(tri_.vertex(t, 1)),
                                        tri_.direction(tri_.vertex(t, 2)));
     });
-    poor_star_ = std::min(kPoorStar, *std::min_element(score.begin(), score.end()) + kPoorMargin);
+    const double worst = *std::min_element(score.begin(), score.end());
+    poor_star_ = std::max(kObtuseOffset, std::min(kPoorStar, worst + kPoorMargin));
     std::vector<uint8_t> poor(static_cast<size_t>(tri_.vertex_slots()), 0);
     for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
         if (score[t] < poor_star_)
