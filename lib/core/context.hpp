@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 #ifdef UNIMESH_PLAIN_THREADS
+#include <exception>
 #include <thread>
 #endif
 
@@ -89,14 +90,30 @@ public:
     }
 
 #ifdef UNIMESH_PLAIN_THREADS
+    // An exception in a part is caught in its thread (one escaping a
+    // std::thread would terminate) and the first part's is rethrown after
+    // every thread joined, as TBB rethrows one.
     template <class Fn>
     void plain_threads_for(int64_t n, Fn &fn) {
         const int64_t parts = std::min<int64_t>(threads_, n);
+        std::vector<std::exception_ptr> failed(static_cast<size_t>(parts));
+        auto run_part = [&](int64_t p) {
+            try {
+                fn(n * p / parts, n * (p + 1) / parts);
+            } catch (...) {
+                failed[static_cast<size_t>(p)] = std::current_exception();
+            }
+        };
         std::vector<std::thread> pool;
-        for (int64_t p = 1; p < parts; ++p)
-            pool.emplace_back([&, p] { fn(n * p / parts, n * (p + 1) / parts); });
-        fn(int64_t(0), n / parts);
+        try {
+            for (int64_t p = 1; p < parts; ++p) pool.emplace_back(run_part, p);
+        } catch (...) {  // no thread: run what is left here
+            for (int64_t p = static_cast<int64_t>(pool.size()) + 1; p < parts; ++p) run_part(p);
+        }
+        run_part(0);
         for (auto &t : pool) t.join();
+        for (const auto &e : failed)
+            if (e) std::rethrow_exception(e);
     }
 #endif
 
