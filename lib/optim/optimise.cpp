@@ -632,6 +632,17 @@ int32_t Optimiser::insert_between(int32_t a, int32_t b) {
     return v;
 }
 
+// Triangles around each vertex slot (0 off the triangulation), star by star
+// in parallel.
+std::vector<int32_t> vertex_degrees(Context &ctx, const tri::Triangulation &tri) {
+    std::vector<int32_t> degree(static_cast<size_t>(tri.vertex_slots()), 0);
+    ctx.parallel_for(tri.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v)
+            tri.for_each_in_star(static_cast<int32_t>(v), [&](int32_t) { ++degree[v]; });
+    });
+    return degree;
+}
+
 // Vertices of degree 4 or less crowd their neighbours (their power cells are
 // small) and those of degree 8 or more leave a gap: the first are removed,
 // the second split in two. Vertices
@@ -641,13 +652,7 @@ int64_t Optimiser::improve_valence() {
     std::vector<uint8_t> locked(static_cast<size_t>(tri_.vertex_slots()), 0);
     int64_t done = 0;
     const int32_t n = tri_.vertex_slots();
-    std::vector<uint8_t> degree(static_cast<size_t>(n), 0);  // saturates: only <= 4 and >= 8 matter
-    for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
-        if (!tri_.is_free(t))
-            for (int k = 0; k < 3; ++k) {
-                uint8_t &d = degree[tri_.vertex(t, k)];
-                if (d < 255) ++d;
-            }
+    const std::vector<int32_t> degree = vertex_degrees(ctx_, tri_);
     for (int32_t v = 0; v < n; ++v) {
         if (!tri_.in_triangulation(v) || on_segment_[v] >= 0) continue;
         if (degree[v] > 4 && degree[v] < 8) continue;
@@ -711,10 +716,7 @@ void Optimiser::split_vertex(int32_t v, const std::vector<int32_t> &star) {
 // neighbourhood per pass.
 int64_t Optimiser::flip_for_valence() {
     const int32_t n = tri_.vertex_slots();
-    std::vector<int32_t> degree(static_cast<size_t>(n), 0);
-    for (int32_t t = 0; t < tri_.triangle_slots(); ++t)
-        if (!tri_.is_free(t))
-            for (int k = 0; k < 3; ++k) ++degree[tri_.vertex(t, k)];
+    std::vector<int32_t> degree = vertex_degrees(ctx_, tri_);
     auto deviation = [&](int32_t v, int change) { return std::abs(degree[v] + change - 6); };
     std::vector<uint8_t> locked(static_cast<size_t>(n), 0);
     int64_t done = 0;
@@ -725,6 +727,10 @@ int64_t Optimiser::flip_for_valence() {
             if (u < t) continue;
             // The edge (b, c) of t, apex a; d the apex across it.
             const int32_t a = tri_.vertex(t, k), b = tri_.vertex(t, (k + 1) % 3), c = tri_.vertex(t, (k + 2) % 3);
+            // The flip lowers the deviation by 2 or more only if three of a
+            // (<= 5), b (>= 7), c (>= 7) and d (<= 5) gain: two of the first
+            // three at least (d is read only then).
+            if ((degree[a] <= 5) + (degree[b] >= 7) + (degree[c] >= 7) < 2) continue;
             int32_t d = -1;
             for (int j = 0; j < 3; ++j)
                 if (tri_.vertex(u, j) != b && tri_.vertex(u, j) != c) d = tri_.vertex(u, j);

@@ -7,12 +7,15 @@ namespace um::optim {
 StarGraph::StarGraph(Context &ctx, const tri::Triangulation &tri) {
     const int32_t n = tri.vertex_slots();
     offset_.assign(static_cast<size_t>(n) + 1, 0);
-    std::vector<int32_t> degree(static_cast<size_t>(n), 0);
-    for (int32_t t = 0; t < tri.triangle_slots(); ++t) {
-        if (tri.is_free(t)) continue;
-        for (int k = 0; k < 3; ++k) ++degree[tri.vertex(t, k)];
-    }
-    for (int32_t v = 0; v < n; ++v) offset_[v + 1] = offset_[v] + degree[v];
+    // Degrees from each star (in parallel), then their running sum.
+    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v) {
+            int32_t degree = 0;
+            tri.for_each_in_star(static_cast<int32_t>(v), [&](int32_t) { ++degree; });
+            offset_[v + 1] = degree;
+        }
+    });
+    for (int32_t v = 0; v < n; ++v) offset_[v + 1] += offset_[v];
     link_.assign(static_cast<size_t>(offset_[n]), -1);
     // Walk each star once, counter-clockwise (what Triangulation::star gives).
     ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
