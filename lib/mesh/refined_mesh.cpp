@@ -127,11 +127,13 @@ geom::ArcTree gamma_arcs(const features::Network *gamma) {
 // What every stage hands on: no degenerate dual edge, compact slots in
 // Hilbert order (tri::Triangulation::reorder_spatially), vertex numbers,
 // and Tri|Gamma with the sides for the triangulation as it is now.
-void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
+// `undo_alive`: called by the optimisation with its undo kept, where memory
+// peaks (no copy of the triangles then).
+void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs, bool undo_alive) {
     ctx.progress("refine tags", 0.0);
     separate_degenerate_dual_edges(ctx, m.tri);
     m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
-    const std::vector<int32_t> old_slot = m.tri.reorder_spatially(ctx);
+    const std::vector<int32_t> old_slot = m.tri.reorder_spatially(ctx, !undo_alive);
     std::vector<int32_t> on_segment(old_slot.size());
     for (size_t v = 0; v < old_slot.size(); ++v) on_segment[v] = m.on_segment[old_slot[v]];
     m.on_segment.swap(on_segment);
@@ -219,7 +221,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
         next_id = surface.next_id;
         near_gamma.swap(surface.near_gamma);
     }
-    finish(ctx, m, arcs);
+    finish(ctx, m, arcs, false);
     m.filtered = refine::count_bad(m.tri, m.restricted, hr, bo);
     return m;
 }
@@ -304,7 +306,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
         m.refined_quality = before;
         m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o);
         m.optimised = true;
-        finish(ctx, m, gamma_arcs(m.gamma.get()));
+        finish(ctx, m, gamma_arcs(m.gamma.get()), true);
     } catch (...) {
         put_back(m, std::move(undo));
         throw;
