@@ -117,10 +117,11 @@ std::vector<Side> vertex_sides(const tri::Triangulation &tri, const std::vector<
             side[v] = Side::coastal;
             continue;
         }
-        std::vector<int32_t> star = tri.star(v);
-        side[v] = triangles[star[0]];
-        for (int32_t t : star)
-            if (triangles[t] != side[v]) side[v] = Side::coastal;
+        bool first = true;
+        tri.for_each_in_star(v, [&](int32_t t) {
+            if (first) side[v] = triangles[t], first = false;
+            else if (triangles[t] != side[v]) side[v] = Side::coastal;
+        });
     }
     return side;
 }

@@ -51,11 +51,14 @@ bool near_gamma(const geom::ArcTree &gamma, const Vec3 &p, double reach) {
 // centred on its dual edge do), so one of them holds p: only the edges of
 // p's cavity (the triangles whose circumcircle holds p, connected to the one
 // containing p) need a look. Cavity order, each edge once: deterministic.
+// `cavity` and `centre` are the caller's lists (kept between calls: this
+// runs for most points near Gamma).
 bool encroached_edge(const tri::Triangulation &tri, const Vec3 &p, int32_t hint,
-                     const geom::ArcTree &gamma, RestrictedEdge *out) {
+                     const geom::ArcTree &gamma, RestrictedEdge *out, std::vector<int32_t> &cavity,
+                     std::vector<Vec3> &centre) {
     constexpr size_t kMaxCavity = 256;  // a huge cavity (coarse start): its first triangles
-    std::vector<int32_t> cavity{tri.locate(p, hint)};
-    std::vector<Vec3> centre{tri.orthocentre(cavity[0])};
+    cavity.assign(1, tri.locate(p, hint));
+    centre.assign(1, tri.orthocentre(cavity[0]));
     auto index_of = [&](int32_t t) {
         for (size_t i = 0; i < cavity.size(); ++i)
             if (cavity[i] == t) return static_cast<int>(i);
@@ -275,7 +278,7 @@ private:
         int32_t arc = -1;
         RestrictedEdge enc;
         const bool near = options_.gamma && near_gamma(*options_.gamma, p, 3 * target);
-        if (near && encroached_edge(tri_, p, c.t, *options_.gamma, &enc)) {
+        if (near && encroached_edge(tri_, p, c.t, *options_.gamma, &enc, cavity_, centres_)) {
             if (enc.radius < options_.filter * h_(enc.centre)) {
                 give_up(c);  // left as it is: refining would over-refine Gamma
                 return;
@@ -400,6 +403,8 @@ private:
     std::vector<uint8_t> state_;
     std::deque<Candidate> front_, reserve_;
     std::set<std::array<int32_t, 3>> given_up_;  // candidates whose point was rejected
+    std::vector<int32_t> cavity_;                 // encroached_edge's lists
+    std::vector<Vec3> centres_;
 };
 
 }  // namespace
