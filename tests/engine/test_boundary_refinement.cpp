@@ -200,6 +200,12 @@ void land_and_ocean_sides(void **) {
     assert_true(refine::is_land(net, geom::unit_from_lonlat_deg(10, 60)));
     assert_false(refine::is_land(net, geom::unit_from_lonlat_deg(10, 0)));
     auto sides = refine::triangle_sides(m.tri, net);
+    // Testing only the restricted dual edges (what the pipeline does) gives
+    // the same sides: the others cross no coastline.
+    Context ctx;
+    const std::vector<refine::RestrictedEdge> restricted = refine::restricted_edges(ctx, m.tri, gamma);
+    assert_true(restricted.size() > 100);
+    assert_true(refine::triangle_sides(m.tri, net, &restricted) == sides);
     int land = 0, ocean = 0;
     for (int32_t t = 0; t < m.tri.triangle_slots(); ++t) {
         if (m.tri.is_free(t)) continue;
