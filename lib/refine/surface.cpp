@@ -316,7 +316,10 @@ private:
         }
         ++stats_.inserted;
         // Only within that reach of Gamma may it have changed Tri|Gamma.
-        if (options_.gamma && near_gamma(*options_.gamma, p, change_reach)) stats_.near_gamma.push_back(v);
+        // (Not near within 3 target, p unmoved: not near within less either.)
+        const bool may_reach = near || change_reach > 3 * target;
+        if (options_.gamma && may_reach && near_gamma(*options_.gamma, p, change_reach))
+            stats_.near_gamma.push_back(v);
         after_insertion(v);
     }
 
