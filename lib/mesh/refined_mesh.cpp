@@ -127,13 +127,11 @@ geom::ArcTree gamma_arcs(const features::Network *gamma) {
 // What every stage hands on: no degenerate dual edge, compact slots in
 // Hilbert order (tri::Triangulation::reorder_spatially), vertex numbers,
 // and Tri|Gamma with the sides for the triangulation as it is now.
-// `undo_alive`: called by the optimisation with its undo kept, where memory
-// peaks (no copy of the triangles then).
-void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs, bool undo_alive) {
+void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
     ctx.progress("refine tags", 0.0);
     separate_degenerate_dual_edges(ctx, m.tri);
     m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
-    const std::vector<int32_t> old_slot = m.tri.reorder_spatially(ctx, !undo_alive);
+    const std::vector<int32_t> old_slot = m.tri.reorder_spatially(ctx);
     std::vector<int32_t> on_segment(old_slot.size());
     for (size_t v = 0; v < old_slot.size(); ++v) on_segment[v] = m.on_segment[old_slot[v]];
     m.on_segment.swap(on_segment);
@@ -221,7 +219,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
         next_id = surface.next_id;
         near_gamma.swap(surface.near_gamma);
     }
-    finish(ctx, m, arcs, false);
+    finish(ctx, m, arcs);
     m.filtered = refine::count_bad(m.tri, m.restricted, hr, bo);
     return m;
 }
@@ -306,7 +304,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
         m.refined_quality = before;
         m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o);
         m.optimised = true;
-        finish(ctx, m, gamma_arcs(m.gamma.get()), true);
+        finish(ctx, m, gamma_arcs(m.gamma.get()));
     } catch (...) {
         put_back(m, std::move(undo));
         throw;

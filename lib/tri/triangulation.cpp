@@ -168,7 +168,7 @@ void Triangulation::compact() {
     q_.shrink_to_fit(), id_.shrink_to_fit(), vertex_tri_.shrink_to_fit();
 }
 
-std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx, bool copy_triangles) {
+std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
     compact();
     const int32_t n = vertex_slots();
     // Hilbert key above the slot: unique, so the order is the same for any
@@ -188,19 +188,26 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx, bool copy_tr
         new_of_old[old_of_new[i]] = i;
     }
     std::vector<uint64_t>().swap(keys);
-    // The vertex arrays gathered in parallel into new ones, one at a time
-    // (24 bytes per vertex at most while the old one is alive): loads that
-    // do not wait on each other, where following the permutation's cycles
-    // in place waits on every one.
-    auto gather = [&](auto &values, const std::vector<int32_t> &old_index, auto &&remap) {
-        std::remove_reference_t<decltype(values)> out(values.size());
-        ctx.parallel_for(static_cast<int64_t>(out.size()), 8192, [&](int64_t b, int64_t e) {
-            for (int64_t i = b; i < e; ++i) out[i] = remap(values[old_index[i]]);
-        });
-        values.swap(out);
+    // In place, cycle by cycle: this runs after the optimisation too, with
+    // its undo alive, and copies of the largest arrays would set the peak.
+    std::vector<bool> placed;
+    auto permute = [&](auto &values, const std::vector<int32_t> &new_index, auto &&remap) {
+        placed.assign(values.size(), false);
+        for (size_t start = 0; start < values.size(); ++start) {
+            if (placed[start]) continue;
+            auto carried = values[start];
+            size_t at = start;
+            do {  // carried is the old value of slot `at`: it goes to new_index[at]
+                const size_t to = static_cast<size_t>(new_index[at]);
+                auto next = values[to];
+                values[to] = remap(carried);
+                placed[to] = true;
+                carried = next, at = to;
+            } while (at != start);
+        }
     };
     auto same = [](const auto &x) { return x; };
-    gather(q_, old_of_new, same), gather(id_, old_of_new, same), gather(vertex_tri_, old_of_new, same);
+    permute(q_, new_of_old, same), permute(id_, new_of_old, same), permute(vertex_tri_, new_of_old, same);
 
     // Triangles by smallest new vertex (a stable counting sort).
     const int32_t nt = triangle_slots();
@@ -211,36 +218,12 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx, bool copy_tr
     for (const Tri &t : tris_) ++first[smallest(t) + 1];
     for (int32_t i = 0; i < n; ++i) first[i + 1] += first[i];
     for (int32_t t = 0; t < nt; ++t) new_tri[t] = first[smallest(tris_[t])]++;
-    std::vector<int32_t>().swap(first);
-    auto renumbered = [&](Tri t) {
+    permute(tris_, new_tri, [&](Tri t) {
         for (int k = 0; k < 3; ++k) t.v[k] = new_of_old[t.v[k]], t.n[k] = new_tri[t.n[k]];
         return t;
-    };
-    if (copy_triangles) {
-        std::vector<int32_t> old_tri(static_cast<size_t>(nt));
-        ctx.parallel_for(nt, 8192, [&](int64_t b, int64_t e) {
-            for (int64_t t = b; t < e; ++t) old_tri[new_tri[t]] = static_cast<int32_t>(t);
-        });
-        gather(tris_, old_tri, renumbered);
-    } else {
-        std::vector<bool> placed(tris_.size(), false);
-        for (size_t start = 0; start < tris_.size(); ++start) {
-            if (placed[start]) continue;
-            Tri carried = tris_[start];
-            size_t at = start;
-            do {  // carried is the old triangle of slot `at`: it goes to new_tri[at]
-                const size_t to = static_cast<size_t>(new_tri[at]);
-                const Tri next = tris_[to];
-                tris_[to] = renumbered(carried);
-                placed[to] = true;
-                carried = next, at = to;
-            } while (at != start);
-        }
-    }
-    ctx.parallel_for(n, 8192, [&](int64_t b, int64_t e) {
-        for (int64_t v = b; v < e; ++v)
-            if (vertex_tri_[v] >= 0) vertex_tri_[v] = new_tri[vertex_tri_[v]];
     });
+    for (int32_t &t : vertex_tri_)
+        if (t >= 0) t = new_tri[t];
     return old_of_new;
 }
 

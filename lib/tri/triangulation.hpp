@@ -67,10 +67,8 @@ public:
     // in memory: the optimisation sweeps read every star's link, and with
     // the refinement's frontal order those reads miss the cache. Compacts
     // first. Returns the old slot of each new slot, for the caller's
-    // per-slot arrays. The vertex arrays are gathered into copies in
-    // parallel; the triangles too when `copy_triangles` (24 bytes per
-    // triangle more for the moment), else permuted in place, serially.
-    std::vector<int32_t> reorder_spatially(Context &ctx, bool copy_triangles = false);
+    // per-slot arrays.
+    std::vector<int32_t> reorder_spatially(Context &ctx);
 
     // Room for that share more vertex slots and triangle slots without
     // reallocating: a caller about to add a few (the optimisation) reserves
