@@ -51,7 +51,8 @@ void check_cells(const std::vector<double> &cells, size_t n_lon, size_t n_lat, c
     }
 }
 
-// The definition AxisIndex answers by: a binary search.
+// The definition AxisIndex answers by, for any x but NaN (AxisIndex gives
+// 0 there): a binary search.
 size_t cell_below_by_search(const std::vector<double> &v, double x) {
     const size_t last = v.size() - 2;
     size_t i = static_cast<size_t>(std::upper_bound(v.begin(), v.end(), x) - v.begin());

@@ -128,7 +128,6 @@ geom::ArcTree gamma_arcs(const features::Network *gamma) {
 // Hilbert order (tri::Triangulation::reorder_spatially), vertex numbers,
 // and Tri|Gamma with the sides for the triangulation as it is now.
 void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
-    ctx.progress("refine tags", 0.0);
     separate_degenerate_dual_edges(ctx, m.tri);
     m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
     const std::vector<int32_t> old_slot = m.tri.reorder_spatially(ctx);
@@ -219,6 +218,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
         next_id = surface.next_id;
         near_gamma.swap(surface.near_gamma);
     }
+    ctx.progress("refine tags", 0.0);  // (not from the optimisation's finish: its stage is "optimise")
     finish(ctx, m, arcs);
     m.filtered = refine::count_bad(m.tri, m.restricted, hr, bo);
     return m;

@@ -40,7 +40,8 @@ constexpr double kShortestMove = 1e-4;
 // Once an outer iteration of the shape phase moves fewer than kPolishAfter
 // vertices per vertex, the stars whose worst shape score is within
 // kPoorMargin of the mesh's worst (and below kPoorStar), and every star with
-// an obtuse triangle (a shape score below kObtuseOffset), get serial rounds
+// a triangle scoring below kObtuseOffset (every obtuse one, and acute ones
+// with Q^T below it), get serial rounds
 // of sweeps with a compass search (polish_poor_stars): the two targets leave
 // a few stars poor, the mesh's worst triangle among them, and beside Gamma
 // many triangles just past a right angle (on the coastline case at 60 km

@@ -33,7 +33,7 @@ struct Bad {
 
 // The restricted edges among the edges of the given triangles (ascending,
 // each once), each edge once, seen from its smaller triangle as in
-// restricted_edges(); every orthocentre computed once.
+// restricted_edges(); the listed triangles' orthocentres computed once.
 std::vector<RestrictedEdge> restricted_edges_of(Context &ctx, const tri::Triangulation &tri,
                                                 const std::vector<int32_t> &triangles,
                                                 const geom::ArcTree &gamma) {

@@ -96,7 +96,11 @@ std::vector<Side> triangle_sides(const tri::Triangulation &tri, const features::
             for (int k = 0; k < 3; ++k) {
                 int32_t u = tri.neighbour(t, k);
                 if (seen[u]) continue;
-                bool flip = may_flip(t, k) && crossings(coast, ct, tri.orthocentre(u)) % 2 == 1;
+                // From the smaller triangle to the larger, as restricted_edges()
+                // tests them: the same arithmetic even where a compiler
+                // contracts the cross products differently for the two ways.
+                const Vec3 cu = tri.orthocentre(u);
+                bool flip = may_flip(t, k) && (t < u ? crossings(coast, ct, cu) : crossings(coast, cu, ct)) % 2 == 1;
                 side[u] = flip ? (side[t] == Side::land ? Side::ocean : Side::land) : side[t];
                 seen[u] = 1;
                 stack.push_back(u);

@@ -169,14 +169,16 @@ void add_global_coast_outside_box(um_context *ctx, um_features *dst, const std::
     um_features_destroy(all);
 }
 
-EdgeRatios edge_ratios(const um_mesh *m, const um_spacing *h) {
+// False (and nothing measured) when a copy or the spacing fails.
+bool edge_ratios(const um_mesh *m, const um_spacing *h, EdgeRatios *out) {
     constexpr double kRadiusKm = 6371.22, kDeg = M_PI / 180;  // the default sphere
     int64_t nv = 0, nt = 0;
-    um_mesh_counts(m, &nv, &nt, nullptr, nullptr);
+    if (um_mesh_counts(m, &nv, &nt, nullptr, nullptr) != UM_OK) return false;
     std::vector<double> lon(nv), lat(nv);
     std::vector<int32_t> tri(3 * nt);
-    um_mesh_copy_vertices(m, lon.data(), lat.data(), nv);
-    um_mesh_copy_triangles(m, 0, tri.data(), 3 * nt);
+    if (um_mesh_copy_vertices(m, lon.data(), lat.data(), nv) != UM_OK ||
+        um_mesh_copy_triangles(m, 0, tri.data(), 3 * nt) != UM_OK)
+        return false;
     auto unit = [&](int32_t v) {
         return std::array<double, 3>{std::cos(lat[v] * kDeg) * std::cos(lon[v] * kDeg),
                                      std::cos(lat[v] * kDeg) * std::sin(lon[v] * kDeg), std::sin(lat[v] * kDeg)};
@@ -195,8 +197,10 @@ EdgeRatios edge_ratios(const um_mesh *m, const um_spacing *h) {
             mid_lat.push_back(std::atan2(mz, std::sqrt(mx * mx + my * my)) / kDeg);
         }
     std::vector<double> h_km(length_km.size());
-    um_spacing_evaluate(h, static_cast<int64_t>(h_km.size()), mid_lon.data(), mid_lat.data(), h_km.data());
-    EdgeRatios r;
+    if (um_spacing_evaluate(h, static_cast<int64_t>(h_km.size()), mid_lon.data(), mid_lat.data(),
+                            h_km.data()) != UM_OK)
+        return false;
+    EdgeRatios &r = *out;
     r.min = 1e300, r.max = 0;
     int64_t below = 0, above = 0;
     for (size_t i = 0; i < h_km.size(); ++i) {
@@ -206,7 +210,7 @@ EdgeRatios edge_ratios(const um_mesh *m, const um_spacing *h) {
     }
     const double n = std::max<double>(1, double(h_km.size()));
     r.share_below = 100.0 * double(below) / n, r.share_above = 100.0 * double(above) / n;
-    return r;
+    return true;
 }
 
 Result run_case(const std::string &name, const std::string &data, int threads, bool optimise) {
@@ -257,7 +261,7 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
         um_mesh_counts(m, &r.cells, &r.triangles, &r.restricted, &r.filtered);
         // Of the refined mesh: only without the optimisation, and after the
         // peak was read (the edge lists would be part of it).
-        if (!optimise) r.edges = edge_ratios(m, h), r.has_edges = 1;
+        if (!optimise) r.has_edges = edge_ratios(m, h, &r.edges);
         const std::string json = quality_json(m);
         r.after = quality_in(json, 0);
         const size_t before = json.find("\"before_optimisation\"");
