@@ -67,9 +67,9 @@ GridSpacing::AxisIndex::AxisIndex(const std::vector<double> &v) {
     // Bins no wider than the narrowest step where that fits in kMaxBins
     // (a quarter of a megabyte), else as many as that.
     constexpr double kMaxBins = 1 << 16;
-    double narrowest = v.back() - v.front();
-    for (size_t i = 1; i < v.size(); ++i) narrowest = std::min(narrowest, v[i] - v[i - 1]);
     const double span = v.back() - v.front();
+    double narrowest = span;
+    for (size_t i = 1; i < v.size(); ++i) narrowest = std::min(narrowest, v[i] - v[i - 1]);
     const double bins = std::min(kMaxBins, std::max(double(v.size() - 1), std::ceil(span / narrowest)));
     origin_ = v.front();
     bins_per_unit_ = bins / span;

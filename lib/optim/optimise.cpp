@@ -633,17 +633,6 @@ int32_t Optimiser::insert_between(int32_t a, int32_t b) {
     return v;
 }
 
-// Triangles around each vertex slot (0 off the triangulation), star by star
-// in parallel.
-std::vector<int32_t> vertex_degrees(Context &ctx, const tri::Triangulation &tri) {
-    std::vector<int32_t> degree(static_cast<size_t>(tri.vertex_slots()), 0);
-    ctx.parallel_for(tri.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
-        for (int64_t v = b; v < e; ++v)
-            tri.for_each_in_star(static_cast<int32_t>(v), [&](int32_t) { ++degree[v]; });
-    });
-    return degree;
-}
-
 // Vertices of degree 4 or less crowd their neighbours (their power cells are
 // small) and those of degree 8 or more leave a gap: the first are removed,
 // the second split in two. Vertices

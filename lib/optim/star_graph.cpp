@@ -4,17 +4,20 @@
 
 namespace um::optim {
 
-StarGraph::StarGraph(Context &ctx, const tri::Triangulation &tri) {
-    const int32_t n = tri.vertex_slots();
-    offset_.assign(static_cast<size_t>(n) + 1, 0);
-    // Degrees from each star (in parallel), then their running sum.
-    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+void write_degrees(Context &ctx, const tri::Triangulation &tri, int32_t *out) {
+    ctx.parallel_for(tri.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
         for (int64_t v = b; v < e; ++v) {
             int32_t degree = 0;
             tri.for_each_in_star(static_cast<int32_t>(v), [&](int32_t) { ++degree; });
-            offset_[v + 1] = degree;
+            out[v] = degree;
         }
     });
+}
+
+StarGraph::StarGraph(Context &ctx, const tri::Triangulation &tri) {
+    const int32_t n = tri.vertex_slots();
+    offset_.assign(static_cast<size_t>(n) + 1, 0);
+    write_degrees(ctx, tri, offset_.data() + 1);  // then their running sum
     for (int32_t v = 0; v < n; ++v) offset_[v + 1] += offset_[v];
     link_.assign(static_cast<size_t>(offset_[n]), -1);
     // Walk each star once, counter-clockwise (what Triangulation::star gives).

@@ -15,6 +15,15 @@
 
 namespace um::optim {
 
+// out[v] = the number of triangles around vertex slot v (0 off the
+// triangulation), for every slot, star by star in parallel.
+void write_degrees(Context &ctx, const tri::Triangulation &tri, int32_t *out);
+inline std::vector<int32_t> vertex_degrees(Context &ctx, const tri::Triangulation &tri) {
+    std::vector<int32_t> degree(static_cast<size_t>(tri.vertex_slots()));
+    write_degrees(ctx, tri, degree.data());
+    return degree;
+}
+
 class StarGraph {
 public:
     // Links of every vertex in the triangulation (hidden and removed slots

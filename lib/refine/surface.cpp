@@ -21,6 +21,10 @@ struct Candidate {
     int32_t v0, v1, v2;
 };
 
+Candidate candidate_of(const tri::Triangulation &tri, int32_t t) {
+    return {t, tri.vertex(t, 0), tri.vertex(t, 1), tri.vertex(t, 2)};
+}
+
 bool still_there(const tri::Triangulation &tri, const Candidate &c) {
     return !tri.is_free(c.t) && tri.vertex(c.t, 0) == c.v0 && tri.vertex(c.t, 1) == c.v1 &&
            tri.vertex(c.t, 2) == c.v2;
@@ -38,6 +42,7 @@ Vec3 towards(const Vec3 &m, const Vec3 &c, double d) {
 // Whether any Gamma arc comes within (about) `reach` of p: a surface ball
 // holding p has its centre on Gamma within its radius, below ~h, so farther
 // candidates need no encroachment search.
+constexpr double kEncroachReach = 3;  // in units of the target spacing
 bool near_gamma(const geom::ArcTree &gamma, const Vec3 &p, double reach) {
     geom::Box box;
     box.add(p);
@@ -51,34 +56,49 @@ bool near_gamma(const geom::ArcTree &gamma, const Vec3 &p, double reach) {
 // centred on its dual edge do), so one of them holds p: only the edges of
 // p's cavity (the triangles whose circumcircle holds p, connected to the one
 // containing p) need a look. Cavity order, each edge once: deterministic.
-// `cavity` and `centre` are the caller's lists (kept between calls: this
-// runs for most points near Gamma).
+// The triangles looked at and their orthocentres are kept in the caller's
+// lists (between calls: this runs for most points near Gamma); a triangle
+// found outside the cavity is not measured again.
+struct EncroachLists {
+    std::vector<int32_t> cavity, outside;
+    std::vector<Vec3> cavity_centre, outside_centre;
+};
+
 bool encroached_edge(const tri::Triangulation &tri, const Vec3 &p, int32_t hint,
-                     const geom::ArcTree &gamma, RestrictedEdge *out, std::vector<int32_t> &cavity,
-                     std::vector<Vec3> &centre) {
+                     const geom::ArcTree &gamma, RestrictedEdge *out, EncroachLists &l) {
     constexpr size_t kMaxCavity = 256;  // a huge cavity (coarse start): its first triangles
-    cavity.assign(1, tri.locate(p, hint));
-    centre.assign(1, tri.orthocentre(cavity[0]));
-    auto index_of = [&](int32_t t) {
-        for (size_t i = 0; i < cavity.size(); ++i)
-            if (cavity[i] == t) return static_cast<int>(i);
+    l.cavity.assign(1, tri.locate(p, hint));
+    l.cavity_centre.assign(1, tri.orthocentre(l.cavity[0]));
+    l.outside.clear(), l.outside_centre.clear();
+    auto index_in = [](const std::vector<int32_t> &list, int32_t t) {
+        for (size_t i = 0; i < list.size(); ++i)
+            if (list[i] == t) return static_cast<int>(i);
         return -1;
     };
-    for (size_t i = 0; i < cavity.size() && cavity.size() < kMaxCavity; ++i)
+    for (size_t i = 0; i < l.cavity.size() && l.cavity.size() < kMaxCavity; ++i)
         for (int k = 0; k < 3; ++k) {
-            const int32_t u = tri.neighbour(cavity[i], k);
-            if (index_of(u) >= 0) continue;
+            const int32_t u = tri.neighbour(l.cavity[i], k);
+            if (index_in(l.cavity, u) >= 0 || index_in(l.outside, u) >= 0) continue;
             const Vec3 c = tri.orthocentre(u);
             const Vec3 a = tri.direction(tri.vertex(u, 0));
-            if (geom::dot(p - c, p - c) < geom::dot(a - c, a - c)) cavity.push_back(u), centre.push_back(c);
+            const bool inside = geom::dot(p - c, p - c) < geom::dot(a - c, a - c);
+            (inside ? l.cavity : l.outside).push_back(u);
+            (inside ? l.cavity_centre : l.outside_centre).push_back(c);
         }
-    for (size_t i = 0; i < cavity.size(); ++i)
+    for (size_t i = 0; i < l.cavity.size(); ++i)
         for (int k = 0; k < 3; ++k) {
-            const int32_t u = tri.neighbour(cavity[i], k);
-            const int j = index_of(u);
+            const int32_t u = tri.neighbour(l.cavity[i], k);
+            const int j = index_in(l.cavity, u);
             if (j >= 0 && static_cast<size_t>(j) < i) continue;  // seen from u
+            Vec3 cu;
+            if (j >= 0) {
+                cu = l.cavity_centre[j];
+            } else {
+                const int o = index_in(l.outside, u);  // -1 past the cavity's cap
+                cu = o >= 0 ? l.outside_centre[o] : tri.orthocentre(u);
+            }
             RestrictedEdge e;
-            if (restricted_crossing(tri, cavity[i], k, centre[i], j >= 0 ? centre[j] : tri.orthocentre(u), gamma, &e) &&
+            if (restricted_crossing(tri, l.cavity[i], k, l.cavity_centre[i], cu, gamma, &e) &&
                 geom::arc_length(p, e.centre) < e.radius)
                 return *out = e, true;
         }
@@ -204,14 +224,14 @@ private:
         if (on_front(t)) {
             join_front(t);
         } else {
-            reserve_.push_back({t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)});
+            reserve_.push_back(candidate_of(tri_, t));
         }
     }
 
     void join_front(int32_t t) {
         if (state_[t] & kOnFront) return;
         state_[t] |= kOnFront;
-        front_.push_back({t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)});
+        front_.push_back(candidate_of(tri_, t));
     }
 
     bool pop(Candidate *c) {
@@ -236,7 +256,7 @@ private:
     void collect_unqueued() {
         for (int32_t t = 0; t < tri_.triangle_slots(); ++t) {
             if (tri_.is_free(t) || !bad(t)) continue;
-            Candidate c{t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)};
+            const Candidate c = candidate_of(tri_, t);
             if (!given_up_.count(key_of(c))) reserve_.push_back(c);
         }
     }
@@ -264,7 +284,7 @@ private:
                 // Off the front, it waits only while no front exists (the
                 // reserve would fill with triangles the front soon destroys).
                 if (on_front(t)) join_front(t);
-                else if (front_.empty()) reserve_.push_back({t, tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)});
+                else if (front_.empty()) reserve_.push_back(candidate_of(tri_, t));
                 return;
             }
             int32_t across = tri_.neighbour(t, tri_.local_index(t, v));
@@ -277,8 +297,8 @@ private:
         Vec3 p = place(c.t, &target);
         int32_t arc = -1;
         RestrictedEdge enc;
-        const bool near = options_.gamma && near_gamma(*options_.gamma, p, 3 * target);
-        if (near && encroached_edge(tri_, p, c.t, *options_.gamma, &enc, cavity_, centres_)) {
+        const bool near = options_.gamma && near_gamma(*options_.gamma, p, kEncroachReach * target);
+        if (near && encroached_edge(tri_, p, c.t, *options_.gamma, &enc, encroach_)) {
             if (enc.radius < options_.filter * h_(enc.centre)) {
                 give_up(c);  // left as it is: refining would over-refine Gamma
                 return;
@@ -316,8 +336,9 @@ private:
         }
         ++stats_.inserted;
         // Only within that reach of Gamma may it have changed Tri|Gamma.
-        // (Not near within 3 target, p unmoved: not near within less either.)
-        const bool may_reach = near || change_reach > 3 * target;
+        // (Not near within the encroachment reach, p unmoved: not near within
+        // less either.)
+        const bool may_reach = near || change_reach > kEncroachReach * target;
         if (options_.gamma && may_reach && near_gamma(*options_.gamma, p, change_reach))
             stats_.near_gamma.push_back(v);
         after_insertion(v);
@@ -406,8 +427,7 @@ private:
     std::vector<uint8_t> state_;
     std::deque<Candidate> front_, reserve_;
     std::set<std::array<int32_t, 3>> given_up_;  // candidates whose point was rejected
-    std::vector<int32_t> cavity_;                 // encroached_edge's lists
-    std::vector<Vec3> centres_;
+    EncroachLists encroach_;                      // encroached_edge's lists
 };
 
 }  // namespace

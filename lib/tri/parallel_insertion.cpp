@@ -50,12 +50,13 @@ struct Triangulation::Region {
     Scratch scratch;
 };
 
-void Triangulation::insert_round_in_parallel(Context &ctx, int32_t prev_begin, int32_t begin,
+int64_t Triangulation::insert_round_in_parallel(Context &ctx, int32_t prev_begin, int32_t begin,
                                              int32_t end, int32_t &hint) {
     // (A second pass over the deferred points with regions cut at the
     // middles of these gained nothing: a region borders regions far from
     // it along the curve.)
-    for (int32_t v : insert_by_regions(ctx, prev_begin, begin, end)) {
+    const std::vector<int32_t> deferred = insert_by_regions(ctx, prev_begin, begin, end);
+    for (int32_t v : deferred) {
         // Deferred points are far apart: start next to a vertex of this
         // round or the previous one near v along the curve, else from the
         // last hint (made live: a region may have emptied its slot).
@@ -65,6 +66,7 @@ void Triangulation::insert_round_in_parallel(Context &ctx, int32_t prev_begin, i
         int32_t other = kNone;
         if (insert_slot(v, hint, &other) == InsertResult::duplicate) fail_on_duplicates();
     }
+    return static_cast<int64_t>(deferred.size());
 }
 
 // The first slot in [begin, end) (sorted by key) whose key is >= key.

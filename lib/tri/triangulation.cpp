@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/radix_sort.hpp"
+#include "core/text.hpp"
 #include "core/growth.hpp"
 #include "geom/predicates.hpp"
 #include "tri/spatial_order.hpp"
@@ -67,6 +68,7 @@ void Triangulation::insert_all(Context &ctx) {
     auto round_of = [&](int32_t v) { return brio_round(id_[v], n_real); };
     int32_t hint = 0;
     int32_t prev_begin = kVirtual;  // the previous round's first slot
+    int64_t in_parallel = 0, deferred = 0;
     for (int32_t begin = kVirtual; begin < last;) {
         const int round = round_of(begin);
         int32_t end = last;  // the first slot of a later round (rounds ascend)
@@ -78,7 +80,8 @@ void Triangulation::insert_all(Context &ctx) {
             }
         }
         if (end - begin >= kParallelRound && key_.size() == q_.size()) {
-            insert_round_in_parallel(ctx, prev_begin, begin, end, hint);
+            deferred += insert_round_in_parallel(ctx, prev_begin, begin, end, hint);
+            in_parallel += end - begin;
         } else {
             for (int32_t v = begin; v < end; ++v) {
                 int32_t other = kNone;
@@ -90,6 +93,9 @@ void Triangulation::insert_all(Context &ctx) {
         begin = end;
     }
     std::vector<uint32_t>().swap(key_);
+    // bench_triangulation reads this line (the share deferred by the regions).
+    ctx.log(UM_LOG_DEBUG, concat("triangulate: ", n_real, " points, ", in_parallel,
+                                 " in parallel rounds, ", deferred, " of them deferred"));
     for (int32_t v = 0; v < kVirtual; ++v)
         if (vertex_tri_[v] >= 0)
             fail(UM_ERR_DEGENERATE_INPUT,

@@ -243,8 +243,9 @@ private:
         auto in = [&](int32_t v) { return key_[v] >= range.lo && key_[v] < range.hi; };
         return in(tv[0]) && in(tv[1]) && in(tv[2]);
     }
-    // Parallel insertion of one BRIO round, region by region (parallel_insertion.cpp).
-    void insert_round_in_parallel(Context &ctx, int32_t prev_begin, int32_t begin, int32_t end,
+    // Parallel insertion of one BRIO round, region by region
+    // (parallel_insertion.cpp); returns how many of its points were deferred.
+    int64_t insert_round_in_parallel(Context &ctx, int32_t prev_begin, int32_t begin, int32_t end,
                                   int32_t &hint);
     std::vector<int32_t> insert_by_regions(Context &ctx, int32_t prev_begin, int32_t begin,
                                            int32_t end);

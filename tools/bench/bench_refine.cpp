@@ -51,6 +51,7 @@ struct Result {
     double total_s = 0, boundary_s = 0, surface_s = 0, optimise_s = 0;
     EdgeRatios edges;
     int has_edges = 0;
+    int64_t obtuse = 0, obtuse_on_gamma = 0;  // of the final mesh: all, with 2-3 vertices on Gamma
     Quality before, after;
     int64_t cells = 0, triangles = 0, restricted = 0, filtered = 0;
     double peak_mb = 0;
@@ -169,29 +170,69 @@ void add_global_coast_outside_box(um_context *ctx, um_features *dst, const std::
     um_features_destroy(all);
 }
 
-// False (and nothing measured) when a copy or the spacing fails.
-bool edge_ratios(const um_mesh *m, const um_spacing *h, EdgeRatios *out) {
-    constexpr double kRadiusKm = 6371.22, kDeg = M_PI / 180;  // the default sphere
+// The mesh as the C API hands it out: unit vectors, triangles, parts.
+struct MeshCopy {
+    std::vector<std::array<double, 3>> x;
+    std::vector<int32_t> tri, part;  // part: -1 off Gamma
+};
+
+bool copy_mesh(const um_mesh *m, MeshCopy *out) {
+    constexpr double kDeg = M_PI / 180;
     int64_t nv = 0, nt = 0;
     if (um_mesh_counts(m, &nv, &nt, nullptr, nullptr) != UM_OK) return false;
     std::vector<double> lon(nv), lat(nv);
-    std::vector<int32_t> tri(3 * nt);
+    out->tri.resize(3 * nt), out->part.resize(nv);
     if (um_mesh_copy_vertices(m, lon.data(), lat.data(), nv) != UM_OK ||
-        um_mesh_copy_triangles(m, 0, tri.data(), 3 * nt) != UM_OK)
+        um_mesh_copy_triangles(m, 0, out->tri.data(), 3 * nt) != UM_OK ||
+        um_mesh_copy_vertex_parts(m, 0, out->part.data(), nv) != UM_OK)
         return false;
-    auto unit = [&](int32_t v) {
-        return std::array<double, 3>{std::cos(lat[v] * kDeg) * std::cos(lon[v] * kDeg),
-                                     std::cos(lat[v] * kDeg) * std::sin(lon[v] * kDeg), std::sin(lat[v] * kDeg)};
-    };
+    out->x.resize(nv);
+    for (int64_t v = 0; v < nv; ++v)
+        out->x[v] = {std::cos(lat[v] * kDeg) * std::cos(lon[v] * kDeg),
+                     std::cos(lat[v] * kDeg) * std::sin(lon[v] * kDeg), std::sin(lat[v] * kDeg)};
+    return true;
+}
+
+std::array<double, 3> cross(const std::array<double, 3> &a, const std::array<double, 3> &b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const std::array<double, 3> &a, const std::array<double, 3> &b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// Triangles with an angle over 90 degrees (between the great arcs at each
+// corner), and how many of them have two or three vertices on Gamma.
+void count_obtuse(const MeshCopy &c, int64_t *obtuse, int64_t *on_gamma) {
+    *obtuse = *on_gamma = 0;
+    for (size_t t = 0; 3 * t < c.tri.size(); ++t) {
+        bool is_obtuse = false;
+        int n_gamma = 0;
+        for (int k = 0; k < 3; ++k) {
+            const auto &a = c.x[c.tri[3 * t + k]], &b = c.x[c.tri[3 * t + (k + 1) % 3]],
+                       &d = c.x[c.tri[3 * t + (k + 2) % 3]];
+            std::array<double, 3> tb, td;  // the arcs' tangents at a
+            for (int i = 0; i < 3; ++i) tb[i] = b[i] - dot(a, b) * a[i], td[i] = d[i] - dot(a, d) * a[i];
+            is_obtuse |= dot(tb, td) < 0;
+            n_gamma += c.part[c.tri[3 * t + k]] >= 0;
+        }
+        *obtuse += is_obtuse, *on_gamma += is_obtuse && n_gamma >= 2;
+    }
+}
+
+// False (and nothing measured) when the spacing fails.
+bool edge_ratios(const MeshCopy &c, const um_spacing *h, EdgeRatios *out) {
+    constexpr double kRadiusKm = 6371.22, kDeg = M_PI / 180;  // the default sphere
+    const std::vector<int32_t> &tri = c.tri;
+    auto unit = [&](int32_t v) { return c.x[v]; };
+    const int64_t nt = static_cast<int64_t>(tri.size() / 3);
     std::vector<double> length_km, mid_lon, mid_lat;
     for (int64_t t = 0; t < nt; ++t)
         for (int k = 0; k < 3; ++k) {
             const int32_t a = tri[3 * t + k], b = tri[3 * t + (k + 1) % 3];
             if (a > b) continue;  // each edge once: it runs b -> a in the other triangle
             const auto x = unit(a), y = unit(b);
-            const std::array<double, 3> c{x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
-            const double d = x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
-            length_km.push_back(kRadiusKm * std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), d));
+            const std::array<double, 3> n = cross(x, y);
+            length_km.push_back(kRadiusKm * std::atan2(std::sqrt(dot(n, n)), dot(x, y)));
             const double mx = x[0] + y[0], my = x[1] + y[1], mz = x[2] + y[2];
             mid_lon.push_back(std::atan2(my, mx) / kDeg);
             mid_lat.push_back(std::atan2(mz, std::sqrt(mx * mx + my * my)) / kDeg);
@@ -259,9 +300,13 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
         std::snprintf(r.error, sizeof r.error, "%s", um_context_last_error(ctx));
     } else {
         um_mesh_counts(m, &r.cells, &r.triangles, &r.restricted, &r.filtered);
-        // Of the refined mesh: only without the optimisation, and after the
-        // peak was read (the edge lists would be part of it).
-        if (!optimise) r.has_edges = edge_ratios(m, h, &r.edges);
+        // After the peak was read (the copies would be part of it); the
+        // edges of the refined mesh only without the optimisation.
+        MeshCopy copy;
+        if (copy_mesh(m, &copy)) {
+            count_obtuse(copy, &r.obtuse, &r.obtuse_on_gamma);
+            if (!optimise) r.has_edges = edge_ratios(copy, h, &r.edges);
+        }
         const std::string json = quality_json(m);
         r.after = quality_in(json, 0);
         const size_t before = json.find("\"before_optimisation\"");
@@ -337,10 +382,10 @@ int main(int argc, char **argv) {
     std::printf("# each run in its own child; peak_MB = growth of its max RSS during refine + optimise\n"
                 "# (the quality report is read afterwards; the optimisation's own report of the\n"
                 "# refined mesh is part of it)\n");
-    std::printf("%-18s %3s %8s %8s %8s %8s %8s %8s %8s %7s  %-34s  %-34s  %s\n", "case", "thr", "cells",
+    std::printf("%-18s %3s %8s %8s %8s %8s %8s %8s %8s %7s  %-34s  %-34s  %-32s  %s\n", "case", "thr", "cells",
                 "restrict", "boundary", "surface", "optimise", "total_s", "peak_MB", "B/cell",
                 "before: QTmin QPmin maxang obt% nwc", "after: QTmin QPmin maxang obt% nwc",
-                "refined l/h: min max <0.75% >1.35%");
+                "refined l/h: min max <0.75% >1.35%", "obtuse on-Gamma%");
     int failures = 0;
     auto quality_text = [](const Quality &q) {
         char buf[64];
@@ -360,15 +405,19 @@ int main(int argc, char **argv) {
             if (r.has_edges)
                 std::snprintf(edges, sizeof edges, "%.3f %.3f %6.2f %6.2f", r.edges.min, r.edges.max,
                               r.edges.share_below, r.edges.share_above);
-            std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %8.3f %8.3f %8.1f %7.0f  %-34s  %-34s  %s\n",
+            std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %8.3f %8.3f %8.1f %7.0f  %-34s  %-34s  %-32s  "
+                        "%lld %.1f\n",
                         c.c_str(), threads, (long long)r.cells, (long long)r.restricted, r.boundary_s,
                         r.surface_s, r.optimise_s, r.total_s, r.peak_mb,
                         r.peak_mb * 1048576.0 / double(r.cells), quality_text(r.before).c_str(),
-                        quality_text(r.after).c_str(), edges);
+                        quality_text(r.after).c_str(), edges, (long long)r.obtuse,
+                        r.obtuse > 0 ? 100.0 * double(r.obtuse_on_gamma) / double(r.obtuse) : 0.0);
             std::fflush(stdout);
         }
     std::printf("# boundary = boundary refinement; surface = surface refinement and the tags;\n"
                 "# refined l/h = edge length over h at its midpoint, of the refined mesh (--no-optimise runs)\n"
+                "# obtuse on-Gamma% = obtuse triangles of the final mesh, and the share of them with 2 or 3\n"
+                "# vertices on Gamma\n"
                 "# QT = area-length ratio, QP = primal-dual, obt%% = %% of triangles with an angle > 90,\n"
                 "# nwc = triangles not containing their orthocentre\n");
     return failures ? 1 : 0;

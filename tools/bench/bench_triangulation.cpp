@@ -408,6 +408,17 @@ ChildResult measure_unimesh(const PointSet &ps, int threads, bool from_lonlat) {
         um_context_destroy(ctx);
         return r;
     }
+    // The library's debug line on its parallel rounds: how many points they
+    // held and how many of those were deferred to the serial pass.
+    struct Rounds {
+        long long parallel = -1, deferred = -1;
+    } rounds;
+    um_context_set_log(ctx, [](void *user, int32_t, const char *msg) {
+        auto *x = static_cast<Rounds *>(user);
+        long long points = 0;
+        std::sscanf(msg, "triangulate: %lld points, %lld in parallel rounds, %lld of them deferred",
+                    &points, &x->parallel, &x->deferred);
+    }, &rounds, UM_LOG_DEBUG);
     const int64_t n = ps.size();
     um_triangulation *tri = nullptr;
     r.rss_base_kb = maxrss_kb();
@@ -424,6 +435,9 @@ ChildResult measure_unimesh(const PointSet &ps, int threads, bool from_lonlat) {
         set_message(r, std::string("um_triangulation_counts: ") + um_context_last_error(ctx));
     } else {
         r.ok = 1;
+        if (rounds.parallel > 0)
+            std::snprintf(r.message, sizeof r.message, "deferred %.1f %% of the %lld points of parallel rounds",
+                          100.0 * double(rounds.deferred) / double(rounds.parallel), rounds.parallel);
     }
     um_triangulation_destroy(tri);
     um_context_destroy(ctx);
@@ -584,6 +598,7 @@ Row measure(const CaseSpec &spec, const std::string &method, int threads, int ru
         row.n_triangles = r.n_triangles;
         row.n_hidden = r.n_hidden;
         row.runs = k + 1;
+        if (row.note.empty()) row.note = r.message;  // what the method adds (unimesh: deferrals)
     }
     row.ok = true;
     return row;
