@@ -31,38 +31,6 @@ struct Bad {
     }
 };
 
-// The restricted edges among the edges of the given triangles (ascending,
-// each once), each edge once, seen from its smaller triangle as in
-// restricted_edges(); the listed triangles' orthocentres computed once.
-std::vector<RestrictedEdge> restricted_edges_of(Context &ctx, const tri::Triangulation &tri,
-                                                const std::vector<int32_t> &triangles,
-                                                const geom::ArcTree &gamma) {
-    const int64_t n = static_cast<int64_t>(triangles.size());
-    std::vector<Vec3> centre(static_cast<size_t>(n));
-    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i)
-            if (!tri.is_free(triangles[i])) centre[i] = tri.orthocentre(triangles[i]);
-    });
-    auto listed = [&](int32_t u) -> int64_t {
-        auto it = std::lower_bound(triangles.begin(), triangles.end(), u);
-        return it != triangles.end() && *it == u ? it - triangles.begin() : -1;
-    };
-    return ctx.collect_in_order<RestrictedEdge>(n, 1024, [&](int64_t i, std::vector<RestrictedEdge> &out) {
-        const int32_t t = triangles[i];
-        if (tri.is_free(t)) return;
-        for (int k = 0; k < 3; ++k) {
-            const int32_t u = tri.neighbour(t, k);
-            const int64_t j = listed(u);
-            if (j >= 0 && u < t) continue;  // found from u
-            const Vec3 cu = j >= 0 ? centre[j] : tri.orthocentre(u);
-            RestrictedEdge e;
-            const bool found = u < t ? restricted_crossing(tri, u, tri.mirror_edge(t, k), cu, centre[i], gamma, &e)
-                                     : restricted_crossing(tri, t, k, centre[i], cu, gamma, &e);
-            if (found) out.push_back(e);
-        }
-    });
-}
-
 bool is_bad(const tri::Triangulation &tri, const RestrictedEdge &e, const SpacingRadians &h,
             const BoundaryOptions &options, EdgeMeasure *m) {
     *m = measure(tri, e, h);
@@ -136,7 +104,7 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
         return is_bad(tri, e, h, options, m) || (topology && topology->folds(e));
     };
     std::vector<RestrictedEdge> candidates =
-        around ? restricted_edges_of(ctx, tri, tri.triangles_around(*around), gamma) : restricted_edges(ctx, tri, gamma);
+        around ? restricted_edges(ctx, tri, gamma, tri.triangles_around(*around)) : restricted_edges(ctx, tri, gamma);
     for (;;) {
         ++stats.passes;
         ctx.progress("refine boundary", 0.0);
@@ -177,7 +145,7 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
         stats.inserted += static_cast<int64_t>(added.size());
         stats.added.insert(stats.added.end(), added.begin(), added.end());
         if (added.empty()) break;
-        candidates = restricted_edges_of(ctx, tri, tri.triangles_around(added), gamma);
+        candidates = restricted_edges(ctx, tri, gamma, tri.triangles_around(added));
     }
     return stats;
 }

@@ -29,25 +29,55 @@ bool restricted_crossing(const tri::Triangulation &tri, int32_t t, int k, const 
     return found;
 }
 
-std::vector<RestrictedEdge> restricted_edges(Context &ctx, const tri::Triangulation &tri,
-                                             const geom::ArcTree &gamma) {
-    const int64_t n = tri.triangle_slots();
-    // Every orthocentre once (each is shared by three dual edges).
-    std::vector<Vec3> centre(static_cast<size_t>(n));
-    ctx.parallel_for(n, 8192, [&](int64_t b, int64_t e) {
-        for (int64_t t = b; t < e; ++t)
-            if (!tri.is_free(static_cast<int32_t>(t))) centre[t] = tri.orthocentre(static_cast<int32_t>(t));
+namespace {
+
+// The restricted edges among the edges of `count` triangles, triangle i
+// being slot_of(i) and index_of(u) the position of slot u among them (-1 if
+// not listed): each edge once, from its smaller triangle, each listed
+// triangle's orthocentre computed once; in list order.
+template <class SlotOf, class IndexOf>
+std::vector<RestrictedEdge> restricted_edges_among(Context &ctx, const tri::Triangulation &tri,
+                                                   const geom::ArcTree &gamma, int64_t count,
+                                                   SlotOf slot_of, IndexOf index_of) {
+    std::vector<Vec3> centre(static_cast<size_t>(count));
+    ctx.parallel_for(count, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i)
+            if (!tri.is_free(slot_of(i))) centre[i] = tri.orthocentre(slot_of(i));
     });
-    return ctx.collect_in_order<RestrictedEdge>(n, 4096, [&](int64_t t, std::vector<RestrictedEdge> &out) {
-        const int32_t ti = static_cast<int32_t>(t);
-        if (tri.is_free(ti)) return;
+    return ctx.collect_in_order<RestrictedEdge>(count, 1024, [&](int64_t i, std::vector<RestrictedEdge> &out) {
+        const int32_t t = slot_of(i);
+        if (tri.is_free(t)) return;
         for (int k = 0; k < 3; ++k) {
-            const int32_t u = tri.neighbour(ti, k);
-            if (u < ti) continue;  // each edge once
-            RestrictedEdge r;
-            if (restricted_crossing(tri, ti, k, centre[t], centre[u], gamma, &r)) out.push_back(r);
+            const int32_t u = tri.neighbour(t, k);
+            const int64_t j = index_of(u);
+            if (j >= 0 && u < t) continue;  // found from u
+            const Vec3 cu = j >= 0 ? centre[j] : tri.orthocentre(u);
+            RestrictedEdge e;
+            const bool found = u < t ? restricted_crossing(tri, u, tri.mirror_edge(t, k), cu, centre[i], gamma, &e)
+                                     : restricted_crossing(tri, t, k, centre[i], cu, gamma, &e);
+            if (found) out.push_back(e);
         }
     });
+}
+
+}  // namespace
+
+std::vector<RestrictedEdge> restricted_edges(Context &ctx, const tri::Triangulation &tri,
+                                             const geom::ArcTree &gamma) {
+    return restricted_edges_among(
+        ctx, tri, gamma, tri.triangle_slots(), [](int64_t i) { return static_cast<int32_t>(i); },
+        [](int32_t u) { return int64_t(u); });
+}
+
+std::vector<RestrictedEdge> restricted_edges(Context &ctx, const tri::Triangulation &tri,
+                                             const geom::ArcTree &gamma,
+                                             const std::vector<int32_t> &triangles) {
+    return restricted_edges_among(
+        ctx, tri, gamma, static_cast<int64_t>(triangles.size()), [&](int64_t i) { return triangles[i]; },
+        [&](int32_t u) -> int64_t {
+            auto it = std::lower_bound(triangles.begin(), triangles.end(), u);
+            return it != triangles.end() && *it == u ? it - triangles.begin() : -1;
+        });
 }
 
 }  // namespace um::refine

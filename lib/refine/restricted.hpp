@@ -37,5 +37,10 @@ bool restricted_crossing(const tri::Triangulation &tri, int32_t t, int k, const 
 // in triangle order; evaluated in parallel, the same for any thread count.
 std::vector<RestrictedEdge> restricted_edges(Context &ctx, const tri::Triangulation &tri,
                                              const geom::ArcTree &gamma);
+// The same among the edges of `triangles` (ascending, each once: what
+// Triangulation::triangles_around gives), in that list's order.
+std::vector<RestrictedEdge> restricted_edges(Context &ctx, const tri::Triangulation &tri,
+                                             const geom::ArcTree &gamma,
+                                             const std::vector<int32_t> &triangles);
 
 }  // namespace um::refine

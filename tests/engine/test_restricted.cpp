@@ -126,6 +126,34 @@ void restricted_edges_match_brute_force(void **) {
     }
 }
 
+// Among the edges of a list of triangles (the boundary pass's later rounds):
+// exactly the full scan's edges that have a listed triangle on a side, each
+// once and from its smaller triangle, with the same crossings.
+void restricted_edges_of_a_triangle_list(void **) {
+    tri::Triangulation t = triangulate(20000, 37);
+    geom::ArcTree tree(sample_arcs(3000, 0.03, 41));
+    Context ctx;
+    const auto all = refine::restricted_edges(ctx, t, tree);
+    std::vector<int32_t> vertices;
+    for (int32_t v = 0; v < t.vertex_slots(); v += 7) vertices.push_back(v);
+    const std::vector<int32_t> listed = t.triangles_around(vertices);
+    const auto some = refine::restricted_edges(ctx, t, tree, listed);
+    auto is_listed = [&](int32_t f) { return std::binary_search(listed.begin(), listed.end(), f); };
+    std::set<std::pair<int32_t, int>> want, got;
+    for (const auto &e : all)
+        if (is_listed(e.triangle) || is_listed(t.neighbour(e.triangle, e.edge))) want.insert({e.triangle, e.edge});
+    for (const auto &e : some) {
+        assert_true(e.triangle < t.neighbour(e.triangle, e.edge));
+        assert_true(got.insert({e.triangle, e.edge}).second);  // each once
+        auto same = std::find_if(all.begin(), all.end(), [&](const refine::RestrictedEdge &a) {
+            return a.triangle == e.triangle && a.edge == e.edge;
+        });
+        assert_true(same != all.end() && same->arc == e.arc && same->radius == e.radius);
+    }
+    assert_true(want.size() > 20);
+    assert_true(got == want);
+}
+
 void restricted_edges_same_for_any_thread_count(void **) {
     tri::Triangulation t = triangulate(50000, 23);
     geom::ArcTree tree(sample_arcs(2000, 0.05, 29));
@@ -149,6 +177,7 @@ int main() {
         cmocka_unit_test(tree_queries_match_brute_force),
         cmocka_unit_test(nearest_matches_brute_force),
         cmocka_unit_test(restricted_edges_match_brute_force),
+        cmocka_unit_test(restricted_edges_of_a_triangle_list),
         cmocka_unit_test(restricted_edges_same_for_any_thread_count),
     };
     return cmocka_run_group_tests_name("restricted", tests, nullptr, nullptr);
