@@ -411,8 +411,10 @@ int32_t Triangulation::walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_
         }
         // Beyond a triangle the region does not own, another region may be
         // changing the mesh.
-        if (owner && !owns(*owner, t)) return kNone;
-        if (owner) *last_owned = t;
+        if (owner) {
+            if (!owns(*owner, t)) return kNone;
+            *last_owned = t;
+        }
         from = t;
         t = to;
     }
