@@ -9,7 +9,8 @@
 // their shortest edge's bisector at the least of the same three distances.
 // Deterministic: the front is first in, first out (the initial triangles in
 // slot order, then each new fan in its star order), the rest last in, first
-// out; see surface.cpp.
+// out; see surface.cpp. A big first pass grows many such fronts at once, one
+// per territory of the sphere, from sparse seeds (surface.cpp).
 #pragma once
 
 #include <functional>
@@ -40,6 +41,7 @@ struct SurfaceStats {
     int64_t inserted = 0;
     int64_t rejected = 0;  // candidates hidden or too close (left as they were)
     int32_t next_id = 0;   // the first id not given out
+    int64_t by_territories = 0;  // of the inserted: in parallel, by territories (surface.cpp)
     // Vertices inserted near Gamma (where they may change Tri|Gamma), in
     // insertion order; only with options.gamma.
     std::vector<int32_t> near_gamma;
@@ -47,7 +49,9 @@ struct SurfaceStats {
 
 // Refines `tri` in place; new points get ids from next_id upwards. With
 // `around`, only the triangles of the stars of those vertices are looked
-// at first (the others are known to be good); else all of them.
+// at first (the others are known to be good), serially; else all of them,
+// and a big mesh by territories in parallel (surface.cpp): the result does
+// not depend on the number of threads.
 SurfaceStats refine_surface(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
                             const SurfaceOptions &options, int32_t next_id,
                             const std::vector<int32_t> *around = nullptr);

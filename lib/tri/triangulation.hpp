@@ -200,6 +200,50 @@ public:
     // plus the vertices re-inserted: 0 exactly when the topology is unchanged.
     int64_t restore_regularity(std::vector<int32_t> triangles);
 
+    // Parallel updates by territories (territory.cpp) -----------------------
+    // A territory owns the vertices whose Hilbert keys fall in its range of
+    // keys, as a region of a parallel build round does (parallel_insertion.cpp),
+    // and may only change triangles with all three vertices its own and the
+    // triangles across their edges: territories with disjoint ranges insert
+    // at once without locks, and what each does depends on its own part of the
+    // mesh only - not on the threads. An insertion that would reach beyond is
+    // deferred (left to the caller's serial path). Weights must be 0 (nothing
+    // is buried) while territories are open.
+    class Territory;
+    // The key that decides ownership in a layout: 0, the Hilbert key of p;
+    // 1, that of p turned by a fixed rotation (another set of borders).
+    static uint32_t territory_key(const Vec3 &p, int layout);
+    // Opens cuts.size() + 1 territories of a layout: keys [0, cuts[0]),
+    // [cuts[0], cuts[1]), ... (cuts ascending). Territory i gets
+    // vertex_budget[i] new vertex slots, appended in territory order with ids
+    // from first_id up, and two fresh triangle slots per vertex slot.
+    std::vector<Territory> open_territories(Context &ctx, const std::vector<uint32_t> &cuts,
+                                            const std::vector<int32_t> &vertex_budget,
+                                            int32_t first_id, int layout);
+    // Whether territory g owns all three vertices of t / would own a vertex at p.
+    bool owns(const Territory &g, int32_t t) const;
+    bool owns_point(const Territory &g, const Vec3 &p) const;
+    // A triangle of g whose cone holds p, walking from g's triangle `hint`
+    // through g's triangles only; kNone if p lies beyond them.
+    int32_t locate_in(const Territory &g, const Vec3 &p, int32_t hint) const;
+    enum class TerritoryInsert { inserted, deferred, too_close, hidden };
+    // Inserts p (weight 0) into g's next vertex slot (*v), unless a vertex of
+    // its link would lie within chord length min_chord of it (too_close:
+    // nothing changes), it is hidden, or g does not own everything it needs.
+    TerritoryInsert insert_in(Territory &g, const Vec3 &p, int32_t hint, double min_chord,
+                              int32_t *v);
+    // What closing territories did to the vertex slots they reserved: the
+    // unused ones are gone and the used ones moved down, in order, with ids
+    // renumbered in the same order (so every exact decision stays as it was).
+    struct TerritoryClose {
+        int32_t first_slot = 0;            // the first reserved slot
+        std::vector<int32_t> new_slot;     // per reserved slot (from first_slot): new slot or kNone
+        int32_t next_id = 0;               // the first id not given out
+    };
+    // Closes them all: call once their work is done, with no other update
+    // in between. Unused triangle slots become free ones.
+    TerritoryClose close_territories(Context &ctx, std::vector<Territory> &territories);
+
 private:
     enum class InsertResult { inserted, hidden, duplicate };
     struct HorizonEdge {
@@ -296,6 +340,28 @@ private:
     Scratch scratch_;                 // the serial path's
     std::vector<uint32_t> key_;       // Hilbert key per vertex slot, while building
     mutable uint32_t walk_counter_ = 0;  // rotates the walk's first edge
+};
+
+class Triangulation::Territory {
+public:
+    int32_t vertices_inserted() const { return next_vertex_ - first_vertex_; }
+    int32_t vertex_budget_left() const { return vertex_end_ - next_vertex_; }
+    // The triangle slots it was given: free ones, and [first_fresh, fresh_end).
+    const std::vector<int32_t> &free_slots_given() const { return given_; }
+    int32_t first_fresh_slot() const { return first_fresh_; }
+    int32_t fresh_slot_end() const { return pool_.fresh_end; }
+
+private:
+    friend class Triangulation;
+    KeyRange keys_{0, 0};
+    int layout_ = 0;
+    int32_t first_vertex_ = 0, next_vertex_ = 0, vertex_end_ = 0;
+    std::vector<int32_t> reuse_;  // free triangle slots: given at opening, then emptied by it
+    std::vector<int32_t> given_;  // the free ones given at opening
+    SlotPool pool_;
+    int32_t first_fresh_ = 0;
+    Scratch scratch_;
+    mutable uint32_t walk_ = 0;
 };
 
 template <class DirectionFn>

@@ -122,7 +122,20 @@ void topology_check_mends_a_star_shaped_tri_gamma(void **) {
         Context ctx;
         tri::Triangulation tri = refine::icosahedron(ctx);
         refine::refine_surface(ctx, tri, [&](const Vec3 &) { return h; }, {}, 12);
-        const int32_t v = tri.vertex(tri.triangle_count() / 2, 0);
+        // A vertex whose spokes are all about h (the premise above), from
+        // the middle of the slots on.
+        int32_t v = -1;
+        for (int32_t t = tri.triangle_count() / 2; v < 0 && t < tri.triangle_count(); ++t) {
+            const int32_t u = tri.vertex(t, 0);
+            bool regular = true;
+            for (int32_t s : tri.star(u)) {
+                const int32_t w = tri.vertex(s, (tri.local_index(s, u) + 1) % 3);
+                const double l = geom::arc_length(tri.direction(u), tri.direction(w));
+                regular = regular && l > 0.9 * h && l < 1.1 * h;
+            }
+            if (regular) v = u;
+        }
+        assert_true(v >= 0);
         const Vec3 c = tri.direction(v);
         const Vec3 e1 = geom::normalized(geom::cross(c, Vec3{0, 0, 1})), e2 = geom::cross(c, e1);
         std::vector<geom::ArcTree::Arc> ring;

@@ -98,6 +98,49 @@ void deterministic(void **) {
     assert_true(run(1) == run(2));
 }
 
+// At 60 km the first pass goes by territories (656 seeds at 16 h): most
+// points in parallel, the rest serially. Every triangle still meets both
+// criteria, the triangulation is valid, and the points and triangles are
+// bit for bit the same for 1, 2, 3 and 8 threads.
+void territories_meet_the_criteria_and_are_deterministic(void **) {
+    const double h = 60.0 / kRadiusKm;
+    auto run = [&](int threads, int64_t *by_territories) {
+        Context ctx;
+        ctx.set_threads(threads);
+        tri::Triangulation tri = refine::icosahedron(ctx);
+        refine::SurfaceOptions opt;
+        const refine::SurfaceStats stats = refine::refine_surface(ctx, tri, [&](const Vec3 &) { return h; }, opt, 12);
+        *by_territories = stats.by_territories;
+        assert_true(stats.inserted > 0);
+        tri.compact();
+        std::string problem = tri::check_triangulation(tri);
+        if (!problem.empty()) fail_msg("%s", problem.c_str());
+        std::vector<double> out;
+        for (int32_t t = 0; t < tri.triangle_count(); ++t) {
+            double r, e;
+            refine::triangle_size(tri, t, &r, &e);
+            if (!(std::sqrt(3.0) * r < opt.alpha * h && r / e < opt.rho))
+                fail_msg("triangle %d: sqrt(3) r / h %.3f, r / e %.3f", t, std::sqrt(3.0) * r / h, r / e);
+            for (int k = 0; k < 3; ++k) out.push_back(tri.vertex(t, k));
+        }
+        for (int32_t v = 0; v < tri.vertex_slots(); ++v) {
+            const Vec3 d = tri.direction(v);
+            out.insert(out.end(), {d.x, d.y, d.z, double(tri.id(v))});
+        }
+        return out;
+    };
+    int64_t by[4];
+    const std::vector<double> one = run(1, &by[0]);
+    // An ideal mesh has 4 pi R^2 / (sqrt(3)/2 h^2) vertices: most from territories.
+    const double ideal = 4 * M_PI / (std::sqrt(3.0) / 2 * h * h);
+    print_message("by territories: %lld of about %.0f points\n", (long long)by[0], ideal);
+    assert_true(by[0] > 0.7 * ideal);
+    assert_true(run(2, &by[1]) == one);
+    assert_true(run(3, &by[2]) == one);
+    assert_true(run(8, &by[3]) == one);
+    assert_true(by[1] == by[0] && by[2] == by[0] && by[3] == by[0]);
+}
+
 void bad_spacing_is_an_error(void **) {
     Context ctx;
     tri::Triangulation tri = refine::icosahedron(ctx);
@@ -116,6 +159,7 @@ int main() {
         cmocka_unit_test(uniform_240_and_120_km),
         cmocka_unit_test(latitude_dependent_spacing),
         cmocka_unit_test(deterministic),
+        cmocka_unit_test(territories_meet_the_criteria_and_are_deterministic),
         cmocka_unit_test(bad_spacing_is_an_error),
     };
     return cmocka_run_group_tests_name("surface_refinement", tests, nullptr, nullptr);

@@ -257,6 +257,130 @@ void insertion_order_does_not_change_the_triangles(void **) {
     assert_true(a == b);
 }
 
+// Territories insert what they own in parallel (two layouts), the rest goes
+// one by one; the result is the triangulation of all the points with the
+// ids the territories gave (their ids keep the insertion order), the same
+// for 1 and 2 threads. The extra points are an icosahedral grid (cocircular
+// quadruples, points on the base's edges are not) over a random base.
+tri::Triangulation insert_by_territories(const std::vector<Vec3> &base, const std::vector<Vec3> &extra,
+                                         int threads, std::vector<Vec3> *point_of_id, int64_t *in_territories) {
+    Context ctx;
+    ctx.set_threads(threads);
+    tri::Triangulation t;
+    t.build(ctx, static_cast<int64_t>(base.size()), [&](int64_t i) { return base[i]; }, nullptr);
+    *point_of_id = base;
+    *in_territories = 0;
+    std::vector<int32_t> left(extra.size());
+    for (size_t i = 0; i < extra.size(); ++i) left[i] = static_cast<int32_t>(i);
+    int32_t next_id = static_cast<int32_t>(base.size());
+    for (int layout = 0; layout < 2; ++layout) {
+        // 16 territories of equal counts of the points left.
+        std::vector<uint32_t> keys;
+        for (int32_t i : left) keys.push_back(tri::Triangulation::territory_key(extra[i], layout));
+        std::sort(keys.begin(), keys.end());
+        std::vector<uint32_t> cuts;
+        for (int g = 1; g < 16; ++g) cuts.push_back(keys[keys.size() * g / 16]);
+        cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+        std::vector<int32_t> budget(cuts.size() + 1, static_cast<int32_t>(left.size()));
+        auto territories = t.open_territories(ctx, cuts, budget, next_id, layout);
+        std::vector<std::vector<int32_t>> inserted(territories.size()), slot(territories.size()),
+            deferred(territories.size());
+        // A start for each: any triangle it owns, found before they work (a
+        // scan of all triangles while they work would read theirs).
+        std::vector<int32_t> start(territories.size(), -1);
+        for (int32_t f = 0; f < t.triangle_slots(); ++f)
+            for (size_t g = 0; g < territories.size(); ++g)
+                if (start[g] < 0 && !t.is_free(f) && t.owns(territories[g], f)) start[g] = f;
+        ctx.parallel_for(static_cast<int64_t>(territories.size()), 1, [&](int64_t b, int64_t e) {
+            for (int64_t g = b; g < e; ++g) {
+                int32_t hint = start[g];  // then the last insertion's fan
+                for (int32_t i : left) {
+                    if (!t.owns_point(territories[g], extra[i])) continue;
+                    if (hint < 0) {
+                        deferred[g].push_back(i);
+                        continue;
+                    }
+                    int32_t v = -1;
+                    const auto r = t.insert_in(territories[g], extra[i], hint, 0.0, &v);
+                    if (r == tri::Triangulation::TerritoryInsert::inserted) {
+                        inserted[g].push_back(i), slot[g].push_back(v);
+                        t.for_each_in_star(v, [&](int32_t f) { hint = f; });
+                    } else {
+                        deferred[g].push_back(i);
+                    }
+                }
+            }
+        });
+        const auto moved = t.close_territories(ctx, territories);
+        point_of_id->resize(static_cast<size_t>(moved.next_id));
+        std::vector<int32_t> still;
+        for (size_t g = 0; g < inserted.size(); ++g) {
+            for (size_t j = 0; j < inserted[g].size(); ++j) {
+                const int32_t v = moved.new_slot[slot[g][j] - moved.first_slot];
+                (*point_of_id)[t.id(v)] = extra[inserted[g][j]];
+            }
+            *in_territories += static_cast<int64_t>(inserted[g].size());
+            still.insert(still.end(), deferred[g].begin(), deferred[g].end());
+        }
+        // Points owned by no territory (keys at a cut are owned: none here).
+        std::sort(still.begin(), still.end());
+        left.swap(still);
+        next_id = moved.next_id;
+    }
+    for (int32_t i : left) {
+        t.insert(extra[i], 0.0, next_id++);
+        point_of_id->push_back(extra[i]);
+    }
+    return t;
+}
+
+void territories_insert_as_the_serial_path_would(void **) {
+    const std::vector<Vec3> base = test::random_points(3000, 41);
+    const std::vector<Vec3> extra = test::icosahedral_points(5);
+    std::vector<Vec3> point_of_id, point_of_id_2;
+    int64_t in_territories = 0, in_territories_2 = 0;
+    tri::Triangulation t = insert_by_territories(base, extra, 1, &point_of_id, &in_territories);
+    print_message("territories inserted %lld of %zu points\n", (long long)in_territories, extra.size());
+    assert_true(in_territories > static_cast<int64_t>(extra.size()) / 2);
+    t.compact();
+    expect_complete(t, base.size() + extra.size());
+    assert_true(triangle_set(t) == triangle_set(build(point_of_id)));
+    tri::Triangulation t2 = insert_by_territories(base, extra, 2, &point_of_id_2, &in_territories_2);
+    t2.compact();
+    assert_int_equal(point_of_id.size(), point_of_id_2.size());
+    for (size_t i = 0; i < point_of_id.size(); ++i)
+        assert_true(std::memcmp(&point_of_id[i], &point_of_id_2[i], sizeof(Vec3)) == 0);
+    expect_identical(t, t2);
+}
+
+// A territory's insertion that would put a vertex too close to its link
+// leaves everything as it was; one beyond its keys is deferred.
+void territory_insertion_refuses_without_changes(void **) {
+    Context ctx;
+    tri::Triangulation t = build(test::random_points(4000, 5));
+    const auto before = triangle_set(t);
+    const Vec3 p = geom::normalized(Vec3{0.3, 0.2, 0.9});
+    const uint32_t key = tri::Triangulation::territory_key(p, 0);
+    auto g = t.open_territories(ctx, {key, key + 1}, {4, 4, 4}, t.vertex_slots(), 0);
+    int32_t hint = -1;
+    for (int32_t f = 0; f < t.triangle_slots() && hint < 0; ++f)
+        if (!t.is_free(f) && t.owns(g[1], f)) hint = f;
+    int32_t v = -1;
+    // Territory 1 owns only the key of p: no triangle, so nothing to start from.
+    assert_true(hint < 0);
+    assert_true(t.insert_in(g[0], p, 0, 0.0, &v) == tri::Triangulation::TerritoryInsert::deferred);
+    t.close_territories(ctx, g);
+    auto one = t.open_territories(ctx, {}, {4}, t.vertex_slots(), 0);
+    const int32_t start = t.locate_in(one[0], p, 0);
+    assert_true(start >= 0);
+    assert_true(t.insert_in(one[0], p, start, 2.0, &v) == tri::Triangulation::TerritoryInsert::too_close);
+    const auto moved = t.close_territories(ctx, one);
+    assert_true(moved.new_slot.size() == 4 && moved.new_slot[0] < 0);
+    t.compact();
+    expect_valid(t);
+    assert_true(triangle_set(t) == before);
+}
+
 // Renumbering along the Hilbert curve keeps the triangulation (same
 // triangles by input id, every vertex where it was), puts hidden slots last,
 // sorts triangles by their smallest vertex, and brings the vertices of an
@@ -498,6 +622,8 @@ int main() {
         cmocka_unit_test(weights_hide_points),
         cmocka_unit_test(same_result_for_any_thread_count),
         cmocka_unit_test(insertion_order_does_not_change_the_triangles),
+        cmocka_unit_test(territories_insert_as_the_serial_path_would),
+        cmocka_unit_test(territory_insertion_refuses_without_changes),
         cmocka_unit_test(removal_with_links_on_one_great_circle),
         cmocka_unit_test(spatial_reordering_keeps_the_triangulation),
         cmocka_unit_test(snapshot_restores_exactly),

@@ -48,7 +48,10 @@ struct EdgeRatios {
 };
 
 struct Result {
-    double total_s = 0, boundary_s = 0, surface_s = 0, optimise_s = 0;
+    double total_s = 0, boundary_s = 0, surface_s = 0, tags_s = 0, optimise_s = 0;
+    // The surface passes' points, and how many of them territories placed
+    // in parallel (from the library's debug line "refine surface: ...").
+    long long surface_points = 0, by_territories = 0;
     EdgeRatios edges;
     int has_edges = 0;
     int64_t obtuse = 0, obtuse_on_gamma = 0;  // of the final mesh: all, with 2-3 vertices on Gamma
@@ -277,6 +280,12 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
     }
     Phases phases;
     um_context_set_progress(ctx, on_progress, &phases);
+    um_context_set_log(ctx, [](void *user, int32_t, const char *msg) {
+        auto *x = static_cast<Result *>(user);
+        long long points = 0, parallel = 0;
+        if (std::sscanf(msg, "refine surface: %lld points, %lld of them by territories", &points, &parallel) == 2)
+            x->surface_points += points, x->by_territories += parallel;
+    }, &r, UM_LOG_DEBUG);
     long base_kb = max_rss_kb();
     auto t0 = Clock::now();
     phases.start = phases.last = t0;
@@ -286,7 +295,8 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
     double refine_s = std::chrono::duration<double>(t1 - t0).count();
     if (!phases.stage.empty()) phases.seconds[phases.stage] += std::chrono::duration<double>(t1 - phases.last).count();
     r.boundary_s = phases.seconds["refine boundary"];
-    r.surface_s = refine_s - r.boundary_s;
+    r.tags_s = phases.seconds["refine tags"];
+    r.surface_s = refine_s - r.boundary_s - r.tags_s;
     if (s == UM_OK && optimise) {
         um_context_set_progress(ctx, nullptr, nullptr);
         auto t2 = Clock::now();
@@ -382,8 +392,8 @@ int main(int argc, char **argv) {
     std::printf("# each run in its own child; peak_MB = growth of its max RSS during refine + optimise\n"
                 "# (the quality report is read afterwards; the optimisation's own report of the\n"
                 "# refined mesh is part of it)\n");
-    std::printf("%-18s %3s %8s %8s %8s %8s %8s %8s %8s %7s  %-34s  %-34s  %-32s  %s\n", "case", "thr", "cells",
-                "restrict", "boundary", "surface", "optimise", "total_s", "peak_MB", "B/cell",
+    std::printf("%-18s %3s %8s %8s %8s %8s %6s %6s %8s %8s %8s %7s  %-34s  %-34s  %-32s  %s\n", "case", "thr",
+                "cells", "restrict", "boundary", "surface", "par%", "tags", "optimise", "total_s", "peak_MB", "B/cell",
                 "before: QTmin QPmin maxang obt% nwc", "after: QTmin QPmin maxang obt% nwc",
                 "refined l/h: min max <0.75% >1.35%", "obtuse on-Gamma%");
     int failures = 0;
@@ -405,16 +415,18 @@ int main(int argc, char **argv) {
             if (r.has_edges)
                 std::snprintf(edges, sizeof edges, "%.3f %.3f %6.2f %6.2f", r.edges.min, r.edges.max,
                               r.edges.share_below, r.edges.share_above);
-            std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %8.3f %8.3f %8.1f %7.0f  %-34s  %-34s  %-32s  "
-                        "%lld %.1f\n",
+            std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %6.1f %6.3f %8.3f %8.3f %8.1f %7.0f  %-34s  %-34s  "
+                        "%-32s  %lld %.1f\n",
                         c.c_str(), threads, (long long)r.cells, (long long)r.restricted, r.boundary_s,
-                        r.surface_s, r.optimise_s, r.total_s, r.peak_mb,
+                        r.surface_s, r.surface_points > 0 ? 100.0 * double(r.by_territories) / double(r.surface_points) : 0.0,
+                        r.tags_s, r.optimise_s, r.total_s, r.peak_mb,
                         r.peak_mb * 1048576.0 / double(r.cells), quality_text(r.before).c_str(),
                         quality_text(r.after).c_str(), edges, (long long)r.obtuse,
                         r.obtuse > 0 ? 100.0 * double(r.obtuse_on_gamma) / double(r.obtuse) : 0.0);
             std::fflush(stdout);
         }
-    std::printf("# boundary = boundary refinement; surface = surface refinement and the tags;\n"
+    std::printf("# boundary = boundary refinement; surface = surface refinement; par%% = share of the\n"
+                "# surface points placed by territories in parallel; tags = Tri|Gamma, sides, numbering;\n"
                 "# refined l/h = edge length over h at its midpoint, of the refined mesh (--no-optimise runs)\n"
                 "# obtuse on-Gamma% = obtuse triangles of the final mesh, and the share of them with 2 or 3\n"
                 "# vertices on Gamma\n"
