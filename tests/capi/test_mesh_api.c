@@ -96,17 +96,22 @@ static void same_mesh_for_any_thread_count(void **state) {
     um_spacing *coarse = NULL;
     /* EC60to30 scaled up: clamp to keep the test quick */
     assert_int_equal(um_spacing_create_constant(ctx, 400.0, &coarse), UM_OK);
+    /* At 60 km the surface pass goes by territories (the first two cases are
+     * refined serially, after the seeds). */
+    um_spacing *fine = NULL;
+    assert_int_equal(um_spacing_create_constant(ctx, 60.0, &fine), UM_OK);
     /* Without and with features (the boundary passes and their parallel
      * searches for restricted edges). */
     um_features *f = NULL;
     assert_int_equal(um_features_create(ctx, &f), UM_OK);
     assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_global_l.geojson", NULL, 0), UM_OK);
-    for (int with_features = 0; with_features <= 1; ++with_features) {
+    for (int with_features = 0; with_features <= 2; ++with_features) {
         mesh_copy ref = {0};
         for (int threads = 1; threads <= 3; ++threads) {
             assert_int_equal(um_context_set_threads(ctx, threads), UM_OK);
             um_mesh *m = NULL;
-            assert_int_equal(um_mesh_refine(ctx, coarse, with_features ? f : NULL, NULL, &m), UM_OK);
+            assert_int_equal(um_mesh_refine(ctx, with_features == 2 ? fine : coarse, with_features ? f : NULL,
+                                            NULL, &m), UM_OK);
             mesh_copy c = copy_out(m);
             if (threads == 1) {
                 ref = c;
@@ -115,7 +120,10 @@ static void same_mesh_for_any_thread_count(void **state) {
                 assert_int_equal(c.nr, ref.nr);
                 assert_memory_equal(c.lon, ref.lon, c.nv * sizeof(double));
                 assert_memory_equal(c.tri, ref.tri, 3 * c.nt * sizeof(int32_t));
+                assert_memory_equal(c.lat, ref.lat, c.nv * sizeof(double));
                 assert_memory_equal(c.redges, ref.redges, 2 * c.nr * sizeof(int32_t));
+                assert_memory_equal(c.vparts, ref.vparts, c.nv * sizeof(int32_t));
+                assert_memory_equal(c.tsides, ref.tsides, c.nt * sizeof(int32_t));
                 free_copy(&c);
             }
             um_mesh_destroy(m);
@@ -125,6 +133,7 @@ static void same_mesh_for_any_thread_count(void **state) {
     um_features_destroy(f);
     um_spacing_destroy(h);
     um_spacing_destroy(coarse);
+    um_spacing_destroy(fine);
 }
 
 /* The shipped GSHHG low-resolution coastlines at 480 km: restricted edges
