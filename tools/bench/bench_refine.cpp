@@ -310,12 +310,11 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
         std::snprintf(r.error, sizeof r.error, "%s", um_context_last_error(ctx));
     } else {
         um_mesh_counts(m, &r.cells, &r.triangles, &r.restricted, &r.filtered);
-        // After the peak was read (the copies would be part of it); the
-        // edges of the refined mesh only without the optimisation.
+        // After the peak was read (the copies would be part of it).
         MeshCopy copy;
         if (copy_mesh(m, &copy)) {
             count_obtuse(copy, &r.obtuse, &r.obtuse_on_gamma);
-            if (!optimise) r.has_edges = edge_ratios(copy, h, &r.edges);
+            r.has_edges = edge_ratios(copy, h, &r.edges);
         }
         const std::string json = quality_json(m);
         r.after = quality_in(json, 0);
@@ -395,7 +394,7 @@ int main(int argc, char **argv) {
     std::printf("%-18s %3s %8s %8s %8s %8s %6s %6s %8s %8s %8s %7s  %-34s  %-34s  %-32s  %s\n", "case", "thr",
                 "cells", "restrict", "boundary", "surface", "par%", "tags", "optimise", "total_s", "peak_MB", "B/cell",
                 "before: QTmin QPmin maxang obt% nwc", "after: QTmin QPmin maxang obt% nwc",
-                "refined l/h: min max <0.75% >1.35%", "obtuse on-Gamma%");
+                "final l/h: min max <0.75% >1.35%", "obtuse on-Gamma%");
     int failures = 0;
     auto quality_text = [](const Quality &q) {
         char buf[64];
@@ -427,7 +426,7 @@ int main(int argc, char **argv) {
         }
     std::printf("# boundary = boundary refinement; surface = surface refinement; par%% = share of the\n"
                 "# surface points placed by territories in parallel; tags = Tri|Gamma, sides, numbering;\n"
-                "# refined l/h = edge length over h at its midpoint, of the refined mesh (--no-optimise runs)\n"
+                "# final l/h = edge length over h at its midpoint, of the final mesh (refined, or optimised)\n"
                 "# obtuse on-Gamma% = obtuse triangles of the final mesh, and the share of them with 2 or 3\n"
                 "# vertices on Gamma\n"
                 "# QT = area-length ratio, QP = primal-dual, obt%% = %% of triangles with an angle > 90,\n"
