@@ -199,6 +199,7 @@ public:
         int64_t steps = 0;
         Candidate c;
         while (pop(&c)) {
+            if (territory_ && territory_->vertex_budget_left() == 0) break;  // the rest is the serial pass's
             if (!still_there(tri_, c)) continue;
             state_[c.t] &= ~kOnFront;  // its entry is taken: it may join again
             if (territory_ && !tri_.owns(*territory_, c.t)) continue;  // the serial pass's
@@ -556,7 +557,13 @@ TerritoryPlan plan_territories(Context &ctx, const tri::Triangulation &tri, cons
             const Vec3 a = tri.direction(tri.vertex(t, 0)), p = tri.direction(tri.vertex(t, 1)),
                        c = tri.direction(tri.vertex(t, 2));
             const Vec3 centroid = geom::normalized(a + p + c);
-            const double ht = h(centroid);
+            // A spacing that fails here counts no work: the refinement
+            // reports it where it meets it, in a fixed order.
+            double ht = 0;
+            try {
+                ht = h(centroid);
+            } catch (...) {
+            }
             const double area = std::fabs(geom::signed_triangle_area(a, p, c));
             // A cell of spacing h covers (sqrt(3) / 2) h^2.
             const double cells = ht > 0 && std::isfinite(ht) ? area / (0.8660254 * ht * ht) : 0.0;
@@ -603,21 +610,21 @@ using GivenUp = std::set<std::array<int32_t, 3>>;
 // then closes them. `state` is every live triangle's (the unowned ones are
 // measured when this returns); `given_up` gains the territories' given-up
 // candidates.
-void refine_in_territories(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
-                           const SurfaceOptions &options, std::vector<uint8_t> &state,
-                           GivenUp &given_up, int layout, SurfaceStats &stats) {
-    const TerritoryPlan plan = plan_territories(ctx, tri, h, state, layout);
-    const std::vector<int32_t> all = live_triangles(tri);
-    std::vector<tri::Triangulation::Territory> territories =
-        tri.open_territories(ctx, plan.cuts, plan.budget, stats.next_id, layout);
+// The territories at work: each refines what it owns (unowned: the
+// triangles none owns). Throws the first territory's error, if any.
+void work_in_territories(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
+                         const SurfaceOptions &options, std::vector<uint8_t> &state, const GivenUp &given_up,
+                         std::vector<tri::Triangulation::Territory> &territories,
+                         std::vector<std::unique_ptr<SurfaceRefiner>> &refiners, std::vector<SurfaceStats> &part,
+                         std::vector<int32_t> &unowned) {
     const size_t n = territories.size();
     if (options.on_gamma) options.on_gamma->resize(static_cast<size_t>(tri.vertex_slots()), -1);
     // Each triangle to the territory that owns it, if any; the others do
     // not count as good (a front) while the territories work.
     state.resize(static_cast<size_t>(tri.triangle_slots()), kGood);
     std::vector<std::vector<int32_t>> owned(n);
-    std::vector<int32_t> unowned;
-    for (int32_t t : all) {
+    for (int32_t t = 0; t < tri.triangle_slots(); ++t) {
+        if (tri.is_free(t)) continue;
         size_t g = 0;
         while (g < n && !tri.owns(territories[g], t)) ++g;
         if (g < n) {
@@ -627,9 +634,9 @@ void refine_in_territories(Context &ctx, tri::Triangulation &tri, const SpacingR
             state[t] = kBad;
         }
     }
-    std::vector<SurfaceStats> part(n);
+    part.resize(n);
+    refiners.resize(n);
     std::vector<std::exception_ptr> error(n);
-    std::vector<std::unique_ptr<SurfaceRefiner>> refiners(n);
     const std::vector<int32_t> none;
     ctx.parallel_for(static_cast<int64_t>(n), 1, [&](int64_t b, int64_t e) {
         for (int64_t g = b; g < e; ++g) {
@@ -643,17 +650,44 @@ void refine_in_territories(Context &ctx, tri::Triangulation &tri, const SpacingR
             }
         }
     });
-    const tri::Triangulation::TerritoryClose moved = tri.close_territories(ctx, territories);
     for (const std::exception_ptr &x : error)  // the first territory's (not the first thread's)
         if (x) std::rethrow_exception(x);
-    auto new_slot = [&](int32_t v) { return v >= moved.first_slot ? moved.new_slot[v - moved.first_slot] : v; };
-    if (options.on_gamma) {
-        std::vector<int32_t> &on = *options.on_gamma;
-        for (size_t i = 0; i < moved.new_slot.size(); ++i)
-            if (moved.new_slot[i] != tri::Triangulation::kNone) on[moved.new_slot[i]] = on[moved.first_slot + i];
-        on.resize(static_cast<size_t>(tri.vertex_slots()));
+}
+
+// Gamma arcs of the vertices the territories moved down.
+void move_on_gamma(const SurfaceOptions &options, const tri::Triangulation &tri,
+                   const tri::Triangulation::TerritoryClose &moved) {
+    if (!options.on_gamma) return;
+    std::vector<int32_t> &on = *options.on_gamma;
+    for (size_t i = 0; i < moved.new_slot.size(); ++i)
+        if (moved.new_slot[i] != tri::Triangulation::kNone) on[moved.new_slot[i]] = on[moved.first_slot + i];
+    on.resize(static_cast<size_t>(tri.vertex_slots()));
+}
+
+// One layout's territories (steps 2-4): refines in parallel what they own,
+// then closes them. `state` is every live triangle's (the unowned ones are
+// measured when this returns); `given_up` gains the territories' given-up
+// candidates.
+void refine_in_territories(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
+                           const SurfaceOptions &options, std::vector<uint8_t> &state,
+                           GivenUp &given_up, int layout, SurfaceStats &stats) {
+    ctx.progress("refine surface", 0.0);  // (a cancel point between layouts)
+    const TerritoryPlan plan = plan_territories(ctx, tri, h, state, layout);
+    std::vector<tri::Triangulation::Territory> territories =
+        tri.open_territories(ctx, plan.cuts, plan.budget, stats.next_id, layout);
+    std::vector<std::unique_ptr<SurfaceRefiner>> refiners;
+    std::vector<SurfaceStats> part;
+    std::vector<int32_t> unowned;
+    try {
+        work_in_territories(ctx, tri, h, options, state, given_up, territories, refiners, part, unowned);
+    } catch (...) {
+        move_on_gamma(options, tri, tri.close_territories(ctx, territories));  // a valid mesh again
+        throw;
     }
-    for (size_t g = 0; g < n; ++g) {
+    const tri::Triangulation::TerritoryClose moved = tri.close_territories(ctx, territories);
+    move_on_gamma(options, tri, moved);
+    auto new_slot = [&](int32_t v) { return v >= moved.first_slot ? moved.new_slot[v - moved.first_slot] : v; };
+    for (size_t g = 0; g < part.size(); ++g) {
         stats.by_territories += part[g].inserted;
         for (int32_t &v : part[g].near_gamma) v = new_slot(v);
         part[g].next_id = moved.next_id;

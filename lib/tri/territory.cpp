@@ -57,23 +57,8 @@ std::vector<Triangulation::Territory> Triangulation::open_territories(
     if (total + first_slot > INT32_MAX / 3 || total + first_id > INT32_MAX)
         fail(UM_ERR_LIMIT, "refinement by territories: ", total, " new vertex slots");
     const size_t slots = static_cast<size_t>(first_slot + total);
-    // Keys of the vertices there are; the reserved slots get theirs on use
-    // (until then, the virtual vertices' key: owned by none).
-    key_.assign(slots, ~uint32_t(0));
-    ctx.parallel_for(first_slot, 8192, [&](int64_t b, int64_t e) {
-        for (int64_t v = b; v < e; ++v)
-            if (vertex_tri_[v] >= 0) key_[v] = territory_key(direction(static_cast<int32_t>(v)), layout);
-    });
-    // Exactly (a vector's doubling would hold twice the room for a moment,
-    // and keep it).
-    auto grow = [](auto &values, size_t size, auto value) {
-        if (values.capacity() < size) values.reserve(size);
-        values.resize(size, value);
-    };
-    grow(q_, slots, Vec3{});
-    grow(id_, slots, kNone);
-    grow(vertex_tri_, slots, kRemoved);
 
+    // Everything that allocates first, so that a failure changes nothing.
     // Triangle slots: two per vertex slot, the free ones first (in slot
     // order, a run to each territory), then fresh ones at the end.
     std::sort(free_.begin(), free_.end());
@@ -90,10 +75,28 @@ std::vector<Triangulation::Territory> Triangulation::open_territories(
         free_used += take;
         fresh_needed += static_cast<int64_t>(want - take);
     }
+    // Keys of the vertices there are; the reserved slots get theirs on use
+    // (until then, the virtual vertices' key: owned by none).
+    std::vector<uint32_t> keys(slots, ~uint32_t(0));
+    // Room exactly (a vector's doubling would hold twice the room for a
+    // moment, and keep it).
+    auto room = [](auto &values, size_t size) {
+        if (values.capacity() < size) values.reserve(size);
+    };
+    const size_t triangles = tris_.size() + static_cast<size_t>(fresh_needed);
+    room(q_, slots), room(id_, slots), room(vertex_tri_, slots), room(tris_, triangles), room(mark_, triangles);
+
+    // Then the changes, none of which allocates.
+    ctx.parallel_for(first_slot, 8192, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v)
+            if (vertex_tri_[v] >= 0) keys[v] = territory_key(direction(static_cast<int32_t>(v)), layout);
+    });
+    key_.swap(keys);
+    q_.resize(slots, Vec3{}), id_.resize(slots, kNone), vertex_tri_.resize(slots, kRemoved);
     free_.erase(free_.begin(), free_.begin() + static_cast<std::ptrdiff_t>(free_used));
     const int32_t first_fresh = triangle_slots();
-    grow(tris_, tris_.size() + static_cast<size_t>(fresh_needed), Tri{{kNone, kNone, kNone}, {kNone, kNone, kNone}});
-    grow(mark_, tris_.size(), uint8_t(0));
+    tris_.resize(triangles, Tri{{kNone, kNone, kNone}, {kNone, kNone, kNone}});
+    mark_.resize(triangles, 0);
 
     int32_t slot = first_slot, fresh = first_fresh;
     for (size_t i = 0; i < territories.size(); ++i) {
@@ -102,6 +105,7 @@ std::vector<Triangulation::Territory> Triangulation::open_territories(
         g.layout_ = layout;
         const int32_t budget = std::max(vertex_budget[i], 0);
         g.first_vertex_ = g.next_vertex_ = slot;
+        g.first_id_ = first_id + (slot - first_slot);
         g.vertex_end_ = slot + budget;
         for (int32_t v = slot; v < slot + budget; ++v) id_[v] = first_id + (v - first_slot);
         slot += budget;
@@ -121,7 +125,7 @@ bool Triangulation::owns_point(const Territory &g, const Vec3 &p) const {
 }
 
 int32_t Triangulation::locate_in(const Territory &g, const Vec3 &p, int32_t hint) const {
-    if (hint < 0 || hint >= triangle_slots() || !owns(g.keys_, hint)) return kNone;
+    if (hint < 0 || hint >= triangle_slots() || is_free(hint) || !owns(g.keys_, hint)) return kNone;
     int zero_edges[3], n_zero = 0;
     int32_t last_owned = hint;
     constexpr int64_t kMaxSteps = 4096;
@@ -134,7 +138,8 @@ Triangulation::TerritoryInsert Triangulation::insert_in(Territory &g, const Vec3
     if (g.next_vertex_ == g.vertex_end_) return TerritoryInsert::deferred;  // its budget is spent
     const uint32_t key = territory_key(p, g.layout_);
     if (key < g.keys_.lo || key >= g.keys_.hi) return TerritoryInsert::deferred;
-    if (hint < 0 || hint >= triangle_slots() || !owns(g.keys_, hint)) return TerritoryInsert::deferred;
+    if (hint < 0 || hint >= triangle_slots() || is_free(hint) || !owns(g.keys_, hint))
+        return TerritoryInsert::deferred;
     int zero_edges[3], n_zero = 0;
     int32_t last_owned = hint;
     constexpr int64_t kMaxSteps = 4096;
@@ -177,11 +182,18 @@ Triangulation::TerritoryInsert Triangulation::insert_in(Territory &g, const Vec3
 Triangulation::TerritoryClose Triangulation::close_territories(Context &ctx,
                                                                std::vector<Territory> &territories) {
     TerritoryClose out;
+    out.first_slot = vertex_slots();
+    out.next_id = 0;
     if (territories.empty()) return out;
     out.first_slot = territories.front().first_vertex_;
     const int32_t end = territories.back().vertex_end_;
-    const int32_t first_id = id_[out.first_slot];
+    const int32_t first_id = territories.front().first_id_;
+    // The allocations first: a failure leaves the territories open.
     out.new_slot.assign(static_cast<size_t>(end - out.first_slot), kNone);
+    size_t handed_back = 0;
+    for (const Territory &g : territories)
+        handed_back += g.reuse_.size() + static_cast<size_t>(g.pool_.fresh_end - g.pool_.fresh);
+    free_.reserve(free_.size() + handed_back);
     int32_t to = out.first_slot;
     for (Territory &g : territories)
         for (int32_t v = g.first_vertex_; v < g.next_vertex_; ++v, ++to) {

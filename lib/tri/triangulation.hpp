@@ -241,7 +241,9 @@ public:
         int32_t next_id = 0;               // the first id not given out
     };
     // Closes them all: call once their work is done, with no other update
-    // in between. Unused triangle slots become free ones.
+    // in between. Unused triangle slots become free ones. If it throws (out
+    // of memory), nothing has changed: the territories are still open.
+    // open_territories too changes nothing when it throws.
     TerritoryClose close_territories(Context &ctx, std::vector<Territory> &territories);
 
 private:
@@ -356,6 +358,7 @@ private:
     KeyRange keys_{0, 0};
     int layout_ = 0;
     int32_t first_vertex_ = 0, next_vertex_ = 0, vertex_end_ = 0;
+    int32_t first_id_ = 0;  // the id of its first vertex slot
     std::vector<int32_t> reuse_;  // free triangle slots: given at opening, then emptied by it
     std::vector<int32_t> given_;  // the free ones given at opening
     SlotPool pool_;

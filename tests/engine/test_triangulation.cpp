@@ -379,6 +379,20 @@ void territory_insertion_refuses_without_changes(void **) {
     t.compact();
     expect_valid(t);
     assert_true(triangle_set(t) == before);
+    // A budget of one vertex: the second insertion is deferred.
+    const int32_t id = t.vertex_slots();
+    auto small = t.open_territories(ctx, {}, {1}, id, 0);
+    const Vec3 q = geom::normalized(Vec3{0.31, 0.2, 0.9});
+    assert_true(t.insert_in(small[0], p, t.locate_in(small[0], p, 0), 0.0, &v) ==
+                tri::Triangulation::TerritoryInsert::inserted);
+    int32_t w = -1;
+    assert_true(t.insert_in(small[0], q, t.locate_in(small[0], q, 0), 0.0, &w) ==
+                tri::Triangulation::TerritoryInsert::deferred);
+    const auto closed = t.close_territories(ctx, small);
+    assert_int_equal(closed.next_id, id + 1);
+    assert_int_equal(t.id(closed.new_slot[0]), id);
+    t.compact();
+    expect_complete(t, 4001);
 }
 
 // Renumbering along the Hilbert curve keeps the triangulation (same
