@@ -57,46 +57,59 @@ std::vector<Triangulation::Territory> Triangulation::open_territories(
     if (total + first_slot > INT32_MAX / 3 || total + first_id > INT32_MAX)
         fail(UM_ERR_LIMIT, "refinement by territories: ", total, " new vertex slots");
     const size_t slots = static_cast<size_t>(first_slot + total);
-
-    // Everything that allocates first, so that a failure changes nothing.
-    // Triangle slots: two per vertex slot, the free ones first (in slot
-    // order, a run to each territory), then fresh ones at the end.
-    std::sort(free_.begin(), free_.end());
-    size_t free_used = 0;
-    std::vector<Territory> territories(vertex_budget.size());
-    int64_t fresh_needed = 0;
-    for (size_t i = 0; i < territories.size(); ++i) {
-        const size_t want = 2 * static_cast<size_t>(std::max(vertex_budget[i], 0));
-        const size_t take = std::min(want, free_.size() - free_used);
-        // Reversed: the pool takes them from the back, so in slot order.
-        territories[i].reuse_.assign(free_.rbegin() + static_cast<std::ptrdiff_t>(free_.size() - free_used - take),
-                                     free_.rbegin() + static_cast<std::ptrdiff_t>(free_.size() - free_used));
-        territories[i].given_ = territories[i].reuse_;
-        free_used += take;
-        fresh_needed += static_cast<int64_t>(want - take);
-    }
-    // Keys of the vertices there are; the reserved slots get theirs on use
-    // (until then, the virtual vertices' key: owned by none).
-    std::vector<uint32_t> keys(slots, ~uint32_t(0));
-    // Room exactly (a vector's doubling would hold twice the room for a
-    // moment, and keep it).
-    auto room = [](auto &values, size_t size) {
-        if (values.capacity() < size) values.reserve(size);
+    const size_t triangles_before = tris_.size();
+    // What a failure below (out of memory) puts back: the sizes (shrinking
+    // does not allocate) and the keys; free_ changes only at the end. (The
+    // allocations stay in this order: another one raised the pipeline's
+    // peak by 7 bytes per cell, the allocator keeping freed buffers.)
+    auto put_back = [&] {
+        q_.resize(static_cast<size_t>(first_slot)), id_.resize(static_cast<size_t>(first_slot));
+        vertex_tri_.resize(static_cast<size_t>(first_slot));
+        tris_.resize(triangles_before), mark_.resize(triangles_before);
+        std::vector<uint32_t>().swap(key_);
     };
-    const size_t triangles = tris_.size() + static_cast<size_t>(fresh_needed);
-    room(q_, slots), room(id_, slots), room(vertex_tri_, slots), room(tris_, triangles), room(mark_, triangles);
-
-    // Then the changes, none of which allocates.
-    ctx.parallel_for(first_slot, 8192, [&](int64_t b, int64_t e) {
-        for (int64_t v = b; v < e; ++v)
-            if (vertex_tri_[v] >= 0) keys[v] = territory_key(direction(static_cast<int32_t>(v)), layout);
-    });
-    key_.swap(keys);
-    q_.resize(slots, Vec3{}), id_.resize(slots, kNone), vertex_tri_.resize(slots, kRemoved);
+    // Exactly (a vector's doubling would hold twice the room for a moment,
+    // and keep it).
+    auto grow = [](auto &values, size_t size, auto value) {
+        if (values.capacity() < size) values.reserve(size);
+        values.resize(size, value);
+    };
+    std::vector<Territory> territories(vertex_budget.size());
+    size_t free_used = 0;
+    int32_t first_fresh = 0;
+    try {
+        // Keys of the vertices there are; the reserved slots get theirs on
+        // use (until then, the virtual vertices' key: owned by none).
+        key_.assign(slots, ~uint32_t(0));
+        ctx.parallel_for(first_slot, 8192, [&](int64_t b, int64_t e) {
+            for (int64_t v = b; v < e; ++v)
+                if (vertex_tri_[v] >= 0) key_[v] = territory_key(direction(static_cast<int32_t>(v)), layout);
+        });
+        grow(q_, slots, Vec3{});
+        grow(id_, slots, kNone);
+        grow(vertex_tri_, slots, kRemoved);
+        // Triangle slots: two per vertex slot, the free ones first (in slot
+        // order, a run to each territory), then fresh ones at the end.
+        std::sort(free_.begin(), free_.end());
+        int64_t fresh_needed = 0;
+        for (size_t i = 0; i < territories.size(); ++i) {
+            const size_t want = 2 * static_cast<size_t>(std::max(vertex_budget[i], 0));
+            const size_t take = std::min(want, free_.size() - free_used);
+            // Reversed: the pool takes them from the back, so in slot order.
+            territories[i].reuse_.assign(free_.rbegin() + static_cast<std::ptrdiff_t>(free_.size() - free_used - take),
+                                         free_.rbegin() + static_cast<std::ptrdiff_t>(free_.size() - free_used));
+            territories[i].given_ = territories[i].reuse_;
+            free_used += take;
+            fresh_needed += static_cast<int64_t>(want - take);
+        }
+        first_fresh = triangle_slots();
+        grow(tris_, tris_.size() + static_cast<size_t>(fresh_needed), Tri{{kNone, kNone, kNone}, {kNone, kNone, kNone}});
+        grow(mark_, tris_.size(), uint8_t(0));
+    } catch (...) {
+        put_back();
+        throw;
+    }
     free_.erase(free_.begin(), free_.begin() + static_cast<std::ptrdiff_t>(free_used));
-    const int32_t first_fresh = triangle_slots();
-    tris_.resize(triangles, Tri{{kNone, kNone, kNone}, {kNone, kNone, kNone}});
-    mark_.resize(triangles, 0);
 
     int32_t slot = first_slot, fresh = first_fresh;
     for (size_t i = 0; i < territories.size(); ++i) {
