@@ -142,6 +142,8 @@ private:
     bool update_weight(const StarGraph &g, int32_t v);
     bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
     int64_t polish_poor_stars(const StarGraph &g);
+    // qp_floor: no triangle's Q^P may fall below it.
+    int64_t mend_off_centre_triangles(double qp_floor);
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
     // The ODT target of a move of v (at `here`, link `ring` from the graph).
@@ -203,6 +205,7 @@ private:
     int32_t clock_ = 1;
     int32_t next_id_ = 0;
     double poor_star_ = -kInfinity;  // stars scoring below get the compass search
+    int64_t off_centre_ = 0;         // triangles mend_off_centre_triangles met
     OptimiseStats stats_;
 };
 
@@ -462,6 +465,120 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
     }
     weight_failed_at_[v] = clock_;
     return false;
+}
+
+// After the schedule, the triangles still not holding their orthocentre
+// (a few, beside Gamma, where a weight that mends one unmends a neighbour:
+// one vertex at a time cannot get out) get a joint search over the weights
+// of their three vertices: every combination of kMendSteps steps either
+// way of kMendStep times each vertex's mean squared spoke. The combination
+// with the fewest such triangles around the three (then the best worst
+// staggering score there) is taken when it has fewer than now, lowers no
+// Q^P there below the mesh's least, keeps the three stars valid and every
+// edge around them locally regular (so no flip follows that could undo
+// it). Serial, in slot order: deterministic.
+constexpr int kMendSteps = 4;
+constexpr double kMendStep = 0.1;
+
+int64_t Optimiser::mend_off_centre_triangles(double qp_floor) {
+    auto off_centre = [&](int32_t t) {
+        return staggering_score(generator(tri_.vertex(t, 0)), generator(tri_.vertex(t, 1)),
+                                generator(tri_.vertex(t, 2))) < 0;
+    };
+    // Found in parallel (few), mended in slot order.
+    const std::vector<int32_t> found =
+        ctx_.collect_in_order<int32_t>(tri_.triangle_slots(), 8192, [&](int64_t t, std::vector<int32_t> &out) {
+            if (!tri_.is_free(static_cast<int32_t>(t)) && off_centre(static_cast<int32_t>(t)))
+                out.push_back(static_cast<int32_t>(t));
+        });
+    off_centre_ = static_cast<int64_t>(found.size());
+    int64_t mended = 0;
+    for (int32_t t : found) {
+        if (!off_centre(t)) continue;  // mended with an earlier one
+        const int32_t v[3] = {tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)};
+        // The triangles around the three, each once, and the stars' links.
+        std::vector<int32_t> around;
+        double spoke2[3] = {0, 0, 0};
+        for (int i = 0; i < 3; ++i) {
+            int spokes = 0;
+            tri_.for_each_in_star(v[i], [&](int32_t u) {
+                around.push_back(u);
+                const Vec3 d = tri_.direction(v[i]) - tri_.direction(tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3));
+                spoke2[i] += geom::dot(d, d), ++spokes;
+            });
+            spoke2[i] /= spokes;
+        }
+        std::sort(around.begin(), around.end());
+        around.erase(std::unique(around.begin(), around.end()), around.end());
+        Generator trial[3];
+        auto at = [&](int32_t u) {
+            for (int i = 0; i < 3; ++i)
+                if (u == v[i]) return trial[i];
+            return generator(u);
+        };
+        // (off-centre triangles around, worst staggering score there); more
+        // than any when a Q^P there would fall below the mesh's least.
+        auto judge = [&] {
+            int out = 0;
+            double worst = kInfinity;
+            for (int32_t u : around) {
+                double qp = 0;
+                const double q =
+                    staggering_score(at(tri_.vertex(u, 0)), at(tri_.vertex(u, 1)), at(tri_.vertex(u, 2)), &qp);
+                if (qp < qp_floor) return std::make_pair(std::numeric_limits<int>::max(), -kInfinity);
+                out += q < 0, worst = std::min(worst, q);
+            }
+            return std::make_pair(out, worst);
+        };
+        auto stars_valid = [&] {
+            for (int i = 0; i < 3; ++i) {
+                Ring ring;
+                bool fits = true;
+                tri_.for_each_in_star(v[i], [&](int32_t u) {
+                    if (ring.m == Ring::kMax) return void(fits = false);
+                    const int32_t w = tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3);
+                    ring.g[ring.m] = at(w), ring.q[ring.m] = at(w).lifted(), ++ring.m;
+                });
+                if (!fits || !star_is_valid(ring, trial[i])) return false;
+            }
+            return true;
+        };
+        auto regular_with_trial = [&] {  // stored for the exact tests, then put back
+            const Vec3 kept[3] = {tri_.lifted(v[0]), tri_.lifted(v[1]), tri_.lifted(v[2])};
+            for (int i = 0; i < 3; ++i) set_generator(v[i], trial[i]);
+            bool regular = true;
+            for (size_t j = 0; j < around.size() && regular; ++j)
+                for (int k = 0; k < 3 && regular; ++k) regular = tri_.is_locally_regular(around[j], k);
+            for (int i = 0; i < 3; ++i) tri_.set_lifted(v[i], kept[i]);
+            return regular;
+        };
+        double weight[3];
+        for (int i = 0; i < 3; ++i) trial[i] = generator(v[i]), weight[i] = 2.0 * (1.0 - 1.0 / trial[i].s);
+        const auto now = judge();
+        auto best = now;
+        Generator chosen[3];
+        for (int a = -kMendSteps; a <= kMendSteps; ++a)
+            for (int b = -kMendSteps; b <= kMendSteps; ++b)
+                for (int c = -kMendSteps; c <= kMendSteps; ++c) {
+                    const int step[3] = {a, b, c};
+                    bool finite = true;
+                    for (int i = 0; i < 3; ++i) {
+                        trial[i] = generator(v[i]);
+                        trial[i].s = tri::lifted_scale(weight[i] + kMendStep * step[i] * spoke2[i]);
+                        finite &= trial[i].s > 0 && std::isfinite(trial[i].s);
+                    }
+                    if (!finite) continue;
+                    const auto q = judge();
+                    const bool better = q.first < best.first || (q.first == best.first && q.second > best.second + gain_);
+                    if (!better || q.first >= now.first || !stars_valid() || !regular_with_trial()) continue;
+                    best = q;
+                    for (int i = 0; i < 3; ++i) chosen[i] = trial[i];
+                }
+        if (best.first >= now.first) continue;
+        for (int i = 0; i < 3; ++i) set_generator(v[i], chosen[i]), changed_at_[v[i]] = clock_;
+        ++mended;
+    }
+    return mended;
 }
 
 // ---------------------------------------------------------------- topology
@@ -898,6 +1015,15 @@ OptimiseStats Optimiser::run() {
         } else if (quiet && !shape_phase) {
             break;
         }
+    }
+    if (o_.weights && o_.outer_iterations > 0) {
+        auto t0 = Clock::now();
+        const int64_t mended = mend_off_centre_triangles(last.qp_min);
+        stats_.weight_updates += mended;
+        stats_.seconds_weights += seconds_since(t0);
+        // tests/capi/test_optimise_api.c reads this line.
+        ctx_.log(UM_LOG_INFO, concat("optimise: joint weights mended ", mended, " of ", off_centre_,
+                                     " triangles not holding their orthocentre; Q^P floor ", last.qp_min));
     }
     ctx_.progress("optimise", 1.0);
     return stats_;

@@ -109,6 +109,42 @@ static void optimise_improves_uniform(void **state) {
     um_mesh_destroy(m);
 }
 
+/* The joint weight search after the schedule (optimise.cpp,
+ * mend_off_centre_triangles), read from its log line: on the coastline at
+ * 120 km it mends some of the triangles the schedule left off-centre, leaves
+ * no more than it met less those it mended, and keeps every Q^P at or above
+ * the mesh's least before it. */
+typedef struct {
+    long long mended, met;
+    double floor;
+} mend_log;
+
+static void read_mend_line(void *user, int32_t level, const char *msg) {
+    (void)level;
+    mend_log *x = user;
+    sscanf(msg, "optimise: joint weights mended %lld of %lld triangles not holding their orthocentre; Q^P floor %lf",
+           &x->mended, &x->met, &x->floor);
+}
+
+static void joint_weights_mend_off_centre_triangles(void **state) {
+    um_context *ctx = *state;
+    um_mesh *m = refine(ctx, 120.0, 1);
+    mend_log x = {-1, -1, 0};
+    assert_int_equal(um_context_set_log(ctx, read_mend_line, &x, UM_LOG_INFO), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
+    um_context_set_log(ctx, NULL, NULL, UM_LOG_INFO);
+    int64_t obtuse = 0, off_centre = 0;
+    double qp = 0;
+    assert_int_equal(um_mesh_quality_counts(m, &obtuse, &off_centre), UM_OK);
+    um_mesh_quality_summary(m, "primal_dual", &qp, NULL, NULL, NULL);
+    print_message("joint weights: mended %lld of %lld; %lld left; Q^P min %.4f (floor %.4f)\n", x.mended, x.met,
+                  (long long)off_centre, qp, x.floor);
+    assert_true(x.mended >= 1);
+    assert_true(off_centre <= x.met - x.mended);
+    assert_true(qp >= x.floor - 1e-12);
+    um_mesh_destroy(m);
+}
+
 /* The promise: bit-identical for 1, 2, 3 and 8 threads. */
 static void bit_identical_for_any_thread_count(void **state) {
     um_context *ctx = *state;
@@ -297,6 +333,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(optimise_improves_uniform, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(bit_identical_for_any_thread_count, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(joint_weights_mend_off_centre_triangles, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(vertices_on_features_stay_on_them, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(cancelling_leaves_the_mesh_unchanged, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(options_and_bad_arguments, setup_context, teardown_context),
