@@ -144,6 +144,7 @@ private:
     int64_t polish_poor_stars(const StarGraph &g);
     // qp_floor: no triangle's Q^P may fall below it.
     int64_t mend_off_centre_triangles(double qp_floor);
+    bool mend_by_weights(const int32_t *v, int n, int steps, double qp_floor);
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
     // The ODT target of a move of v (at `here`, link `ring` from the graph).
@@ -478,6 +479,7 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
 // edge around them locally regular (so no flip follows that could undo
 // it). Serial, in slot order: deterministic.
 constexpr int kMendSteps = 4;
+constexpr int kMendPairSteps = 3;  // with a neighbour's far vertex: 7^4 combinations
 constexpr double kMendStep = 0.1;
 
 int64_t Optimiser::mend_off_centre_triangles(double qp_floor) {
@@ -495,90 +497,109 @@ int64_t Optimiser::mend_off_centre_triangles(double qp_floor) {
     int64_t mended = 0;
     for (int32_t t : found) {
         if (!off_centre(t)) continue;  // mended with an earlier one
-        const int32_t v[3] = {tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)};
-        // The triangles around the three, each once, and the stars' links.
-        std::vector<int32_t> around;
-        double spoke2[3] = {0, 0, 0};
-        for (int i = 0; i < 3; ++i) {
-            int spokes = 0;
-            tri_.for_each_in_star(v[i], [&](int32_t u) {
-                around.push_back(u);
-                const Vec3 d = tri_.direction(v[i]) - tri_.direction(tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3));
-                spoke2[i] += geom::dot(d, d), ++spokes;
-            });
-            spoke2[i] /= spokes;
+        int32_t v[4] = {tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2), -1};
+        bool done = mend_by_weights(v, 3, kMendSteps, qp_floor);
+        // Else with the far vertex of a neighbour too: a pair that a weight
+        // common to both cannot mend.
+        for (int k = 0; k < 3 && !done; ++k) {
+            const int32_t u = tri_.neighbour(t, k);
+            v[3] = tri_.vertex(u, tri_.mirror_edge(t, k));  // opposite the shared edge
+            done = mend_by_weights(v, 4, kMendPairSteps, qp_floor);
         }
-        std::sort(around.begin(), around.end());
-        around.erase(std::unique(around.begin(), around.end()), around.end());
-        Generator trial[3];
-        auto at = [&](int32_t u) {
-            for (int i = 0; i < 3; ++i)
-                if (u == v[i]) return trial[i];
-            return generator(u);
-        };
-        // (off-centre triangles around, worst staggering score there); more
-        // than any when a Q^P there would fall below the mesh's least.
-        auto judge = [&] {
-            int out = 0;
-            double worst = kInfinity;
-            for (int32_t u : around) {
-                double qp = 0;
-                const double q =
-                    staggering_score(at(tri_.vertex(u, 0)), at(tri_.vertex(u, 1)), at(tri_.vertex(u, 2)), &qp);
-                if (qp < qp_floor) return std::make_pair(std::numeric_limits<int>::max(), -kInfinity);
-                out += q < 0, worst = std::min(worst, q);
-            }
-            return std::make_pair(out, worst);
-        };
-        auto stars_valid = [&] {
-            for (int i = 0; i < 3; ++i) {
-                Ring ring;
-                bool fits = true;
-                tri_.for_each_in_star(v[i], [&](int32_t u) {
-                    if (ring.m == Ring::kMax) return void(fits = false);
-                    const int32_t w = tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3);
-                    ring.g[ring.m] = at(w), ring.q[ring.m] = at(w).lifted(), ++ring.m;
-                });
-                if (!fits || !star_is_valid(ring, trial[i])) return false;
-            }
-            return true;
-        };
-        auto regular_with_trial = [&] {  // stored for the exact tests, then put back
-            const Vec3 kept[3] = {tri_.lifted(v[0]), tri_.lifted(v[1]), tri_.lifted(v[2])};
-            for (int i = 0; i < 3; ++i) set_generator(v[i], trial[i]);
-            bool regular = true;
-            for (size_t j = 0; j < around.size() && regular; ++j)
-                for (int k = 0; k < 3 && regular; ++k) regular = tri_.is_locally_regular(around[j], k);
-            for (int i = 0; i < 3; ++i) tri_.set_lifted(v[i], kept[i]);
-            return regular;
-        };
-        double weight[3];
-        for (int i = 0; i < 3; ++i) trial[i] = generator(v[i]), weight[i] = 2.0 * (1.0 - 1.0 / trial[i].s);
-        const auto now = judge();
-        auto best = now;
-        Generator chosen[3];
-        for (int a = -kMendSteps; a <= kMendSteps; ++a)
-            for (int b = -kMendSteps; b <= kMendSteps; ++b)
-                for (int c = -kMendSteps; c <= kMendSteps; ++c) {
-                    const int step[3] = {a, b, c};
-                    bool finite = true;
-                    for (int i = 0; i < 3; ++i) {
-                        trial[i] = generator(v[i]);
-                        trial[i].s = tri::lifted_scale(weight[i] + kMendStep * step[i] * spoke2[i]);
-                        finite &= trial[i].s > 0 && std::isfinite(trial[i].s);
-                    }
-                    if (!finite) continue;
-                    const auto q = judge();
-                    const bool better = q.first < best.first || (q.first == best.first && q.second > best.second + gain_);
-                    if (!better || q.first >= now.first || !stars_valid() || !regular_with_trial()) continue;
-                    best = q;
-                    for (int i = 0; i < 3; ++i) chosen[i] = trial[i];
-                }
-        if (best.first >= now.first) continue;
-        for (int i = 0; i < 3; ++i) set_generator(v[i], chosen[i]), changed_at_[v[i]] = clock_;
-        ++mended;
+        mended += done;
     }
     return mended;
+}
+
+// The search of mend_off_centre_triangles over the weights of the n
+// vertices v (every combination of `steps` steps either way); applies the
+// best and returns true when it has fewer off-centre triangles around.
+bool Optimiser::mend_by_weights(const int32_t *v, int n, int steps, double qp_floor) {
+    // The triangles around the vertices, each once, and their mean squared spokes.
+    std::vector<int32_t> around;
+    double spoke2[4] = {0, 0, 0, 0};
+    for (int i = 0; i < n; ++i) {
+        int spokes = 0;
+        tri_.for_each_in_star(v[i], [&](int32_t u) {
+            around.push_back(u);
+            const Vec3 d = tri_.direction(v[i]) - tri_.direction(tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3));
+            spoke2[i] += geom::dot(d, d), ++spokes;
+        });
+        spoke2[i] /= spokes;
+    }
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    Generator trial[4];
+    auto at = [&](int32_t u) {
+        for (int i = 0; i < n; ++i)
+            if (u == v[i]) return trial[i];
+        return generator(u);
+    };
+    // (off-centre triangles around, worst staggering score there); more
+    // than any when a Q^P there would fall below the floor.
+    auto judge = [&] {
+        int out = 0;
+        double worst = kInfinity;
+        for (int32_t u : around) {
+            double qp = 0;
+            const double q = staggering_score(at(tri_.vertex(u, 0)), at(tri_.vertex(u, 1)), at(tri_.vertex(u, 2)), &qp);
+            if (qp < qp_floor) return std::make_pair(std::numeric_limits<int>::max(), -kInfinity);
+            out += q < 0, worst = std::min(worst, q);
+        }
+        return std::make_pair(out, worst);
+    };
+    auto stars_valid = [&] {
+        for (int i = 0; i < n; ++i) {
+            Ring ring;
+            bool fits = true;
+            tri_.for_each_in_star(v[i], [&](int32_t u) {
+                if (ring.m == Ring::kMax) return void(fits = false);
+                const int32_t w = tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3);
+                ring.g[ring.m] = at(w), ring.q[ring.m] = at(w).lifted(), ++ring.m;
+            });
+            if (!fits || !star_is_valid(ring, trial[i])) return false;
+        }
+        return true;
+    };
+    auto regular_with_trial = [&] {  // stored for the exact tests, then put back
+        Vec3 kept[4];
+        for (int i = 0; i < n; ++i) kept[i] = tri_.lifted(v[i]), set_generator(v[i], trial[i]);
+        bool regular = true;
+        for (size_t j = 0; j < around.size() && regular; ++j)
+            for (int k = 0; k < 3 && regular; ++k) regular = tri_.is_locally_regular(around[j], k);
+        for (int i = 0; i < n; ++i) tri_.set_lifted(v[i], kept[i]);
+        return regular;
+    };
+    double weight[4];
+    for (int i = 0; i < n; ++i) trial[i] = generator(v[i]), weight[i] = 2.0 * (1.0 - 1.0 / trial[i].s);
+    const auto now = judge();
+    auto best = now;
+    Generator chosen[4];
+    // Every combination, as the digits of a counter in base 2 steps + 1.
+    int step[4] = {-steps, -steps, -steps, -steps};
+    for (;;) {
+        bool finite = true;
+        for (int i = 0; i < n; ++i) {
+            trial[i] = generator(v[i]);
+            trial[i].s = tri::lifted_scale(weight[i] + kMendStep * step[i] * spoke2[i]);
+            finite &= trial[i].s > 0 && std::isfinite(trial[i].s);
+        }
+        if (finite) {
+            const auto q = judge();
+            const bool better = q.first < best.first || (q.first == best.first && q.second > best.second + gain_);
+            if (better && q.first < now.first && stars_valid() && regular_with_trial()) {
+                best = q;
+                for (int i = 0; i < n; ++i) chosen[i] = trial[i];
+            }
+        }
+        int i = 0;
+        while (i < n && step[i] == steps) step[i++] = -steps;
+        if (i == n) break;
+        ++step[i];
+    }
+    if (best.first >= now.first) return false;
+    for (int i = 0; i < n; ++i) set_generator(v[i], chosen[i]), changed_at_[v[i]] = clock_;
+    return true;
 }
 
 // ---------------------------------------------------------------- topology
