@@ -54,7 +54,7 @@ struct Result {
     long long surface_points = 0, by_territories = 0;
     EdgeRatios edges;
     int has_edges = 0;
-    int64_t obtuse = 0, obtuse_on_gamma = 0;  // of the final mesh: all, with 2-3 vertices on Gamma
+    int64_t obtuse = 0, obtuse_on_gamma = 0, obtuse_forced = 0;  // of the final mesh (count_obtuse)
     Quality before, after;
     int64_t cells = 0, triangles = 0, restricted = 0, filtered = 0;
     double peak_mb = 0;
@@ -205,20 +205,47 @@ double dot(const std::array<double, 3> &a, const std::array<double, 3> &b) {
 
 // Triangles with an angle over 90 degrees (between the great arcs at each
 // corner), and how many of them have two or three vertices on Gamma.
-void count_obtuse(const MeshCopy &c, int64_t *obtuse, int64_t *on_gamma) {
-    *obtuse = *on_gamma = 0;
-    for (size_t t = 0; 3 * t < c.tri.size(); ++t) {
-        bool is_obtuse = false;
-        int n_gamma = 0;
+// Obtuse triangles of the final mesh: all, those with 2 or 3 vertices on
+// Gamma, and the forced ones: two vertices on Gamma, the obtuse corner at
+// one of them, B, whose only vertex off Gamma on that side is the
+// triangle's third (the triangle across that spoke has its far vertex on
+// Gamma too). B's two triangles there share its 180 degrees, so one angle is
+// at least 90 whatever the positions.
+void count_obtuse(const MeshCopy &c, int64_t *obtuse, int64_t *on_gamma, int64_t *forced) {
+    *obtuse = *on_gamma = *forced = 0;
+    const size_t nt = c.tri.size() / 3;
+    // The triangles at each vertex (compressed rows).
+    std::vector<int32_t> first(c.x.size() + 1, 0), at(c.tri.size());
+    for (int32_t v : c.tri) ++first[v + 1];
+    for (size_t v = 0; v < c.x.size(); ++v) first[v + 1] += first[v];
+    std::vector<int32_t> fill(first.begin(), first.end() - 1);
+    for (size_t t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) at[fill[c.tri[3 * t + k]]++] = static_cast<int32_t>(t);
+    auto on = [&](int32_t v) { return c.part[v] >= 0; };
+    for (size_t t = 0; t < nt; ++t) {
+        int obtuse_at = -1, n_gamma = 0;
         for (int k = 0; k < 3; ++k) {
             const auto &a = c.x[c.tri[3 * t + k]], &b = c.x[c.tri[3 * t + (k + 1) % 3]],
                        &d = c.x[c.tri[3 * t + (k + 2) % 3]];
             std::array<double, 3> tb, td;  // the arcs' tangents at a
             for (int i = 0; i < 3; ++i) tb[i] = b[i] - dot(a, b) * a[i], td[i] = d[i] - dot(a, d) * a[i];
-            is_obtuse |= dot(tb, td) < 0;
-            n_gamma += c.part[c.tri[3 * t + k]] >= 0;
+            if (dot(tb, td) < 0) obtuse_at = k;
+            n_gamma += on(c.tri[3 * t + k]);
         }
-        *obtuse += is_obtuse, *on_gamma += is_obtuse && n_gamma >= 2;
+        if (obtuse_at < 0) continue;
+        ++*obtuse, *on_gamma += n_gamma >= 2;
+        const int32_t b = c.tri[3 * t + obtuse_at], x = c.tri[3 * t + (obtuse_at + 1) % 3],
+                      y = c.tri[3 * t + (obtuse_at + 2) % 3];
+        if (n_gamma != 2 || !on(b)) continue;
+        const int32_t off = on(x) ? y : x;  // the spoke of b off Gamma
+        for (int32_t i = first[b]; i < first[b + 1]; ++i) {
+            const int32_t u = at[i];
+            if (static_cast<size_t>(u) == t) continue;
+            const int32_t *w = &c.tri[3 * static_cast<size_t>(u)];
+            if (w[0] != off && w[1] != off && w[2] != off) continue;
+            const int32_t far = w[0] != b && w[0] != off ? w[0] : (w[1] != b && w[1] != off ? w[1] : w[2]);
+            *forced += on(far);
+        }
     }
 }
 
@@ -313,7 +340,7 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
         // After the peak was read (the copies would be part of it).
         MeshCopy copy;
         if (copy_mesh(m, &copy)) {
-            count_obtuse(copy, &r.obtuse, &r.obtuse_on_gamma);
+            count_obtuse(copy, &r.obtuse, &r.obtuse_on_gamma, &r.obtuse_forced);
             r.has_edges = edge_ratios(copy, h, &r.edges);
         }
         const std::string json = quality_json(m);
@@ -394,7 +421,7 @@ int main(int argc, char **argv) {
     std::printf("%-18s %3s %8s %8s %8s %8s %6s %6s %8s %8s %8s %7s  %-34s  %-34s  %-32s  %s\n", "case", "thr",
                 "cells", "restrict", "boundary", "surface", "par%", "tags", "optimise", "total_s", "peak_MB", "B/cell",
                 "before: QTmin QPmin maxang obt% nwc", "after: QTmin QPmin maxang obt% nwc",
-                "final l/h: min max <0.75% >1.35%", "obtuse on-Gamma%");
+                "final l/h: min max <0.75% >1.35%", "obtuse on-Gamma% forced%");
     int failures = 0;
     auto quality_text = [](const Quality &q) {
         char buf[64];
@@ -415,20 +442,22 @@ int main(int argc, char **argv) {
                 std::snprintf(edges, sizeof edges, "%.3f %.3f %6.2f %6.2f", r.edges.min, r.edges.max,
                               r.edges.share_below, r.edges.share_above);
             std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %6.1f %6.3f %8.3f %8.3f %8.1f %7.0f  %-34s  %-34s  "
-                        "%-32s  %lld %.1f\n",
+                        "%-32s  %lld %.1f %.1f\n",
                         c.c_str(), threads, (long long)r.cells, (long long)r.restricted, r.boundary_s,
                         r.surface_s, r.surface_points > 0 ? 100.0 * double(r.by_territories) / double(r.surface_points) : 0.0,
                         r.tags_s, r.optimise_s, r.total_s, r.peak_mb,
                         r.peak_mb * 1048576.0 / double(r.cells), quality_text(r.before).c_str(),
                         quality_text(r.after).c_str(), edges, (long long)r.obtuse,
-                        r.obtuse > 0 ? 100.0 * double(r.obtuse_on_gamma) / double(r.obtuse) : 0.0);
+                        r.obtuse > 0 ? 100.0 * double(r.obtuse_on_gamma) / double(r.obtuse) : 0.0,
+                        r.obtuse > 0 ? 100.0 * double(r.obtuse_forced) / double(r.obtuse) : 0.0);
             std::fflush(stdout);
         }
     std::printf("# boundary = boundary refinement; surface = surface refinement; par%% = share of the\n"
                 "# surface points placed by territories in parallel; tags = Tri|Gamma, sides, numbering;\n"
                 "# final l/h = edge length over h at its midpoint, of the final mesh (refined, or optimised)\n"
-                "# obtuse on-Gamma% = obtuse triangles of the final mesh, and the share of them with 2 or 3\n"
-                "# vertices on Gamma\n"
+                "# obtuse on-Gamma%% forced%% = obtuse triangles of the final mesh, the share of them with 2 or 3\n"
+                "# vertices on Gamma, and the share forced by a Gamma vertex with one vertex off Gamma on that\n"
+                "# side (its two triangles there share 180 degrees)\n"
                 "# QT = area-length ratio, QP = primal-dual, obt%% = %% of triangles with an angle > 90,\n"
                 "# nwc = triangles not containing their orthocentre\n");
     return failures ? 1 : 0;
