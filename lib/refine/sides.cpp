@@ -92,15 +92,18 @@ std::vector<Side> triangle_sides(const tri::Triangulation &tri, const features::
         while (!stack.empty()) {
             int32_t t = stack.back();
             stack.pop_back();
-            const Vec3 ct = tri.orthocentre(t);
             for (int k = 0; k < 3; ++k) {
                 int32_t u = tri.neighbour(t, k);
                 if (seen[u]) continue;
                 // From the smaller triangle to the larger, as restricted_edges()
                 // tests them: the same arithmetic even where a compiler
                 // contracts the cross products differently for the two ways.
-                const Vec3 cu = tri.orthocentre(u);
-                bool flip = may_flip(t, k) && (t < u ? crossings(coast, ct, cu) : crossings(coast, cu, ct)) % 2 == 1;
+                // (The orthocentres only where a crossing may be: few edges.)
+                bool flip = false;
+                if (may_flip(t, k)) {
+                    const Vec3 ct = tri.orthocentre(t), cu = tri.orthocentre(u);
+                    flip = (t < u ? crossings(coast, ct, cu) : crossings(coast, cu, ct)) % 2 == 1;
+                }
                 side[u] = flip ? (side[t] == Side::land ? Side::ocean : Side::land) : side[t];
                 seen[u] = 1;
                 stack.push_back(u);
