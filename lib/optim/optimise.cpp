@@ -475,12 +475,18 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
 // way of kMendStep times each vertex's mean squared spoke. The combination
 // with the fewest such triangles around the three (then the best worst
 // staggering score there) is taken when it has fewer than now, lowers no
-// Q^P there below the mesh's least, keeps the three stars valid and every
-// edge around them locally regular (so no flip follows that could undo
-// it). Serial, in slot order: deterministic.
+// Q^P there below the mesh's least or kMendQpFloor, whichever is lower,
+// keeps the three stars valid and every edge around them locally regular
+// (so no flip follows that could undo it). If none does, the same with the
+// far vertex of a neighbour as a fourth. Serial, in slot order:
+// deterministic.
 constexpr int kMendSteps = 4;
 constexpr int kMendPairSteps = 3;  // with a neighbour's far vertex: 7^4 combinations
 constexpr double kMendStep = 0.1;
+// The Q^P a mend may go down to when the mesh's least is above it: a
+// triangle holding its orthocentre matters more to MPAS than Q^P between
+// this and the least.
+constexpr double kMendQpFloor = 0.9;
 
 int64_t Optimiser::mend_off_centre_triangles(double qp_floor) {
     auto off_centre = [&](int32_t t) {
@@ -1039,12 +1045,13 @@ OptimiseStats Optimiser::run() {
     }
     if (o_.weights && o_.outer_iterations > 0) {
         auto t0 = Clock::now();
-        const int64_t mended = mend_off_centre_triangles(last.qp_min);
+        const double floor = std::min(last.qp_min, kMendQpFloor);
+        const int64_t mended = mend_off_centre_triangles(floor);
         stats_.weight_updates += mended;
         stats_.seconds_weights += seconds_since(t0);
         // tests/capi/test_optimise_api.c reads this line.
         ctx_.log(UM_LOG_INFO, concat("optimise: joint weights mended ", mended, " of ", off_centre_,
-                                     " triangles not holding their orthocentre; Q^P floor ", last.qp_min));
+                                     " triangles not holding their orthocentre; Q^P floor ", floor));
     }
     ctx_.progress("optimise", 1.0);
     return stats_;

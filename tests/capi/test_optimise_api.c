@@ -113,7 +113,7 @@ static void optimise_improves_uniform(void **state) {
  * mend_off_centre_triangles), read from its log line: on the coastline at
  * 120 km it mends some of the triangles the schedule left off-centre, leaves
  * no more than it met less those it mended, and keeps every Q^P at or above
- * the mesh's least before it. */
+ * its floor (the mesh's least before it, or 0.9 if lower). */
 typedef struct {
     long long mended, met;
     double floor;
