@@ -142,8 +142,12 @@ private:
     bool update_weight(const StarGraph &g, int32_t v);
     bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
     int64_t polish_poor_stars(const StarGraph &g);
-    // qp_floor: no triangle's Q^P may fall below it.
-    int64_t mend_off_centre_triangles(double qp_floor);
+    // qp_floor: no triangle's Q^P may fall below it. How many such
+    // triangles it met, and how many it mended.
+    struct Mended {
+        int64_t met = 0, mended = 0;
+    };
+    Mended mend_off_centre_triangles(double qp_floor);
     bool mend_by_weights(const int32_t *v, int n, int steps, double qp_floor);
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
@@ -206,7 +210,6 @@ private:
     int32_t clock_ = 1;
     int32_t next_id_ = 0;
     double poor_star_ = -kInfinity;  // stars scoring below get the compass search
-    int64_t off_centre_ = 0;         // triangles mend_off_centre_triangles met
     OptimiseStats stats_;
 };
 
@@ -488,7 +491,7 @@ constexpr double kMendStep = 0.1;
 // this and the least.
 constexpr double kMendQpFloor = 0.9;
 
-int64_t Optimiser::mend_off_centre_triangles(double qp_floor) {
+Optimiser::Mended Optimiser::mend_off_centre_triangles(double qp_floor) {
     auto off_centre = [&](int32_t t) {
         return staggering_score(generator(tri_.vertex(t, 0)), generator(tri_.vertex(t, 1)),
                                 generator(tri_.vertex(t, 2))) < 0;
@@ -499,8 +502,8 @@ int64_t Optimiser::mend_off_centre_triangles(double qp_floor) {
             if (!tri_.is_free(static_cast<int32_t>(t)) && off_centre(static_cast<int32_t>(t)))
                 out.push_back(static_cast<int32_t>(t));
         });
-    off_centre_ = static_cast<int64_t>(found.size());
-    int64_t mended = 0;
+    Mended out;
+    out.met = static_cast<int64_t>(found.size());
     for (int32_t t : found) {
         if (!off_centre(t)) continue;  // mended with an earlier one
         int32_t v[4] = {tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2), -1};
@@ -512,9 +515,9 @@ int64_t Optimiser::mend_off_centre_triangles(double qp_floor) {
             v[3] = tri_.vertex(u, tri_.mirror_edge(t, k));  // opposite the shared edge
             done = mend_by_weights(v, 4, kMendPairSteps, qp_floor);
         }
-        mended += done;
+        out.mended += done;
     }
-    return mended;
+    return out;
 }
 
 // The search of mend_off_centre_triangles over the weights of the n
@@ -1046,11 +1049,11 @@ OptimiseStats Optimiser::run() {
     if (o_.weights && o_.outer_iterations > 0) {
         auto t0 = Clock::now();
         const double floor = std::min(last.qp_min, kMendQpFloor);
-        const int64_t mended = mend_off_centre_triangles(floor);
-        stats_.weight_updates += mended;
+        const Mended m = mend_off_centre_triangles(floor);
+        stats_.weight_updates += m.mended;
         stats_.seconds_weights += seconds_since(t0);
         // tests/capi/test_optimise_api.c reads this line.
-        ctx_.log(UM_LOG_INFO, concat("optimise: joint weights mended ", mended, " of ", off_centre_,
+        ctx_.log(UM_LOG_INFO, concat("optimise: joint weights mended ", m.mended, " of ", m.met,
                                      " triangles not holding their orthocentre; Q^P floor ", floor));
     }
     ctx_.progress("optimise", 1.0);

@@ -137,13 +137,18 @@ bool Triangulation::owns_point(const Territory &g, const Vec3 &p) const {
     return key >= g.keys_.lo && key < g.keys_.hi;
 }
 
-int32_t Triangulation::locate_in(const Territory &g, const Vec3 &p, int32_t hint) const {
+int32_t Triangulation::walk_in(const Territory &g, const Vec3 &p, int32_t hint, int &n_zero) const {
     if (hint < 0 || hint >= triangle_slots() || is_free(hint) || !owns(g.keys_, hint)) return kNone;
-    int zero_edges[3], n_zero = 0;
+    int zero_edges[3];
     int32_t last_owned = hint;
     constexpr int64_t kMaxSteps = 4096;
     const int32_t t = walk(p, hint, zero_edges, n_zero, g.walk_, kMaxSteps, &g.keys_, &last_owned);
     return t != kNone && owns(g.keys_, t) ? t : kNone;
+}
+
+int32_t Triangulation::locate_in(const Territory &g, const Vec3 &p, int32_t hint) const {
+    int n_zero = 0;
+    return walk_in(g, p, hint, n_zero);
 }
 
 Triangulation::TerritoryInsert Triangulation::insert_in(Territory &g, const Vec3 &p, int32_t hint,
@@ -151,14 +156,10 @@ Triangulation::TerritoryInsert Triangulation::insert_in(Territory &g, const Vec3
     if (g.next_vertex_ == g.vertex_end_) return TerritoryInsert::deferred;  // its budget is spent
     const uint32_t key = territory_key(p, g.layout_);
     if (key < g.keys_.lo || key >= g.keys_.hi) return TerritoryInsert::deferred;
-    if (hint < 0 || hint >= triangle_slots() || is_free(hint) || !owns(g.keys_, hint))
-        return TerritoryInsert::deferred;
-    int zero_edges[3], n_zero = 0;
-    int32_t last_owned = hint;
-    constexpr int64_t kMaxSteps = 4096;
-    int32_t t = walk(p, hint, zero_edges, n_zero, g.walk_, kMaxSteps, &g.keys_, &last_owned);
+    int n_zero = 0;
+    const int32_t t = walk_in(g, p, hint, n_zero);
     // On an edge or a vertex: the serial path's special cases.
-    if (t == kNone || n_zero != 0 || !owns(g.keys_, t)) return TerritoryInsert::deferred;
+    if (t == kNone || n_zero != 0) return TerritoryInsert::deferred;
     const int32_t v = g.next_vertex_;
     q_[v] = p;  // weight 0; the slot is this territory's alone
     key_[v] = key;
@@ -166,22 +167,18 @@ Triangulation::TerritoryInsert Triangulation::insert_in(Territory &g, const Vec3
     Scratch &s = g.scratch_;
     if (!fill_cavity(v, t, s, &g.keys_)) return TerritoryInsert::deferred;
     collect_horizon(s);
-    auto unmark = [&] {
-        for (int32_t c : s.cavity) mark_[c] = 0;
-        for (int32_t c : s.touched) mark_[c] = 0;
-    };
     // Weights are 0: a cavity with a vertex inside would mean a duplicate.
     const bool buries = s.cavity.size() + 2 != s.horizon.size();
     const size_t room = g.reuse_.size() + s.cavity.size() + static_cast<size_t>(g.pool_.fresh_end - g.pool_.fresh);
     if (buries || room < s.horizon.size()) {
-        unmark();
+        clear_cavity_marks(s);
         return TerritoryInsert::deferred;
     }
     const double min_chord2 = min_chord * min_chord;
     for (const HorizonEdge &h : s.horizon) {
         const Vec3 d = p - direction(h.a);
         if (geom::dot(d, d) < min_chord2) {
-            unmark();
+            clear_cavity_marks(s);
             return TerritoryInsert::too_close;
         }
     }

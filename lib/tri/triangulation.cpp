@@ -494,8 +494,7 @@ bool Triangulation::fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyR
             if (mark_[u] != 0) continue;
             if (visible(u, v)) {
                 if (owner && !owns(*owner, u)) {
-                    for (int32_t t : s.cavity) mark_[t] = 0;
-                    for (int32_t t : s.touched) mark_[t] = 0;
+                    clear_cavity_marks(s);
                     return false;
                 }
                 mark_[u] = 1;
@@ -507,6 +506,11 @@ bool Triangulation::fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyR
         }
     }
     return true;
+}
+
+void Triangulation::clear_cavity_marks(const Scratch &s) {
+    for (int32_t t : s.cavity) mark_[t] = 0;
+    for (int32_t t : s.touched) mark_[t] = 0;
 }
 
 // The boundary of the cavity (a topological disc) as a cycle of edges, each

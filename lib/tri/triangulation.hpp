@@ -308,6 +308,10 @@ private:
     // The visible triangles connected to `start`. With `owner`, false (and
     // nothing marked) when one of them is not the region's.
     bool fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyRange *owner);
+    // Undoes fill_cavity's marks (an insertion given up before it stitched).
+    void clear_cavity_marks(const Scratch &s);
+    // locate_in's walk; n_zero: the edges of the triangle found that hold p.
+    int32_t walk_in(const Territory &g, const Vec3 &p, int32_t hint, int &n_zero) const;
     void collect_horizon(Scratch &s);
     void stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool);
     bool visible(int32_t t, int32_t v) const;

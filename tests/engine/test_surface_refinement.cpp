@@ -4,6 +4,7 @@
 #include <cstdarg>
 #include <cstddef>
 #include <csetjmp>
+#include <string>
 #include <vector>
 
 #include "core/error.hpp"
@@ -28,17 +29,26 @@ struct Summary {
     double share_above_1_35 = 0;                              // of the edges
 };
 
-// Refines with spacing h_km(x) and checks the paper's two criteria on every
-// triangle; returns edge-length statistics relative to h at edge midpoints.
-Summary refine_and_check(const std::function<double(const Vec3 &)> &h_km) {
+// The icosahedron refined with spacing h (radians) on `threads` threads,
+// compacted and checked to be a valid triangulation.
+tri::Triangulation refined(const refine::SpacingRadians &h, int threads, refine::SurfaceStats *stats = nullptr) {
     Context ctx;
+    ctx.set_threads(threads);
     tri::Triangulation tri = refine::icosahedron(ctx);
-    refine::SurfaceOptions opt;
-    auto h = [&](const Vec3 &x) { return h_km(x) / kRadiusKm; };
-    refine::refine_surface(ctx, tri, h, opt, 12);
+    refine::SurfaceStats s = refine::refine_surface(ctx, tri, h, {}, 12);
+    if (stats) *stats = std::move(s);
     tri.compact();
     std::string problem = tri::check_triangulation(tri);
     if (!problem.empty()) fail_msg("%s", problem.c_str());
+    return tri;
+}
+
+// Refines with spacing h_km(x) and checks the paper's two criteria on every
+// triangle; returns edge-length statistics relative to h at edge midpoints.
+Summary refine_and_check(const std::function<double(const Vec3 &)> &h_km) {
+    const refine::SurfaceOptions opt;
+    auto h = [&](const Vec3 &x) { return h_km(x) / kRadiusKm; };
+    const tri::Triangulation tri = refined(h, 1);
     std::vector<double> edges;
     for (int32_t t = 0; t < tri.triangle_count(); ++t) {
         double r, e;
@@ -105,16 +115,11 @@ void deterministic(void **) {
 void territories_meet_the_criteria_and_are_deterministic(void **) {
     const double h = 60.0 / kRadiusKm;
     auto run = [&](int threads, int64_t *by_territories) {
-        Context ctx;
-        ctx.set_threads(threads);
-        tri::Triangulation tri = refine::icosahedron(ctx);
-        refine::SurfaceOptions opt;
-        const refine::SurfaceStats stats = refine::refine_surface(ctx, tri, [&](const Vec3 &) { return h; }, opt, 12);
+        const refine::SurfaceOptions opt;
+        refine::SurfaceStats stats;
+        const tri::Triangulation tri = refined([&](const Vec3 &) { return h; }, threads, &stats);
         *by_territories = stats.by_territories;
         assert_true(stats.inserted > 0);
-        tri.compact();
-        std::string problem = tri::check_triangulation(tri);
-        if (!problem.empty()) fail_msg("%s", problem.c_str());
         std::vector<double> out;
         for (int32_t t = 0; t < tri.triangle_count(); ++t) {
             double r, e;
@@ -141,6 +146,68 @@ void territories_meet_the_criteria_and_are_deterministic(void **) {
     assert_true(by[1] == by[0] && by[2] == by[0] && by[3] == by[0]);
 }
 
+// A spacing that fails only where the territories work (a cap of 0.6
+// degrees, which the seeds at 16 h do not reach): the error comes out of the
+// parallel phase as the serial pass's would, at the same point for 1 and 2
+// threads, and the triangulation is left valid (the territories closed).
+void a_failure_inside_territories_leaves_a_valid_mesh(void **) {
+    const double h = 60.0 / kRadiusKm;
+    const Vec3 centre = geom::normalized(Vec3{0.3, -0.5, 0.8});
+    const double cap = std::cos(0.6 * M_PI / 180);
+    int64_t left_with = -1;  // vertices when it failed, on one thread
+    for (int threads : {1, 2}) {
+        Context ctx;
+        ctx.set_threads(threads);
+        tri::Triangulation tri = refine::icosahedron(ctx);
+        refine::SurfaceStats stats;
+        try {
+            refine::refine_surface(ctx, tri, [&](const Vec3 &x) {
+                return geom::dot(x, centre) > cap ? std::nan("") : h;
+            }, {}, 12);
+            fail_msg("NaN spacing accepted");
+        } catch (const Error &e) {
+            assert_int_equal(e.status(), UM_ERR_NUMERICAL);
+        }
+        tri.compact();
+        std::string problem = tri::check_triangulation(tri);
+        if (!problem.empty()) fail_msg("%s", problem.c_str());
+        // It failed in the territories, not before: far more than the seeds.
+        print_message("failed at %lld vertices on %d threads\n", (long long)tri.vertex_count(), threads);
+        assert_true(tri.vertex_count() > 20000);
+        // Where it failed does not depend on the threads either.
+        if (left_with < 0) left_with = tri.vertex_count();
+        assert_int_equal(tri.vertex_count(), left_with);
+    }
+}
+
+// Each territory layout is a cancel point: a cancel asked for at the first
+// layout's report stops the refinement there, with UM_CANCELLED and a
+// valid triangulation.
+void territories_can_be_cancelled_between_layouts(void **) {
+    struct Count {
+        int reports = 0;
+    } count;
+    Context ctx;
+    ctx.set_threads(2);
+    // Reports: the seeds' pass, then one per layout.
+    ctx.set_progress([](void *user, const char *stage, double) -> int32_t {
+        auto *c = static_cast<Count *>(user);
+        return std::string(stage) == "refine surface" && ++c->reports == 3;  // the second layout's
+    }, &count);
+    tri::Triangulation tri = refine::icosahedron(ctx);
+    try {
+        refine::refine_surface(ctx, tri, [](const Vec3 &) { return 60.0 / kRadiusKm; }, {}, 12);
+        fail_msg("not cancelled");
+    } catch (const Error &e) {
+        assert_int_equal(e.status(), UM_CANCELLED);
+    }
+    assert_int_equal(count.reports, 3);
+    tri.compact();
+    std::string problem = tri::check_triangulation(tri);
+    if (!problem.empty()) fail_msg("%s", problem.c_str());
+    assert_true(tri.vertex_count() > 20000);  // the first layout's work is there
+}
+
 void bad_spacing_is_an_error(void **) {
     Context ctx;
     tri::Triangulation tri = refine::icosahedron(ctx);
@@ -160,6 +227,8 @@ int main() {
         cmocka_unit_test(latitude_dependent_spacing),
         cmocka_unit_test(deterministic),
         cmocka_unit_test(territories_meet_the_criteria_and_are_deterministic),
+        cmocka_unit_test(a_failure_inside_territories_leaves_a_valid_mesh),
+        cmocka_unit_test(territories_can_be_cancelled_between_layouts),
         cmocka_unit_test(bad_spacing_is_an_error),
     };
     return cmocka_run_group_tests_name("surface_refinement", tests, nullptr, nullptr);
