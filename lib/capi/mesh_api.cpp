@@ -24,7 +24,8 @@ um::Context *state_or_null(const um_mesh *m) {
 const um::quality::Report &quality_of(const um_mesh *m) {
     if (!m->quality)
         m->quality = um::quality::measure(*m->context, m->mesh.tri,
-                                          um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m));
+                                          um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m),
+                                          &m->mesh.on_segment);
     return *m->quality;
 }
 

@@ -285,7 +285,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     ctx.check_memory(m.vertex_count() * kOptimiseBytesPerCell,
                      concat("optimising a mesh of ", m.vertex_count(), " cells").c_str());
     const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
-    const quality::Report before = refined_quality ? *refined_quality : quality::measure(ctx, m.tri, hr);
+    const quality::Report before = refined_quality ? *refined_quality : quality::measure(ctx, m.tri, hr, &m.on_segment);
     optim::OptimiseOptions o;
     o.outer_iterations = static_cast<int>(options.integer(UM_OPT_OPTIM_OUTER_ITERATIONS));
     o.inner_iterations = static_cast<int>(options.integer(UM_OPT_OPTIM_INNER_ITERATIONS));

@@ -37,6 +37,15 @@ double area_length_ratio(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
     return 4 * std::sqrt(3.0) * area / (norm2(a - b) + norm2(b - c) + norm2(c - a));
 }
 
+double largest_angle_cosine(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+    const Vec3 ab = b - a, bc = c - b, ca = a - c;
+    const double lab = geom::dot(ab, ab), lbc = geom::dot(bc, bc), lca = geom::dot(ca, ca);
+    // The largest angle is opposite the longest edge.
+    if (lab >= lbc && lab >= lca) return -geom::dot(bc, ca) / std::sqrt(lbc * lca);
+    if (lbc >= lca) return -geom::dot(ca, ab) / std::sqrt(lca * lab);
+    return -geom::dot(ab, bc) / std::sqrt(lab * lbc);
+}
+
 namespace {
 
 // The orthocentre's direction (not normalised) of the triangle.

@@ -145,10 +145,21 @@ private:
     // qp_floor: no triangle's Q^P may fall below it. How many such
     // triangles it met, and how many it mended.
     struct Mended {
-        int64_t met = 0, mended = 0;
+        int64_t met = 0, mended = 0, slid = 0;
     };
-    Mended mend_off_centre_triangles(double qp_floor);
-    bool mend_by_weights(const int32_t *v, int n, int steps, double qp_floor);
+    // What a mend keeps: no Q^P below qp; where vertices move, no Q^T below
+    // qt and no angle larger than the one of cosine largest_angle_cosine.
+    struct MendFloors {
+        double qp, qt, largest_angle_cosine;
+    };
+    Mended mend_off_centre_triangles(const MendFloors &floors);
+    struct Candidate {  // a generator a vertex may take, and its segment of Gamma
+        Generator g;
+        int32_t segment;
+    };
+    std::vector<Candidate> mend_candidates(int32_t v, int steps, int slides) const;
+    bool mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *candidates, const MendFloors &floors,
+                      bool moves);
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
     // The ODT target of a move of v (at `here`, link `ring` from the graph).
@@ -178,6 +189,7 @@ private:
     // Stopping ---------------------------------------------------------------
     struct Summary {
         double qt_min, qt_mean, qp_min, qp_mean;
+        double largest_angle_cosine;  // of the mesh's largest angle
     };
     Summary summarise() const;
 
@@ -481,17 +493,25 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
 // Q^P there below the mesh's least or kMendQpFloor, whichever is lower,
 // keeps the three stars valid and every edge around them locally regular
 // (so no flip follows that could undo it). If none does, the same with the
-// far vertex of a neighbour as a fourth. Serial, in slot order:
-// deterministic.
+// far vertex of a neighbour as a fourth. If none does either, the three
+// with their positions too, those on Gamma sliding kMendSlides steps of
+// kMendSlide h either way along it: most triangles left by then have all
+// three vertices on Gamma, at bends and narrow features, where a weight
+// cannot move the orthocentre far enough without unmending a neighbour. A
+// move must also keep every Q^T around above the mesh's least and every
+// angle below its largest. Serial, in slot order: deterministic.
 constexpr int kMendSteps = 4;
 constexpr int kMendPairSteps = 3;  // with a neighbour's far vertex: 7^4 combinations
 constexpr double kMendStep = 0.1;
+constexpr double kMendSlide = 0.05;  // of h, along Gamma
+constexpr int kMendSlides = 4;
+constexpr int kMendSlideWeightSteps = 3;
 // The Q^P a mend may go down to when the mesh's least is above it: a
 // triangle holding its orthocentre matters more to MPAS than Q^P between
 // this and the least.
 constexpr double kMendQpFloor = 0.9;
 
-Optimiser::Mended Optimiser::mend_off_centre_triangles(double qp_floor) {
+Optimiser::Mended Optimiser::mend_off_centre_triangles(const MendFloors &floors) {
     auto off_centre = [&](int32_t t) {
         return staggering_score(generator(tri_.vertex(t, 0)), generator(tri_.vertex(t, 1)),
                                 generator(tri_.vertex(t, 2))) < 0;
@@ -507,35 +527,70 @@ Optimiser::Mended Optimiser::mend_off_centre_triangles(double qp_floor) {
     for (int32_t t : found) {
         if (!off_centre(t)) continue;  // mended with an earlier one
         int32_t v[4] = {tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2), -1};
-        bool done = mend_by_weights(v, 3, kMendSteps, qp_floor);
+        std::vector<Candidate> c[4];
+        for (int i = 0; i < 3; ++i) c[i] = mend_candidates(v[i], kMendSteps, 0);
+        bool done = mend_jointly(v, 3, c, floors, false);
         // Else with the far vertex of a neighbour too: a pair that a weight
         // common to both cannot mend.
+        for (int i = 0; i < 3 && !done; ++i) c[i] = mend_candidates(v[i], kMendPairSteps, 0);
         for (int k = 0; k < 3 && !done; ++k) {
             const int32_t u = tri_.neighbour(t, k);
             v[3] = tri_.vertex(u, tri_.mirror_edge(t, k));  // opposite the shared edge
-            done = mend_by_weights(v, 4, kMendPairSteps, qp_floor);
+            c[3] = mend_candidates(v[3], kMendPairSteps, 0);
+            done = mend_jointly(v, 4, c, floors, false);
         }
+        // Else the three sliding along Gamma too, where they lie on it.
+        bool slides = false;
+        for (int i = 0; i < 3 && !done; ++i) {
+            c[i] = mend_candidates(v[i], kMendSlideWeightSteps, kMendSlides);
+            slides |= c[i].size() > 2 * kMendSlideWeightSteps + 1;
+        }
+        if (slides && mend_jointly(v, 3, c, floors, true)) done = true, ++out.slid;
         out.mended += done;
     }
     return out;
 }
 
-// The search of mend_off_centre_triangles over the weights of the n
-// vertices v (every combination of `steps` steps either way); applies the
-// best and returns true when it has fewer off-centre triangles around.
-bool Optimiser::mend_by_weights(const int32_t *v, int n, int steps, double qp_floor) {
-    // The triangles around the vertices, each once, and their mean squared spokes.
-    std::vector<int32_t> around;
-    double spoke2[4] = {0, 0, 0, 0};
-    for (int i = 0; i < n; ++i) {
-        int spokes = 0;
-        tri_.for_each_in_star(v[i], [&](int32_t u) {
-            around.push_back(u);
-            const Vec3 d = tri_.direction(v[i]) - tri_.direction(tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3));
-            spoke2[i] += geom::dot(d, d), ++spokes;
-        });
-        spoke2[i] /= spokes;
+// The candidates of mend_off_centre_triangles for vertex v: its weight
+// `steps` steps either way, and when `slides` > 0 and v is on Gamma, at each
+// of `slides` steps of kMendSlide h either way along its polyline too.
+std::vector<Optimiser::Candidate> Optimiser::mend_candidates(int32_t v, int steps, int slides) const {
+    const Generator here = generator(v);
+    double spoke2 = 0;
+    int spokes = 0;
+    tri_.for_each_in_star(v, [&](int32_t u) {
+        const Vec3 d = here.x - tri_.direction(tri_.vertex(u, (tri_.local_index(u, v) + 1) % 3));
+        spoke2 += geom::dot(d, d), ++spokes;
+    });
+    spoke2 /= spokes;
+    const double weight = 2.0 * (1.0 - 1.0 / here.s);
+    std::vector<Candidate> out;
+    const bool slide = slides > 0 && on_segment_[v] >= 0 && gamma_ && !o_.fix_boundary;
+    const int64_t segment = on_segment_[v];
+    const Vec3 tangent = slide ? geom::normalized(gamma_->segment_b(segment) - gamma_->segment_a(segment)) : Vec3{};
+    for (int k = slide ? -slides : 0; k <= (slide ? slides : 0); ++k) {
+        Candidate at{here, on_segment_[v]};
+        if (k != 0) {
+            const PointOnGamma p = slide_along(*gamma_, segment, geom::normalized(here.x + (kMendSlide * k * h_at_[v]) * tangent));
+            at.g.x = p.x, at.segment = static_cast<int32_t>(p.segment);
+        }
+        for (int j = -steps; j <= steps; ++j) {
+            Candidate c = at;
+            c.g.s = tri::lifted_scale(weight + kMendStep * j * spoke2);
+            if (c.g.s > 0 && std::isfinite(c.g.s)) out.push_back(c);
+        }
     }
+    return out;
+}
+
+// The search of mend_off_centre_triangles over every combination of the
+// candidates of the n vertices v; applies the best and returns true when it
+// has fewer off-centre triangles around.
+bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *candidates,
+                             const MendFloors &floors, bool moves) {
+    // The triangles around the vertices, each once.
+    std::vector<int32_t> around;
+    for (int i = 0; i < n; ++i) tri_.for_each_in_star(v[i], [&](int32_t u) { around.push_back(u); });
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
     Generator trial[4];
@@ -545,15 +600,21 @@ bool Optimiser::mend_by_weights(const int32_t *v, int n, int steps, double qp_fl
         return generator(u);
     };
     // (off-centre triangles around, worst staggering score there); more
-    // than any when a Q^P there would fall below the floor.
-    auto judge = [&] {
+    // than any when a Q^P or Q^T there would fall below its floor, or when
+    // the count passes `limit` (such a combination cannot be taken).
+    auto judge = [&](int limit) {
         int out = 0;
         double worst = kInfinity;
         for (int32_t u : around) {
             double qp = 0;
-            const double q = staggering_score(at(tri_.vertex(u, 0)), at(tri_.vertex(u, 1)), at(tri_.vertex(u, 2)), &qp);
-            if (qp < qp_floor) return std::make_pair(std::numeric_limits<int>::max(), -kInfinity);
+            const Generator a = at(tri_.vertex(u, 0)), b = at(tri_.vertex(u, 1)), c = at(tri_.vertex(u, 2));
+            const double q = staggering_score(a, b, c, &qp);
+            const bool below = qp < floors.qp || (moves && (area_length_ratio(a.x, b.x, c.x) < floors.qt ||
+                                                            largest_angle_cosine(a.x, b.x, c.x) < floors.largest_angle_cosine));
+            if (below)
+                return std::make_pair(std::numeric_limits<int>::max(), -kInfinity);
             out += q < 0, worst = std::min(worst, q);
+            if (out > limit) return std::make_pair(std::numeric_limits<int>::max(), -kInfinity);
         }
         return std::make_pair(out, worst);
     };
@@ -579,35 +640,38 @@ bool Optimiser::mend_by_weights(const int32_t *v, int n, int steps, double qp_fl
         for (int i = 0; i < n; ++i) tri_.set_lifted(v[i], kept[i]);
         return regular;
     };
-    double weight[4];
-    for (int i = 0; i < n; ++i) trial[i] = generator(v[i]), weight[i] = 2.0 * (1.0 - 1.0 / trial[i].s);
-    const auto now = judge();
+    for (int i = 0; i < n; ++i) {
+        if (candidates[i].empty()) return false;
+        trial[i] = generator(v[i]);
+    }
+    const auto now = judge(std::numeric_limits<int>::max());
+    // The off-centre ones first: the count passes the limit sooner.
+    std::stable_partition(around.begin(), around.end(), [&](int32_t u) {
+        return staggering_score(generator(tri_.vertex(u, 0)), generator(tri_.vertex(u, 1)), generator(tri_.vertex(u, 2))) < 0;
+    });
     auto best = now;
-    Generator chosen[4];
-    // Every combination, as the digits of a counter in base 2 steps + 1.
-    int step[4] = {-steps, -steps, -steps, -steps};
+    int chosen[4] = {-1, -1, -1, -1};
+    // Every combination, as the digits of a counter.
+    int digit[4] = {0, 0, 0, 0};
     for (;;) {
-        bool finite = true;
-        for (int i = 0; i < n; ++i) {
-            trial[i] = generator(v[i]);
-            trial[i].s = tri::lifted_scale(weight[i] + kMendStep * step[i] * spoke2[i]);
-            finite &= trial[i].s > 0 && std::isfinite(trial[i].s);
-        }
-        if (finite) {
-            const auto q = judge();
-            const bool better = q.first < best.first || (q.first == best.first && q.second > best.second + gain_);
-            if (better && q.first < now.first && stars_valid() && regular_with_trial()) {
-                best = q;
-                for (int i = 0; i < n; ++i) chosen[i] = trial[i];
-            }
+        for (int i = 0; i < n; ++i) trial[i] = candidates[i][digit[i]].g;
+        const auto q = judge(std::min(best.first, now.first - 1));
+        const bool better = q.first < best.first || (q.first == best.first && q.second > best.second + gain_);
+        if (better && q.first < now.first && stars_valid() && regular_with_trial()) {
+            best = q;
+            for (int j = 0; j < n; ++j) chosen[j] = digit[j];
         }
         int i = 0;
-        while (i < n && step[i] == steps) step[i++] = -steps;
+        while (i < n && digit[i] + 1 == static_cast<int>(candidates[i].size())) digit[i++] = 0;
         if (i == n) break;
-        ++step[i];
+        ++digit[i];
     }
     if (best.first >= now.first) return false;
-    for (int i = 0; i < n; ++i) set_generator(v[i], chosen[i]), changed_at_[v[i]] = clock_;
+    for (int i = 0; i < n; ++i) {
+        const Candidate &c = candidates[i][chosen[i]];
+        set_generator(v[i], c.g), changed_at_[v[i]] = clock_;
+        on_segment_[v[i]] = c.segment, h_at_[v[i]] = static_cast<float>(h_(c.g.x));
+    }
     return true;
 }
 
@@ -941,7 +1005,7 @@ Optimiser::Summary Optimiser::summarise() const {
     const int32_t n = tri_.triangle_slots();
     const int64_t n_blocks = (n + kBlock - 1) / kBlock;
     struct Partial {
-        double qt_min = 2, qt_sum = 0, qp_min = 2, qp_sum = 0;
+        double qt_min = 2, qt_sum = 0, qp_min = 2, qp_sum = 0, largest_angle_cosine = 1;
         int64_t live = 0;
     };
     std::vector<Partial> part(static_cast<size_t>(n_blocks));
@@ -951,10 +1015,12 @@ Optimiser::Summary Optimiser::summarise() const {
             for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
                 const int32_t ti = static_cast<int32_t>(t);
                 if (tri_.is_free(ti)) continue;
-                const TriangleCost c = triangle_cost(generator(tri_.vertex(ti, 0)), generator(tri_.vertex(ti, 1)),
-                                                     generator(tri_.vertex(ti, 2)));
-                p.qt_min = std::min(p.qt_min, c.area_length), p.qt_sum += c.area_length;
-                p.qp_min = std::min(p.qp_min, c.primal_dual), p.qp_sum += c.primal_dual;
+                const Generator a = generator(tri_.vertex(ti, 0)), b = generator(tri_.vertex(ti, 1)),
+                                c = generator(tri_.vertex(ti, 2));
+                const TriangleCost cost = triangle_cost(a, b, c);
+                p.largest_angle_cosine = std::min(p.largest_angle_cosine, largest_angle_cosine(a.x, b.x, c.x));
+                p.qt_min = std::min(p.qt_min, cost.area_length), p.qt_sum += cost.area_length;
+                p.qp_min = std::min(p.qp_min, cost.primal_dual), p.qp_sum += cost.primal_dual;
                 ++p.live;
             }
         }
@@ -963,10 +1029,11 @@ Optimiser::Summary Optimiser::summarise() const {
     for (const Partial &p : part) {
         all.qt_min = std::min(all.qt_min, p.qt_min), all.qt_sum += p.qt_sum;
         all.qp_min = std::min(all.qp_min, p.qp_min), all.qp_sum += p.qp_sum;
+        all.largest_angle_cosine = std::min(all.largest_angle_cosine, p.largest_angle_cosine);
         all.live += p.live;
     }
     const double live = double(std::max<int64_t>(all.live, 1));
-    return {all.qt_min, all.qt_sum / live, all.qp_min, all.qp_sum / live};
+    return {all.qt_min, all.qt_sum / live, all.qp_min, all.qp_sum / live, all.largest_angle_cosine};
 }
 
 // ----------------------------------------------------------------- schedule
@@ -1048,13 +1115,14 @@ OptimiseStats Optimiser::run() {
     }
     if (o_.weights && o_.outer_iterations > 0) {
         auto t0 = Clock::now();
-        const double floor = std::min(last.qp_min, kMendQpFloor);
-        const Mended m = mend_off_centre_triangles(floor);
+        const MendFloors floors{std::min(last.qp_min, kMendQpFloor), last.qt_min, last.largest_angle_cosine};
+        const Mended m = mend_off_centre_triangles(floors);
         stats_.weight_updates += m.mended;
         stats_.seconds_weights += seconds_since(t0);
         // tests/capi/test_optimise_api.c reads this line.
         ctx_.log(UM_LOG_INFO, concat("optimise: joint weights mended ", m.mended, " of ", m.met,
-                                     " triangles not holding their orthocentre; Q^P floor ", floor));
+                                     " triangles not holding their orthocentre; Q^P floor ", floors.qp, "; ",
+                                     m.slid, " of them with vertices sliding along Gamma; ", seconds_since(t0), " s"));
     }
     ctx_.progress("optimise", 1.0);
     return stats_;

@@ -116,7 +116,8 @@ void for_each_value(const tri::Triangulation &tri, const refine::SpacingRadians 
 
 }  // namespace
 
-Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h) {
+Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
+               const std::vector<int32_t> *on_segment) {
     // Fixed blocks, combined in block order: the same report for any
     // thread count.
     constexpr int64_t kBlock = 32768;
@@ -124,7 +125,14 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
     const int64_t n_blocks = (n + kBlock - 1) / kBlock;
     struct Block {
         Stream metric[kMetrics];
-        int64_t triangles = 0, obtuse = 0, not_well_centred = 0;
+        int64_t triangles = 0, obtuse = 0, not_well_centred = 0, not_well_centred_off_gamma = 0;
+    };
+    auto off_gamma = [&](int32_t t) {
+        for (int k = 0; k < 3; ++k) {
+            const size_t v = static_cast<size_t>(tri.vertex(t, k));
+            if (!on_segment || v >= on_segment->size() || (*on_segment)[v] < 0) return true;
+        }
+        return false;
     };
     std::vector<Block> blocks(static_cast<size_t>(n_blocks));
     // Each value's fine bin, per triangle (its four metrics, then the
@@ -146,6 +154,7 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
                     bin[m == kSpacingRatio ? kSpacingRatio + edge++ : m] = static_cast<uint16_t>(fine_bin(v, m));
                 });
                 ++bl.triangles, bl.obtuse += q.angle_max > 90, bl.not_well_centred += !q.well_centred;
+                bl.not_well_centred_off_gamma += !q.well_centred && off_gamma(static_cast<int32_t>(t));
             }
         }
     });
@@ -154,6 +163,7 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
     Stream all[kMetrics];
     for (const Block &bl : blocks) {
         r.triangles += bl.triangles, r.obtuse += bl.obtuse, r.not_well_centred += bl.not_well_centred;
+        r.not_well_centred_off_gamma += bl.not_well_centred_off_gamma;
         for (int m = 0; m < kMetrics; ++m) {
             const Stream &s = bl.metric[m];
             Stream &a = all[m];
@@ -220,7 +230,8 @@ std::string to_json(const Report &r, const std::string &indent,
                   ",", nl, "\"angle_max_deg\": ", json_summary(r.angle_max),
                   ",", nl, "\"edge_spacing_ratio\": ", json_summary(r.spacing_ratio),
                   ",", nl, "\"obtuse_triangles\": ", r.obtuse,
-                  ",", nl, "\"not_well_centred\": ", r.not_well_centred);
+                  ",", nl, "\"not_well_centred\": ", r.not_well_centred,
+                  ",", nl, "\"not_well_centred_off_gamma\": ", r.not_well_centred_off_gamma);
     if (!extra_members.empty()) text += concat(",", nl, extra_members);
     return text + concat("\n", indent, "}", indent.empty() ? "\n" : "");
 }

@@ -40,11 +40,17 @@ struct Report {
     Summary area_length, primal_dual, angle_min, angle_max, spacing_ratio;
     int64_t obtuse = 0;           // triangles with an angle > 90 degrees
     int64_t not_well_centred = 0;
+    // Of those, the ones with a vertex off Gamma (where the optimisation
+    // issue allows none: a triangle with its three vertices on Gamma may be
+    // forced off-centre by the feature's shape).
+    int64_t not_well_centred_off_gamma = 0;
 };
 
 // Every metric over the live triangles (in parallel; the same result for any
-// thread count). h may be empty: then h_r is not computed.
-Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h);
+// thread count). h may be empty: then h_r is not computed. on_segment: per
+// vertex slot its segment of Gamma or -1 (null: no vertex on Gamma).
+Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
+               const std::vector<int32_t> *on_segment = nullptr);
 
 // The report as JSON text (for quality.json): an object whose lines after
 // the first start with `indent` (to nest it in another report), with

@@ -64,7 +64,23 @@ void streamed_report_matches_sorted_values(void **) {
         assert_int_equal(r.triangles, triangles);
         assert_int_equal(r.obtuse, obtuse);
         assert_int_equal(r.not_well_centred, not_well_centred);
-        assert_true(obtuse > 0);
+        assert_int_equal(r.not_well_centred_off_gamma, not_well_centred);  // no Gamma: every vertex is off it
+        assert_true(obtuse > 0 && not_well_centred > 0);
+        // A made-up Gamma holding most vertices: the off-Gamma count is of
+        // the triangles with a vertex that is not on it.
+        std::vector<int32_t> on_segment(static_cast<size_t>(tri.vertex_slots()), 0);
+        for (size_t v = 0; v < on_segment.size(); v += 7) on_segment[v] = -1;
+        int64_t off = 0;
+        for (int32_t t = 0; t < tri.triangle_slots(); ++t) {
+            if (tri.is_free(t) || quality::triangle_quality(tri, t).well_centred) continue;
+            bool any_off = false;
+            for (int k = 0; k < 3; ++k) any_off |= on_segment[tri.vertex(t, k)] < 0;
+            off += any_off;
+        }
+        const quality::Report with_gamma = quality::measure(ctx, tri, h, &on_segment);
+        assert_int_equal(with_gamma.not_well_centred, not_well_centred);
+        assert_int_equal(with_gamma.not_well_centred_off_gamma, off);
+        assert_true(off > 0 && off < not_well_centred);
         check(r.area_length, v[0]), check(r.primal_dual, v[1]);
         check(r.angle_min, v[2]), check(r.angle_max, v[3]), check(r.spacing_ratio, v[4]);
     }

@@ -38,7 +38,7 @@ using Clock = std::chrono::steady_clock;
 
 struct Quality {
     double qt_min = 0, qp_min = 0, angle_max = 0, obtuse_pct = 0;
-    int64_t not_well_centred = 0;
+    int64_t not_well_centred = 0, not_well_centred_off_gamma = 0;
 };
 
 // Edge lengths of the refined mesh over h at their midpoints (the
@@ -103,6 +103,7 @@ Quality quality_in(const std::string &json, size_t from) {
     const double triangles = number_after(json, from, "\"triangles\": ");
     q.obtuse_pct = 100.0 * number_after(json, from, "\"obtuse_triangles\": ") / triangles;
     q.not_well_centred = static_cast<int64_t>(number_after(json, from, "\"not_well_centred\": "));
+    q.not_well_centred_off_gamma = static_cast<int64_t>(number_after(json, from, "\"not_well_centred_off_gamma\": "));
     return q;
 }
 
@@ -418,15 +419,15 @@ int main(int argc, char **argv) {
     std::printf("# each run in its own child; peak_MB = growth of its max RSS during refine + optimise\n"
                 "# (the quality report is read afterwards; the optimisation's own report of the\n"
                 "# refined mesh is part of it)\n");
-    std::printf("%-18s %3s %8s %8s %8s %8s %6s %6s %8s %8s %8s %7s  %-34s  %-34s  %-32s  %s\n", "case", "thr",
+    std::printf("%-18s %3s %8s %8s %8s %8s %6s %6s %8s %8s %8s %7s  %-40s  %-40s  %-32s  %s\n", "case", "thr",
                 "cells", "restrict", "boundary", "surface", "par%", "tags", "optimise", "total_s", "peak_MB", "B/cell",
-                "before: QTmin QPmin maxang obt% nwc", "after: QTmin QPmin maxang obt% nwc",
+                "before: QTmin QPmin maxang obt% nwc/off", "after: QTmin QPmin maxang obt% nwc/off",
                 "final l/h: min max <0.75% >1.35%", "obtuse on-Gamma% forced%");
     int failures = 0;
     auto quality_text = [](const Quality &q) {
         char buf[64];
-        std::snprintf(buf, sizeof buf, "%.3f %.3f %6.1f %6.3f %5lld", q.qt_min, q.qp_min, q.angle_max,
-                      q.obtuse_pct, (long long)q.not_well_centred);
+        std::snprintf(buf, sizeof buf, "%.3f %.3f %6.1f %6.3f %5lld/%lld", q.qt_min, q.qp_min, q.angle_max,
+                      q.obtuse_pct, (long long)q.not_well_centred, (long long)q.not_well_centred_off_gamma);
         return std::string(buf);
     };
     for (const auto &c : cases)
@@ -441,7 +442,7 @@ int main(int argc, char **argv) {
             if (r.has_edges)
                 std::snprintf(edges, sizeof edges, "%.3f %.3f %6.2f %6.2f", r.edges.min, r.edges.max,
                               r.edges.share_below, r.edges.share_above);
-            std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %6.1f %6.3f %8.3f %8.3f %8.1f %7.0f  %-34s  %-34s  "
+            std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %6.1f %6.3f %8.3f %8.3f %8.1f %7.0f  %-40s  %-40s  "
                         "%-32s  %lld %.1f %.1f\n",
                         c.c_str(), threads, (long long)r.cells, (long long)r.restricted, r.boundary_s,
                         r.surface_s, r.surface_points > 0 ? 100.0 * double(r.by_territories) / double(r.surface_points) : 0.0,
@@ -459,6 +460,6 @@ int main(int argc, char **argv) {
                 "# vertices on Gamma, and the share forced by a Gamma vertex with one vertex off Gamma on that\n"
                 "# side (its two triangles there share 180 degrees)\n"
                 "# QT = area-length ratio, QP = primal-dual, obt%% = %% of triangles with an angle > 90,\n"
-                "# nwc = triangles not containing their orthocentre\n");
+                "# nwc/off = triangles not containing their orthocentre / those of them with a vertex off Gamma\n");
     return failures ? 1 : 0;
 }
