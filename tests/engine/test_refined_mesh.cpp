@@ -1,0 +1,98 @@
+// Engine tests: the refinement stage as the pipeline runs it (refine_mesh),
+// on the shipped GSHHG coastlines: the refinement issue's coast_global_l
+// case. Every restricted edge meets l < alpha h and eps < beta h except
+// where following Gamma closer would make an edge shorter than h/2 (the
+// filter of features below the spacing), and no edge anywhere is shorter
+// than h/2.
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstddef>
+#include <csetjmp>
+#include <vector>
+
+#include "core/options.hpp"
+#include "hfun/spacing.hpp"
+#include "io/geojson.hpp"
+#include "mesh/refined_mesh.hpp"
+#include "refine/boundary.hpp"
+#include "tri/validate.hpp"
+
+// cmocka last: it defines a fail() macro.
+extern "C" {
+#include <cmocka.h>
+}
+
+using namespace um;
+using geom::Vec3;
+
+namespace {
+
+constexpr double kFilter = 0.5;  // refine::BoundaryOptions::filter
+
+void coast_global_l_follows_gamma_where_not_filtered(void **) {
+    Context ctx;
+    auto gamma = std::make_shared<features::Network>();
+    io::read_geojson_file(UNIMESH_DATA_DIR "/coast_global_l.geojson", {}, *gamma);
+    const Options options;  // alpha 4/3, beta 1/5
+    const double hkm = 60;
+    mesh::RefinedMesh m = mesh::refine_mesh(ctx, hfun::make_constant(hkm), gamma, options);
+    const std::string problem = tri::check_triangulation(m.tri);
+    if (!problem.empty()) fail_msg("%s", problem.c_str());
+    const refine::SpacingRadians h = mesh::spacing_radians(*m.spacing, m.radius_m);
+    const double alpha = options.real(UM_OPT_REFINE_ALPHA), beta = options.real(UM_OPT_REFINE_BETA);
+
+    // The bad restricted edges (too long or too far from Gamma), found
+    // before any probe below changes triangle slots.
+    std::vector<refine::RestrictedEdge> bad;
+    int64_t far = 0;
+    for (const refine::RestrictedEdge &e : m.restricted) {
+        const refine::EdgeMeasure em = refine::measure(m.tri, e, h);
+        if (em.length < alpha * em.h && em.eps < beta * em.h) continue;
+        bad.push_back(e), far += em.eps >= beta * em.h;
+    }
+    assert_int_equal(static_cast<int64_t>(bad.size()), m.filtered);
+    // Each of them is filtered: its ball centre (the point the boundary pass
+    // would insert) is nearer than h/2 to a vertex - within the ball's
+    // radius, or found by inserting it (then removed: the regular
+    // triangulation of the same points comes back, so later probes see the
+    // same mesh).
+    int32_t probe_id = 1 << 30;
+    for (const refine::RestrictedEdge &e : bad) {
+        const double limit = kFilter * h(e.centre);
+        if (e.radius < limit) continue;
+        const int32_t v = m.tri.insert(e.centre, 0.0, probe_id++);
+        assert_true(m.tri.in_triangulation(v));
+        const double nearest = refine::nearest_neighbour(m.tri, v);
+        m.tri.remove(v);
+        if (nearest >= limit) fail_msg("a restricted edge %s h from Gamma could be refined: its centre is %g h from "
+                                       "the nearest vertex", "eps >= beta", nearest / h(e.centre));
+    }
+    // A minority of them (inlets, straits and islands narrower than 60 km:
+    // 17 %), among thousands of restricted edges.
+    print_message("coast_global_l at %g km: %zu restricted edges, %zu bad (%lld too far from Gamma), all filtered\n",
+                  hkm, m.restricted.size(), bad.size(), static_cast<long long>(far));
+    assert_true(m.restricted.size() > 4000);
+    assert_true(bad.size() < m.restricted.size() / 4);
+
+    // No edge anywhere shorter than h/2.
+    double shortest = 1e300;
+    for (int32_t t = 0; t < m.tri.triangle_slots(); ++t) {
+        if (m.tri.is_free(t)) continue;
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 a = m.tri.direction(m.tri.vertex(t, (k + 1) % 3)), b = m.tri.direction(m.tri.vertex(t, (k + 2) % 3));
+            shortest = std::min(shortest, geom::arc_length(a, b) / h(geom::normalized(a + b)));
+        }
+    }
+    print_message("shortest edge %.4f h\n", shortest);
+    assert_true(shortest >= kFilter * (1 - 1e-9));
+}
+
+}  // namespace
+
+int main() {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(coast_global_l_follows_gamma_where_not_filtered),
+    };
+    return cmocka_run_group_tests(tests, nullptr, nullptr);
+}
