@@ -96,10 +96,11 @@ int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri) {
 }
 
 // Peak bytes per cell of the two stages for the memory cap's up-front check,
-// with a margin. Measured by tools/bench/bench_refine: uniform 30 km about
-// 170 for the refinement and 233-242 for the whole pipeline (undo snapshot
-// included); coastline cases up to 340, hence the optimisation's 480.
-constexpr int64_t kRefineBytesPerCell = 200;
+// with a margin. Measured by tools/bench/bench_refine: the refinement 170
+// (uniform 30 km) to 225-238 (coastlines and rivers at 60 km), the whole
+// pipeline 233-242 (uniform, undo snapshot included) and up to 340 on the
+// coastline cases, hence the optimisation's 480.
+constexpr int64_t kRefineBytesPerCell = 280;
 constexpr int64_t kOptimiseBytesPerCell = 480;
 constexpr double kOptimiseNewVertices = 0.125, kOptimiseNewTriangles = 0.05;  // room reserved
 constexpr int kRefineRounds = 4;           // surface passes at most (each after a boundary pass)
