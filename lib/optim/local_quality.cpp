@@ -38,12 +38,15 @@ double area_length_ratio(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
 }
 
 double largest_angle_cosine(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
-    const Vec3 ab = b - a, bc = c - b, ca = a - c;
-    const double lab = geom::dot(ab, ab), lbc = geom::dot(bc, bc), lca = geom::dot(ca, ca);
-    // The largest angle is opposite the longest edge.
-    if (lab >= lbc && lab >= lca) return -geom::dot(bc, ca) / std::sqrt(lbc * lca);
-    if (lbc >= lca) return -geom::dot(ca, ab) / std::sqrt(lca * lab);
-    return -geom::dot(ab, bc) / std::sqrt(lab * lbc);
+    // The largest angle is opposite the longest side (on the sphere too).
+    const double lab = norm2(b - a), lbc = norm2(c - b), lca = norm2(a - c);
+    auto corner = [](const Vec3 &p, const Vec3 &q, const Vec3 &r) {  // the angle at p
+        const Vec3 u = q - geom::dot(p, q) * p, w = r - geom::dot(p, r) * p;  // tangents at p
+        return geom::dot(u, w) / std::sqrt(geom::dot(u, u) * geom::dot(w, w));
+    };
+    if (lab >= lbc && lab >= lca) return corner(c, a, b);
+    if (lbc >= lca) return corner(a, b, c);
+    return corner(b, c, a);
 }
 
 namespace {

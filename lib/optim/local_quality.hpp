@@ -32,8 +32,8 @@ TriangleCost triangle_cost(const Generator &a, const Generator &b, const Generat
 // Each of the two alone (what a vertex move and a weight update look at).
 double area_length_ratio(const Vec3 &a, const Vec3 &b, const Vec3 &c);
 double primal_dual(const Generator &a, const Generator &b, const Generator &c);
-// The cosine of the triangle's largest angle (of its chord triangle: for a
-// triangle of the mesh the same to far below what matters).
+// The cosine of the spherical triangle's largest angle (between the great
+// arcs, as the quality report measures it: obtuse when negative).
 double largest_angle_cosine(const Vec3 &a, const Vec3 &b, const Vec3 &c);
 
 // The score a vertex move improves: Q^T, capped by kObtuseOffset + cos of

@@ -113,15 +113,17 @@ static void optimise_improves_uniform(void **state) {
     um_mesh_destroy(m);
 }
 
-/* The joint weight search after the schedule (optimise.cpp,
- * mend_off_centre_triangles), read from its log line: on the coastlines and
- * rivers at 120 km it mends some of the triangles the schedule left off-centre, some
- * of them only with vertices sliding along Gamma, leaves no more than it met
- * less those it mended, and keeps every Q^P at or above its floor (the
- * mesh's least before it, or 0.9 if lower). */
+/* The joint searches after the schedule (optimise.cpp,
+ * mend_off_centre_triangles and mend_obtuse_triangles), read from their log
+ * lines: on the coastlines and rivers at 120 km the first mends some of the
+ * triangles the schedule left off-centre, some of them only with vertices
+ * sliding along Gamma, leaves no more than it met less those it mended, and
+ * keeps every Q^P at or above its floor (the mesh's least before it, or 0.9
+ * if lower); the second mends some obtuse triangles. */
 typedef struct {
     long long mended, met, slid;
     double floor;
+    long long obtuse_mended, obtuse_met;
 } mend_log;
 
 static void read_mend_line(void *user, int32_t level, const char *msg) {
@@ -131,12 +133,13 @@ static void read_mend_line(void *user, int32_t level, const char *msg) {
            "optimise: joint weights mended %lld of %lld triangles not holding their orthocentre; Q^P floor %lf; "
            "%lld of them with vertices sliding along Gamma",
            &x->mended, &x->met, &x->floor, &x->slid);
+    sscanf(msg, "optimise: joint moves mended %lld of %lld obtuse triangles", &x->obtuse_mended, &x->obtuse_met);
 }
 
-static void joint_weights_mend_off_centre_triangles(void **state) {
+static void joint_searches_mend_off_centre_and_obtuse_triangles(void **state) {
     um_context *ctx = *state;
     um_mesh *m = refine(ctx, 120.0, 2);
-    mend_log x = {-1, -1, -1, 0};
+    mend_log x = {-1, -1, -1, 0, -1, -1};
     assert_int_equal(um_context_set_log(ctx, read_mend_line, &x, UM_LOG_INFO), UM_OK);
     assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
     um_context_set_log(ctx, NULL, NULL, UM_LOG_INFO);
@@ -150,6 +153,13 @@ static void joint_weights_mend_off_centre_triangles(void **state) {
     assert_true(x.slid >= 1 && x.slid <= x.mended);
     assert_true(off_centre <= x.met - x.mended);
     assert_true(qp >= x.floor - 1e-12);
+    /* Then the joint moves: some obtuse triangles mended, none made (the
+     * count around falls with each, and no off-centre triangle is added:
+     * the bound above holds after them). */
+    print_message("joint moves: mended %lld of %lld obtuse; %lld left\n", x.obtuse_mended, x.obtuse_met,
+                  (long long)obtuse);
+    assert_true(x.obtuse_mended >= 1);
+    assert_true(obtuse <= x.obtuse_met - x.obtuse_mended);
     um_mesh_destroy(m);
 }
 
@@ -341,7 +351,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(optimise_improves_uniform, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(bit_identical_for_any_thread_count, setup_context, teardown_context),
-        cmocka_unit_test_setup_teardown(joint_weights_mend_off_centre_triangles, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(joint_searches_mend_off_centre_and_obtuse_triangles, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(vertices_on_features_stay_on_them, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(cancelling_leaves_the_mesh_unchanged, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(options_and_bad_arguments, setup_context, teardown_context),
