@@ -158,6 +158,14 @@ private:
         int32_t segment;
     };
     std::vector<Candidate> mend_candidates(int32_t v, int steps, int slides) const;
+    // The live triangles t with pred(t), found in parallel, in slot order
+    // (the mends then work through them serially).
+    template <class Pred>
+    std::vector<int32_t> live_triangles_where(Pred pred) const {
+        return ctx_.collect_in_order<int32_t>(tri_.triangle_slots(), 8192, [&](int64_t t, std::vector<int32_t> &out) {
+            if (!tri_.is_free(static_cast<int32_t>(t)) && pred(static_cast<int32_t>(t))) out.push_back(static_cast<int32_t>(t));
+        });
+    }
     // What a joint search lowers: the triangles not holding their
     // orthocentre, or the obtuse ones (then without adding to the former).
     enum class MendGoal { off_centre, obtuse };
@@ -521,12 +529,7 @@ Optimiser::Mended Optimiser::mend_off_centre_triangles(const MendFloors &floors)
         return staggering_score(generator(tri_.vertex(t, 0)), generator(tri_.vertex(t, 1)),
                                 generator(tri_.vertex(t, 2))) < 0;
     };
-    // Found in parallel (few), mended in slot order.
-    const std::vector<int32_t> found =
-        ctx_.collect_in_order<int32_t>(tri_.triangle_slots(), 8192, [&](int64_t t, std::vector<int32_t> &out) {
-            if (!tri_.is_free(static_cast<int32_t>(t)) && off_centre(static_cast<int32_t>(t)))
-                out.push_back(static_cast<int32_t>(t));
-        });
+    const std::vector<int32_t> found = live_triangles_where(off_centre);
     Mended out;
     out.met = static_cast<int64_t>(found.size());
     for (int32_t t : found) {
@@ -573,11 +576,7 @@ Optimiser::Mended Optimiser::mend_obtuse_triangles(const MendFloors &floors) {
         return largest_angle_cosine(tri_.direction(tri_.vertex(t, 0)), tri_.direction(tri_.vertex(t, 1)),
                                     tri_.direction(tri_.vertex(t, 2))) < 0;
     };
-    const std::vector<int32_t> found =
-        ctx_.collect_in_order<int32_t>(tri_.triangle_slots(), 8192, [&](int64_t t, std::vector<int32_t> &out) {
-            if (!tri_.is_free(static_cast<int32_t>(t)) && obtuse(static_cast<int32_t>(t)))
-                out.push_back(static_cast<int32_t>(t));
-        });
+    const std::vector<int32_t> found = live_triangles_where(obtuse);
     Mended out;
     out.met = static_cast<int64_t>(found.size());
     for (int32_t t : found) {
