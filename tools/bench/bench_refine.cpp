@@ -54,7 +54,7 @@ struct Result {
     long long surface_points = 0, by_territories = 0;
     EdgeRatios edges;
     int has_edges = 0;
-    int64_t obtuse = 0, obtuse_on_gamma = 0, obtuse_forced = 0;  // of the final mesh (count_obtuse)
+    int64_t obtuse = 0, obtuse_on_gamma = 0, obtuse_all_gamma = 0, obtuse_forced = 0;  // of the final mesh (count_obtuse)
     Quality before, after;
     int64_t cells = 0, triangles = 0, restricted = 0, filtered = 0;
     double peak_mb = 0;
@@ -212,8 +212,8 @@ double dot(const std::array<double, 3> &a, const std::array<double, 3> &b) {
 // triangle's third (the triangle across that spoke has its far vertex on
 // Gamma too). B's two triangles there share its 180 degrees, so one angle is
 // at least 90 whatever the positions.
-void count_obtuse(const MeshCopy &c, int64_t *obtuse, int64_t *on_gamma, int64_t *forced) {
-    *obtuse = *on_gamma = *forced = 0;
+void count_obtuse(const MeshCopy &c, int64_t *obtuse, int64_t *on_gamma, int64_t *all_gamma, int64_t *forced) {
+    *obtuse = *on_gamma = *all_gamma = *forced = 0;
     const size_t nt = c.tri.size() / 3;
     // The triangles at each vertex (compressed rows).
     std::vector<int32_t> first(c.x.size() + 1, 0), at(c.tri.size());
@@ -234,7 +234,7 @@ void count_obtuse(const MeshCopy &c, int64_t *obtuse, int64_t *on_gamma, int64_t
             n_gamma += on(c.tri[3 * t + k]);
         }
         if (obtuse_at < 0) continue;
-        ++*obtuse, *on_gamma += n_gamma >= 2;
+        ++*obtuse, *on_gamma += n_gamma >= 2, *all_gamma += n_gamma == 3;
         const int32_t b = c.tri[3 * t + obtuse_at], x = c.tri[3 * t + (obtuse_at + 1) % 3],
                       y = c.tri[3 * t + (obtuse_at + 2) % 3];
         if (n_gamma != 2 || !on(b)) continue;
@@ -341,7 +341,7 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
         // After the peak was read (the copies would be part of it).
         MeshCopy copy;
         if (copy_mesh(m, &copy)) {
-            count_obtuse(copy, &r.obtuse, &r.obtuse_on_gamma, &r.obtuse_forced);
+            count_obtuse(copy, &r.obtuse, &r.obtuse_on_gamma, &r.obtuse_all_gamma, &r.obtuse_forced);
             r.has_edges = edge_ratios(copy, h, &r.edges);
         }
         const std::string json = quality_json(m);
@@ -422,7 +422,7 @@ int main(int argc, char **argv) {
     std::printf("%-18s %3s %8s %8s %8s %8s %6s %6s %8s %8s %8s %7s  %-40s  %-40s  %-32s  %s\n", "case", "thr",
                 "cells", "restrict", "boundary", "surface", "par%", "tags", "optimise", "total_s", "peak_MB", "B/cell",
                 "before: QTmin QPmin maxang obt% nwc/off", "after: QTmin QPmin maxang obt% nwc/off",
-                "final l/h: min max <0.75% >1.35%", "obtuse on-Gamma% forced%");
+                "final l/h: min max <0.75% >1.35%", "obtuse on-Gamma% all-Gamma% forced%");
     int failures = 0;
     auto quality_text = [](const Quality &q) {
         char buf[64];
@@ -443,21 +443,22 @@ int main(int argc, char **argv) {
                 std::snprintf(edges, sizeof edges, "%.3f %.3f %6.2f %6.2f", r.edges.min, r.edges.max,
                               r.edges.share_below, r.edges.share_above);
             std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %6.1f %6.3f %8.3f %8.3f %8.1f %7.0f  %-40s  %-40s  "
-                        "%-32s  %lld %.1f %.1f\n",
+                        "%-32s  %lld %.1f %.1f %.1f\n",
                         c.c_str(), threads, (long long)r.cells, (long long)r.restricted, r.boundary_s,
                         r.surface_s, r.surface_points > 0 ? 100.0 * double(r.by_territories) / double(r.surface_points) : 0.0,
                         r.tags_s, r.optimise_s, r.total_s, r.peak_mb,
                         r.peak_mb * 1048576.0 / double(r.cells), quality_text(r.before).c_str(),
                         quality_text(r.after).c_str(), edges, (long long)r.obtuse,
                         r.obtuse > 0 ? 100.0 * double(r.obtuse_on_gamma) / double(r.obtuse) : 0.0,
+                        r.obtuse > 0 ? 100.0 * double(r.obtuse_all_gamma) / double(r.obtuse) : 0.0,
                         r.obtuse > 0 ? 100.0 * double(r.obtuse_forced) / double(r.obtuse) : 0.0);
             std::fflush(stdout);
         }
     std::printf("# boundary = boundary refinement; surface = surface refinement; par%% = share of the\n"
                 "# surface points placed by territories in parallel; tags = Tri|Gamma, sides, numbering;\n"
                 "# final l/h = edge length over h at its midpoint, of the final mesh (refined, or optimised)\n"
-                "# obtuse on-Gamma%% forced%% = obtuse triangles of the final mesh, the share of them with 2 or 3\n"
-                "# vertices on Gamma, and the share forced by a Gamma vertex with one vertex off Gamma on that\n"
+                "# obtuse on-Gamma%% all-Gamma%% forced%% = obtuse triangles of the final mesh, the share of them with\n"
+                "# 2 or 3 vertices on Gamma, with 3, and the share forced by a Gamma vertex with one vertex off Gamma on that\n"
                 "# side (its two triangles there share 180 degrees)\n"
                 "# QT = area-length ratio, QP = primal-dual, obt%% = %% of triangles with an angle > 90,\n"
                 "# nwc/off = triangles not containing their orthocentre / those of them with a vertex off Gamma\n");
