@@ -157,7 +157,7 @@ private:
         Generator g;
         int32_t segment;
     };
-    std::vector<Candidate> mend_candidates(int32_t v, int steps, int slides) const;
+    std::vector<Candidate> mend_candidates(int32_t v, int steps, int slides, bool off_gamma_moves = false) const;
     // The live triangles t with pred(t), found in parallel, in slot order
     // (the mends then work through them serially).
     template <class Pred>
@@ -518,7 +518,8 @@ constexpr double kMendStep = 0.1;
 constexpr double kMendSlide = 0.05;  // of h, along Gamma
 constexpr int kMendSlides = 4;
 constexpr int kMendSlideWeightSteps = 3;
-constexpr int kObtuseSlides = 2;  // mend_obtuse_triangles: 5 positions a vertex
+constexpr int kObtuseSlides = 4;  // mend_obtuse_triangles: 9 positions a vertex
+constexpr double kMendEdgeFloor = 0.5;  // of h: the edges moves may make
 // The Q^P a mend may go down to when the mesh's least is above it: a
 // triangle holding its orthocentre matters more to MPAS than Q^P between
 // this and the least.
@@ -561,16 +562,17 @@ Optimiser::Mended Optimiser::mend_off_centre_triangles(const MendFloors &floors)
 
 // After the off-centre mend, each obtuse triangle gets a joint search over
 // the positions of its three vertices (kObtuseSlides steps of kMendSlide h
-// either way along Gamma for those on it, one such step in four directions
-// for the others; 5^3 combinations): the combination with the fewest obtuse
+// either way along Gamma for those on it, half as many in four directions
+// for the others; 9^3 combinations): the combination with the fewest obtuse
 // triangles around them (then the least obtuse largest angle) is taken when
 // it has fewer than now, adds no triangle not holding its orthocentre there,
-// keeps Q^P, Q^T and the largest angle within the mesh's, the stars valid
-// and every edge around them regular. Moving one vertex at a time cannot
-// mend most of these (the sweeps' local optimum: at a vertex on Gamma
-// between a short Gamma edge and a vertex off it, any single move makes a
-// neighbour worse); on the coastline at 60 km this takes 1,331 obtuse
-// triangles to 700. Serial, in slot order: deterministic.
+// keeps Q^P, Q^T and the largest angle within the mesh's, makes no edge
+// shorter than h/2 (or the shortest there), keeps the stars valid and every
+// edge around them regular. Moving one vertex at a time cannot mend most of
+// these (the sweeps' local optimum: at a vertex on Gamma between a short
+// Gamma edge and a vertex off it, any single move makes a neighbour
+// worse); on the coastline at 60 km this takes 1,333 obtuse triangles to
+// 654. Serial, in slot order: deterministic.
 Optimiser::Mended Optimiser::mend_obtuse_triangles(const MendFloors &floors) {
     auto obtuse = [&](int32_t t) {
         return largest_angle_cosine(tri_.direction(tri_.vertex(t, 0)), tri_.direction(tri_.vertex(t, 1)),
@@ -583,16 +585,17 @@ Optimiser::Mended Optimiser::mend_obtuse_triangles(const MendFloors &floors) {
         if (!obtuse(t)) continue;  // mended with an earlier one
         const int32_t v[3] = {tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)};
         std::vector<Candidate> c[3];
-        for (int i = 0; i < 3; ++i) c[i] = mend_candidates(v[i], 0, kObtuseSlides);
+        for (int i = 0; i < 3; ++i) c[i] = mend_candidates(v[i], 0, kObtuseSlides, true);
         out.mended += mend_jointly(v, 3, c, floors, true, MendGoal::obtuse);
     }
     return out;
 }
 
-// The candidates of mend_off_centre_triangles for vertex v: its weight
-// `steps` steps either way, and when `slides` > 0 and v is on Gamma, at each
-// of `slides` steps of kMendSlide h either way along its polyline too.
-std::vector<Optimiser::Candidate> Optimiser::mend_candidates(int32_t v, int steps, int slides) const {
+// The candidates of a joint search for vertex v: its weight `steps` steps
+// of kMendStep either way, at each of its positions: where it is, and when
+// `slides` > 0, `slides` steps of kMendSlide h either way along Gamma (v on
+// it) or, with off_gamma_moves, half as many in four directions (v off it).
+std::vector<Optimiser::Candidate> Optimiser::mend_candidates(int32_t v, int steps, int slides, bool off_gamma_moves) const {
     const Generator here = generator(v);
     double spoke2 = 0;
     int spokes = 0;
@@ -602,22 +605,33 @@ std::vector<Optimiser::Candidate> Optimiser::mend_candidates(int32_t v, int step
     });
     spoke2 /= spokes;
     const double weight = 2.0 * (1.0 - 1.0 / here.s);
-    std::vector<Candidate> out;
-    const bool slide = slides > 0 && on_segment_[v] >= 0 && gamma_ && !o_.fix_boundary;
+    // The positions: here, then along Gamma either way (on it), or with
+    // `off_gamma_moves`, off it in four directions at half as many steps
+    // (as many positions).
+    std::vector<Candidate> at{{here, on_segment_[v]}};
     const int64_t segment = on_segment_[v];
-    const Vec3 tangent = slide ? geom::normalized(gamma_->segment_b(segment) - gamma_->segment_a(segment)) : Vec3{};
-    for (int k = slide ? -slides : 0; k <= (slide ? slides : 0); ++k) {
-        Candidate at{here, on_segment_[v]};
-        if (k != 0) {
-            const PointOnGamma p = slide_along(*gamma_, segment, geom::normalized(here.x + (kMendSlide * k * h_at_[v]) * tangent));
-            at.g.x = p.x, at.segment = static_cast<int32_t>(p.segment);
-        }
+    const double step = kMendSlide * h_at_[v];
+    if (slides > 0 && segment >= 0 && gamma_ && !o_.fix_boundary) {
+        const Vec3 tangent = geom::normalized(gamma_->segment_b(segment) - gamma_->segment_a(segment));
+        for (int k = 1; k <= slides; ++k)
+            for (double sign : {1.0, -1.0}) {
+                const PointOnGamma p = slide_along(*gamma_, segment, geom::normalized(here.x + (sign * k * step) * tangent));
+                at.push_back({{p.x, here.s}, static_cast<int32_t>(p.segment)});
+            }
+    } else if (slides > 0 && segment < 0 && off_gamma_moves) {
+        const Vec3 e1 = geom::normalized(geom::cross(here.x, std::fabs(here.x.z) < 0.9 ? Vec3{0, 0, 1} : Vec3{1, 0, 0}));
+        const Vec3 e2 = geom::cross(here.x, e1);
+        for (int k = 1; k <= std::max(1, slides / 2); ++k)
+            for (const Vec3 &d : {e1, -1.0 * e1, e2, -1.0 * e2})
+                at.push_back({{geom::normalized(here.x + (k * step) * d), here.s}, -1});
+    }
+    std::vector<Candidate> out;
+    for (const Candidate &a : at)
         for (int j = -steps; j <= steps; ++j) {
-            Candidate c = at;
+            Candidate c = a;
             c.g.s = tri::lifted_scale(weight + kMendStep * j * spoke2);
             if (c.g.s > 0 && std::isfinite(c.g.s)) out.push_back(c);
         }
-    }
     return out;
 }
 
@@ -641,6 +655,21 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
     // than any when a Q^P or Q^T there would fall below its floor, or when
     // the count passes `limit` (such a combination cannot be taken).
     int off_centre_limit = std::numeric_limits<int>::max();  // for the obtuse goal: no more than now
+    // Moves make no edge around shorter than h/2 or, if one is already, than
+    // the shortest there (squared chords).
+    auto shortest_edge2 = [&](const Generator &a, const Generator &b, const Generator &c) {
+        const Vec3 ab = a.x - b.x, bc = b.x - c.x, ca = c.x - a.x;
+        return std::min({geom::dot(ab, ab), geom::dot(bc, bc), geom::dot(ca, ca)});
+    };
+    double edge2_floor = 0;
+    if (moves) {
+        edge2_floor = kInfinity;
+        for (int32_t u : around)
+            edge2_floor = std::min(edge2_floor, shortest_edge2(generator(tri_.vertex(u, 0)), generator(tri_.vertex(u, 1)),
+                                                               generator(tri_.vertex(u, 2))));
+        const double half_h = kMendEdgeFloor * h_at_[v[0]];
+        edge2_floor = std::min(edge2_floor, half_h * half_h);
+    }
     auto judge = [&](int limit) {
         int out = 0, off = 0;
         double worst = kInfinity;
@@ -651,7 +680,8 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
             const double q = staggering_score(a, b, c, &qp);
             const double cosine = moves ? largest_angle_cosine(a.x, b.x, c.x) : 1.0;
             const bool below = qp < floors.qp || (moves && (area_length_ratio(a.x, b.x, c.x) < floors.qt ||
-                                                            cosine < floors.largest_angle_cosine));
+                                                            cosine < floors.largest_angle_cosine ||
+                                                            shortest_edge2(a, b, c) < edge2_floor));
             if (below) return kRefused;
             if (goal == MendGoal::off_centre) {
                 out += q < 0, worst = std::min(worst, q);
