@@ -203,7 +203,8 @@ private:
         double qt_min, qt_mean, qp_min, qp_mean;
         double largest_angle_cosine;  // of the mesh's largest angle
     };
-    Summary summarise() const;
+    // with_largest_angle: also the cosine of the largest angle (else 1).
+    Summary summarise(bool with_largest_angle = false) const;
 
     Context &ctx_;
     tri::Triangulation &tri_;
@@ -1081,7 +1082,7 @@ bool Optimiser::relax_into_regularity(const int32_t (&quad)[4]) {
 // Min and mean of Q^T and Q^P over the live triangles: blocks of a fixed
 // size reduced in parallel, then combined in block order, so the sums are
 // the same for any thread count.
-Optimiser::Summary Optimiser::summarise() const {
+Optimiser::Summary Optimiser::summarise(bool with_largest_angle) const {
     constexpr int64_t kBlock = 8192;
     const int32_t n = tri_.triangle_slots();
     const int64_t n_blocks = (n + kBlock - 1) / kBlock;
@@ -1099,7 +1100,8 @@ Optimiser::Summary Optimiser::summarise() const {
                 const Generator a = generator(tri_.vertex(ti, 0)), b = generator(tri_.vertex(ti, 1)),
                                 c = generator(tri_.vertex(ti, 2));
                 const TriangleCost cost = triangle_cost(a, b, c);
-                p.largest_angle_cosine = std::min(p.largest_angle_cosine, largest_angle_cosine(a.x, b.x, c.x));
+                if (with_largest_angle)
+                    p.largest_angle_cosine = std::min(p.largest_angle_cosine, largest_angle_cosine(a.x, b.x, c.x));
                 p.qt_min = std::min(p.qt_min, cost.area_length), p.qt_sum += cost.area_length;
                 p.qp_min = std::min(p.qp_min, cost.primal_dual), p.qp_sum += cost.primal_dual;
                 ++p.live;
@@ -1196,7 +1198,8 @@ OptimiseStats Optimiser::run() {
     }
     if (o_.weights && o_.outer_iterations > 0) {
         auto t0 = Clock::now();
-        const MendFloors floors{std::min(last.qp_min, kMendQpFloor), last.qt_min, last.largest_angle_cosine};
+        const Summary end = summarise(true);  // last's, with the largest angle
+        const MendFloors floors{std::min(end.qp_min, kMendQpFloor), end.qt_min, end.largest_angle_cosine};
         const Mended m = mend_off_centre_triangles(floors);
         stats_.weight_updates += m.mended;
         stats_.seconds_weights += seconds_since(t0);
@@ -1207,7 +1210,7 @@ OptimiseStats Optimiser::run() {
     }
     if (o_.outer_iterations > 0) {
         auto t0 = Clock::now();
-        const Summary now = summarise();  // the off-centre mend may have changed the least Q^P and Q^T
+        const Summary now = summarise(true);  // the off-centre mend may have changed them
         const Mended m = mend_obtuse_triangles({now.qp_min, now.qt_min, now.largest_angle_cosine});
         stats_.moves += m.mended;
         stats_.seconds_moves += seconds_since(t0);
