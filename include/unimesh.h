@@ -509,9 +509,14 @@ UM_API void um_mesh_destroy(um_mesh *m); /* NULL-safe */
  * quality of its triangles improves (or stays, and their mean improves), a
  * weight only if it leaves every adjacent dual edge crossing its primal edge
  * (no vertex can become hidden). Stops early when an outer iteration changes
- * no quality summary by more than UM_OPT_OPTIM_TOLERANCE. Sweeps are
- * graph-coloured and run in parallel; the mesh is bit-identical for any
- * thread count. options may be NULL (defaults); ctx is the mesh's context.
+ * no quality summary by more than UM_OPT_OPTIM_TOLERANCE. After the
+ * iterations, two serial joint searches: each triangle not containing its
+ * orthocentre gets the weights (and, on the features, the slides) of its
+ * vertices searched together, and then each obtuse triangle the positions of
+ * its three vertices; a combination is taken only if it leaves fewer such
+ * triangles around, no more off-centre ones, and no Q^P, Q^T, angle or edge
+ * length past the mesh's own bounds. Sweeps are graph-coloured and run in
+ * parallel; the mesh is bit-identical for any thread count. options may be NULL (defaults); ctx is the mesh's context.
  * Progress: stage "optimise", once per outer iteration; cancelling there (or
  * any error) leaves m exactly as it was. Afterwards the quality report holds
  * the refined mesh's metrics too ("before_optimisation") and the counts and

@@ -656,7 +656,8 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
     // than any when a Q^P or Q^T there would fall below its floor, or when
     // the count passes `limit` (such a combination cannot be taken).
     int off_centre_limit = std::numeric_limits<int>::max();  // for the obtuse goal: no more than now
-    // Moves make no edge around shorter than h/2 or, if one is already, than
+    // Moves make no edge around shorter than h/2 (h at the first vertex: the
+    // three are within an edge of each other) or, if one is already, than
     // the shortest there (squared chords).
     auto shortest_edge2 = [&](const Generator &a, const Generator &b, const Generator &c) {
         const Vec3 ab = a.x - b.x, bc = b.x - c.x, ca = c.x - a.x;

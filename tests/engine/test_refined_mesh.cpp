@@ -54,7 +54,8 @@ void coast_global_l_follows_gamma_where_not_filtered(void **) {
     assert_int_equal(static_cast<int64_t>(bad.size()), m.filtered);
     // Each of them is filtered: its ball centre (the point the boundary pass
     // would insert) is nearer than h/2 to a vertex - within the ball's
-    // radius, or found by inserting it (then removed: the regular
+    // radius (on this data every one of them), or else found by inserting
+    // it (then removed: with no weights nothing is hidden, and the regular
     // triangulation of the same points comes back, so later probes see the
     // same mesh).
     int32_t probe_id = 1 << 30;
