@@ -142,8 +142,8 @@ private:
     bool update_weight(const StarGraph &g, int32_t v);
     bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
     int64_t polish_poor_stars(const StarGraph &g);
-    // qp_floor: no triangle's Q^P may fall below it. How many such
-    // triangles it met, and how many it mended.
+    // What a mend met and mended (slid: of those, with a vertex sliding
+    // along Gamma).
     struct Mended {
         int64_t met = 0, mended = 0, slid = 0;
     };
@@ -652,10 +652,6 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
             if (u == v[i]) return trial[i];
         return generator(u);
     };
-    // (off-centre triangles around, worst staggering score there); more
-    // than any when a Q^P or Q^T there would fall below its floor, or when
-    // the count passes `limit` (such a combination cannot be taken).
-    int off_centre_limit = std::numeric_limits<int>::max();  // for the obtuse goal: no more than now
     // Moves make no edge around shorter than h/2 (h at the first vertex: the
     // three are within an edge of each other) or, if one is already, than
     // the shortest there (squared chords).
@@ -672,10 +668,19 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         const double half_h = kMendEdgeFloor * h_at_[v[0]];
         edge2_floor = std::min(edge2_floor, half_h * half_h);
     }
-    auto judge = [&](int limit) {
-        int out = 0, off = 0;
-        double worst = kInfinity;
-        constexpr auto kRefused = std::make_pair(std::numeric_limits<int>::max(), -kInfinity);
+    // The trial's score around: how many triangles the goal counts (then the
+    // worst staggering score, or largest-angle cosine, there) and how many
+    // are off-centre. Refused (a count above any) when a Q^P, Q^T, angle or
+    // edge there would pass its floor, or when the count passes `limit` or
+    // the off-centre ones `off_limit` (such a trial cannot be taken).
+    struct Score {
+        int count;
+        double worst;
+        int off_centre;
+    };
+    constexpr Score kRefused{std::numeric_limits<int>::max(), -kInfinity, std::numeric_limits<int>::max()};
+    auto judge = [&](int limit, int off_limit) {
+        Score out{0, kInfinity, 0};
         for (int32_t u : around) {
             double qp = 0;
             const Generator a = at(tri_.vertex(u, 0)), b = at(tri_.vertex(u, 1)), c = at(tri_.vertex(u, 2));
@@ -684,16 +689,12 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
             const bool below = qp < floors.qp || (moves && (area_length_ratio(a.x, b.x, c.x) < floors.qt ||
                                                             cosine < floors.largest_angle_cosine ||
                                                             shortest_edge2(a, b, c) < edge2_floor));
-            if (below) return kRefused;
-            if (goal == MendGoal::off_centre) {
-                out += q < 0, worst = std::min(worst, q);
-            } else {
-                out += cosine < 0, worst = std::min(worst, cosine);
-                if ((off += q < 0) > off_centre_limit) return kRefused;
-            }
-            if (out > limit) return kRefused;
+            if (below || (out.off_centre += q < 0) > off_limit) return kRefused;
+            const double score = goal == MendGoal::off_centre ? q : cosine;
+            out.count += score < 0, out.worst = std::min(out.worst, score);
+            if (out.count > limit) return kRefused;
         }
-        return std::make_pair(out, worst);
+        return out;
     };
     auto stars_valid = [&] {
         for (int i = 0; i < n; ++i) {
@@ -721,26 +722,24 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         if (candidates[i].empty()) return false;
         trial[i] = generator(v[i]);
     }
-    if (goal == MendGoal::obtuse) {
-        off_centre_limit = 0;
-        for (int32_t u : around)
-            off_centre_limit += staggering_score(generator(tri_.vertex(u, 0)), generator(tri_.vertex(u, 1)), generator(tri_.vertex(u, 2))) < 0;
-    }
-    const auto now = judge(std::numeric_limits<int>::max());
+    const Score now = judge(std::numeric_limits<int>::max(), std::numeric_limits<int>::max());
+    if (now.count == kRefused.count) return false;  // (the floors are the mesh's: not met here)
+    // The obtuse goal adds no off-centre triangle.
+    const int off_limit = goal == MendGoal::obtuse ? now.off_centre : std::numeric_limits<int>::max();
     // The counted ones first: the count passes the limit sooner.
     std::stable_partition(around.begin(), around.end(), [&](int32_t u) {
         const Generator a = generator(tri_.vertex(u, 0)), b = generator(tri_.vertex(u, 1)), c = generator(tri_.vertex(u, 2));
         return goal == MendGoal::off_centre ? staggering_score(a, b, c) < 0 : largest_angle_cosine(a.x, b.x, c.x) < 0;
     });
-    auto best = now;
+    Score best = now;
     int chosen[4] = {-1, -1, -1, -1};
     // Every combination, as the digits of a counter.
     int digit[4] = {0, 0, 0, 0};
     for (;;) {
         for (int i = 0; i < n; ++i) trial[i] = candidates[i][digit[i]].g;
-        const auto q = judge(std::min(best.first, now.first - 1));
-        const bool better = q.first < best.first || (q.first == best.first && q.second > best.second + gain_);
-        if (better && q.first < now.first && stars_valid() && regular_with_trial()) {
+        const Score q = judge(std::min(best.count, now.count - 1), off_limit);
+        const bool better = q.count < best.count || (q.count == best.count && q.worst > best.worst + gain_);
+        if (better && q.count < now.count && stars_valid() && regular_with_trial()) {
             best = q;
             for (int j = 0; j < n; ++j) chosen[j] = digit[j];
         }
@@ -749,7 +748,7 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         if (i == n) break;
         ++digit[i];
     }
-    if (best.first >= now.first) return false;
+    if (best.count >= now.count) return false;
     for (int i = 0; i < n; ++i) {
         const Candidate &c = candidates[i][chosen[i]];
         set_generator(v[i], c.g), changed_at_[v[i]] = clock_;
