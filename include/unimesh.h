@@ -202,6 +202,9 @@ enum {
                                           refined when one of its ends has 3 or more restricted
                                           edges of the same feature part (Tri|Gamma is no curve
                                           there), down to the same h/2 filter */
+    UM_OPT_REFINE_RELAX = 104,         /* int 0/1; default 1. 1: after refinement, vertices away
+                                          from Gamma move (no flips, criteria kept) until their
+                                          edges lie within [0.75, 1.35]*h where they can */
     /* optimisation (paper section 6, Algorithm 1) */
     UM_OPT_OPTIM_OUTER_ITERATIONS = 200, /* int; N, default 16 */
     UM_OPT_OPTIM_INNER_ITERATIONS = 201, /* int; M, default 8 */
@@ -473,8 +476,14 @@ UM_API um_status um_spacing_evaluate(const um_spacing *s, int64_t n, const doubl
  * smaller than the local spacing (no new edge below h/2); surface refinement
  * then adds frontal off-centre points until every triangle has
  * sqrt(3)*circumradius < alpha*h and radius-edge ratio < rho, never inside the
- * surface ball of a restricted edge. alpha, beta, rho and the sphere radius
- * come from the options (UM_OPT_REFINE_*, UM_OPT_SPHERE_RADIUS).
+ * surface ball of a restricted edge. Last (UM_OPT_REFINE_RELAX, on by
+ * default), an edge-length relaxation moves the vertices away from Gamma,
+ * without flips and keeping both surface bounds, until their edges lie within
+ * [0.75, 1.35]*h (where fronts met, the surface pass leaves about 2 % of the
+ * edges up to 1.54*h); at a crowded spot it removes a vertex or puts it where
+ * the hole needs one. Vertices on or near Gamma stay, so the restricted edges
+ * and sides are those of the boundary refinement. alpha, beta, rho and the
+ * sphere radius come from the options (UM_OPT_REFINE_*, UM_OPT_SPHERE_RADIUS).
  *
  * Mesh vertices are numbered 0..n_vertices-1 (+ base in the copies);
  * triangles are counter-clockwise seen from outside. Deterministic: the same

@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "refine/boundary.hpp"
+#include "refine/relax.hpp"
 #include "refine/surface.hpp"
 
 namespace um::mesh {
@@ -218,6 +219,16 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
             refine::refine_surface(ctx, m.tri, hr, so, next_id, round > 0 ? &boundary.added : nullptr);
         next_id = surface.next_id;
         near_gamma.swap(surface.near_gamma);
+    }
+    if (options.integer(UM_OPT_REFINE_RELAX) != 0) {
+        refine::RelaxOptions ro;
+        ro.alpha = so.alpha, ro.rho = so.rho;
+        if (arcs.size() > 0) ro.gamma = &arcs, ro.on_gamma = &m.on_segment;
+        const refine::RelaxStats relaxed = refine::relax_edge_lengths(ctx, m.tri, hr, ro);
+        ctx.log(UM_LOG_INFO, concat("refine: relaxation moved ", relaxed.moves, " vertices, removed ",
+                                    relaxed.removed, " and put ", relaxed.replaced, " elsewhere; edges outside [",
+                                    ro.lower, ", ", ro.upper, "] h: ", relaxed.outside_before, " -> ",
+                                    relaxed.outside_after));
     }
     ctx.progress("refine tags", 0.0);  // (not from the optimisation's finish: its stage is "optimise")
     finish(ctx, m, arcs);

@@ -508,17 +508,20 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
 // (so no flip follows that could undo it). If none does, the same with the
 // far vertex of a neighbour as a fourth. If none does either, the three
 // with their positions too, those on Gamma sliding kMendSlides steps of
-// kMendSlide h either way along it: most triangles left by then have all
-// three vertices on Gamma, at bends and narrow features, where a weight
-// cannot move the orthocentre far enough without unmending a neighbour. A
-// move must also keep every Q^T around above the mesh's least and every
-// angle below its largest. Serial, in slot order: deterministic.
+// kMendSlide h either way along it (then kMendWideSlides steps, with fewer
+// weights): most triangles left by then have all three vertices on Gamma,
+// at bends and narrow features, where a weight cannot move the orthocentre
+// far enough without unmending a neighbour. A move must also keep every
+// Q^T around above the mesh's least and every angle below its largest.
+// Serial, in slot order: deterministic.
 constexpr int kMendSteps = 4;
 constexpr int kMendPairSteps = 3;  // with a neighbour's far vertex: 7^4 combinations
 constexpr double kMendStep = 0.1;
 constexpr double kMendSlide = 0.05;  // of h, along Gamma
 constexpr int kMendSlides = 4;
 constexpr int kMendSlideWeightSteps = 3;
+constexpr int kMendWideSlides = 8;  // the last try: 5 weights at 17 positions, 85^3 combinations
+constexpr int kMendWideWeightSteps = 2;
 constexpr int kObtuseSlides = 4;  // mend_obtuse_triangles: 9 positions a vertex
 constexpr double kMendEdgeFloor = 0.5;  // of h: the edges moves may make
 // The Q^P a mend may go down to when the mesh's least is above it: a
@@ -556,6 +559,9 @@ Optimiser::Mended Optimiser::mend_off_centre_triangles(const MendFloors &floors)
             slides |= c[i].size() > 2 * kMendSlideWeightSteps + 1;
         }
         if (slides && mend_jointly(v, 3, c, floors, true)) done = true, ++out.slid;
+        // Else farther along Gamma, with fewer weights.
+        for (int i = 0; i < 3 && slides && !done; ++i) c[i] = mend_candidates(v[i], kMendWideWeightSteps, kMendWideSlides);
+        if (slides && !done && mend_jointly(v, 3, c, floors, true)) done = true, ++out.slid;
         out.mended += done;
     }
     return out;
@@ -1196,11 +1202,13 @@ OptimiseStats Optimiser::run() {
             break;
         }
     }
+    int64_t off_centre_left = 0;
     if (o_.weights && o_.outer_iterations > 0) {
         auto t0 = Clock::now();
         const Summary end = summarise(true);  // last's, with the largest angle
         const MendFloors floors{std::min(end.qp_min, kMendQpFloor), end.qt_min, end.largest_angle_cosine};
         const Mended m = mend_off_centre_triangles(floors);
+        off_centre_left = m.met - m.mended;
         stats_.weight_updates += m.mended;
         stats_.seconds_weights += seconds_since(t0);
         // tests/capi/test_optimise_api.c reads this line.
@@ -1217,6 +1225,19 @@ OptimiseStats Optimiser::run() {
         // tests/capi/test_optimise_api.c reads this line.
         ctx_.log(UM_LOG_INFO, concat("optimise: joint moves mended ", m.mended, " of ", m.met, " obtuse triangles; ",
                                      seconds_since(t0), " s"));
+    }
+    if (off_centre_left > 0) {
+        // The moves have changed the neighbourhoods of the off-centre
+        // triangles left (without adding any): another search may now mend
+        // some. It only ever lowers their number.
+        auto t0 = Clock::now();
+        const Summary end = summarise(true);
+        const MendFloors floors{std::min(end.qp_min, kMendQpFloor), end.qt_min, end.largest_angle_cosine};
+        const Mended m = mend_off_centre_triangles(floors);
+        stats_.weight_updates += m.mended;
+        stats_.seconds_weights += seconds_since(t0);
+        ctx_.log(UM_LOG_INFO, concat("optimise: after the joint moves, joint weights mended ", m.mended, " of ",
+                                     m.met, " triangles not holding their orthocentre; ", seconds_since(t0), " s"));
     }
     ctx_.progress("optimise", 1.0);
     return stats_;

@@ -738,6 +738,12 @@ int32_t Triangulation::remove(int32_t v) {
     return t;
 }
 
+void Triangulation::restore_removed(int32_t v, int32_t hint) {
+    if (vertex_tri_[v] != kRemoved) fail(UM_ERR_INTERNAL, "restore_removed: vertex slot ", v, " is not removed");
+    vertex_tri_[v] = kNone;
+    reinsert(v, nullptr, hint);
+}
+
 // Moves v a little towards one of its link vertices, keeping its star facing
 // outwards; true when it moved.
 bool Triangulation::nudge_off_diagonals(int32_t v, const std::vector<int32_t> &link) {

@@ -176,6 +176,10 @@ public:
     // by ears that are facets of the hull of the remaining points.
     // Returns a live triangle where v was (a hint for later walks).
     int32_t remove(int32_t v);
+    // Inserts a removed vertex again at its stored point (same slot and id):
+    // undoes remove(v), the triangles being the same regular ones (their
+    // slots may differ). `hint`: a triangle near v.
+    void restore_removed(int32_t v, int32_t hint = 0);
     // Moves v to a new direction keeping its weight / sets its weight, then
     // restores regularity. Returns the vertices that became hidden (v itself
     // when its power cell became empty).

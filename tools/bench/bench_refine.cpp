@@ -4,7 +4,8 @@
 // "Geometry, spacing functions and restricted refinement" and "Weighted
 // primal-dual optimisation", with 1 and 2 threads, printing cells, time per
 // phase, peak memory and the quality metrics before and after optimising
-// (--no-optimise: refinement only).
+// (--no-optimise: refinement only; --log: the library's log lines of level
+// info and above go to stderr).
 //
 //   (a) uniform 30 km, global, no features;
 //   (b) coast_global_l + rivers_global_l at 60 km;
@@ -48,7 +49,7 @@ struct EdgeRatios {
 };
 
 struct Result {
-    double total_s = 0, boundary_s = 0, surface_s = 0, tags_s = 0, optimise_s = 0;
+    double total_s = 0, boundary_s = 0, surface_s = 0, relax_s = 0, tags_s = 0, optimise_s = 0;
     // The surface passes' points, and how many of them territories placed
     // in parallel (from the library's debug line "refine surface: ...").
     long long surface_points = 0, by_territories = 0;
@@ -61,6 +62,8 @@ struct Result {
     int ok = 0;
     char error[200] = {0};
 };
+
+bool g_log = false;  // --log
 
 // Phase timing through the progress callback: time spent since the first
 // report of a stage until the first report of the next one.
@@ -308,11 +311,12 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
     }
     Phases phases;
     um_context_set_progress(ctx, on_progress, &phases);
-    um_context_set_log(ctx, [](void *user, int32_t, const char *msg) {
+    um_context_set_log(ctx, [](void *user, int32_t level, const char *msg) {
         auto *x = static_cast<Result *>(user);
         long long points = 0, parallel = 0;
         if (std::sscanf(msg, "refine surface: %lld points, %lld of them by territories", &points, &parallel) == 2)
             x->surface_points += points, x->by_territories += parallel;
+        if (g_log && level >= UM_LOG_INFO) std::fprintf(stderr, "  log: %s\n", msg);
     }, &r, UM_LOG_DEBUG);
     long base_kb = max_rss_kb();
     auto t0 = Clock::now();
@@ -323,8 +327,9 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
     double refine_s = std::chrono::duration<double>(t1 - t0).count();
     if (!phases.stage.empty()) phases.seconds[phases.stage] += std::chrono::duration<double>(t1 - phases.last).count();
     r.boundary_s = phases.seconds["refine boundary"];
+    r.relax_s = phases.seconds["refine relax"];
     r.tags_s = phases.seconds["refine tags"];
-    r.surface_s = refine_s - r.boundary_s - r.tags_s;
+    r.surface_s = refine_s - r.boundary_s - r.relax_s - r.tags_s;
     if (s == UM_OK && optimise) {
         um_context_set_progress(ctx, nullptr, nullptr);
         auto t2 = Clock::now();
@@ -390,6 +395,7 @@ int main(int argc, char **argv) {
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--data") && i + 1 < argc) data = argv[++i];
         else if (!std::strcmp(argv[i], "--no-optimise")) optimise = false;
+        else if (!std::strcmp(argv[i], "--log")) g_log = true;
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) {
             thread_counts.clear();
             for (const char *p = argv[++i]; *p;) {
@@ -410,7 +416,7 @@ int main(int argc, char **argv) {
             }
         } else {
             std::fprintf(stderr, "usage: bench_refine [--cases uniform-30km,coast-rivers-60km,midatlantic] "
-                                 "[--threads 1,2] [--no-optimise] [--data DIR]\n");
+                                 "[--threads 1,2] [--no-optimise] [--log] [--data DIR]\n");
             return 2;
         }
     }
@@ -419,8 +425,8 @@ int main(int argc, char **argv) {
     std::printf("# each run in its own child; peak_MB = growth of its max RSS during refine + optimise\n"
                 "# (the quality report is read afterwards; the optimisation's own report of the\n"
                 "# refined mesh is part of it)\n");
-    std::printf("%-18s %3s %8s %8s %8s %8s %6s %6s %8s %8s %8s %7s  %-40s  %-40s  %-32s  %s\n", "case", "thr",
-                "cells", "restrict", "boundary", "surface", "par%", "tags", "optimise", "total_s", "peak_MB", "B/cell",
+    std::printf("%-18s %3s %8s %8s %8s %8s %6s %6s %6s %8s %8s %8s %7s  %-40s  %-40s  %-32s  %s\n", "case", "thr",
+                "cells", "restrict", "boundary", "surface", "par%", "relax", "tags", "optimise", "total_s", "peak_MB", "B/cell",
                 "before: QTmin QPmin maxang obt% nwc/off", "after: QTmin QPmin maxang obt% nwc/off",
                 "final l/h: min max <0.75% >1.35%", "obtuse on-Gamma% all-Gamma% forced%");
     int failures = 0;
@@ -442,11 +448,11 @@ int main(int argc, char **argv) {
             if (r.has_edges)
                 std::snprintf(edges, sizeof edges, "%.3f %.3f %6.2f %6.2f", r.edges.min, r.edges.max,
                               r.edges.share_below, r.edges.share_above);
-            std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %6.1f %6.3f %8.3f %8.3f %8.1f %7.0f  %-40s  %-40s  "
+            std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %6.1f %6.3f %6.3f %8.3f %8.3f %8.1f %7.0f  %-40s  %-40s  "
                         "%-32s  %lld %.1f %.1f %.1f\n",
                         c.c_str(), threads, (long long)r.cells, (long long)r.restricted, r.boundary_s,
                         r.surface_s, r.surface_points > 0 ? 100.0 * double(r.by_territories) / double(r.surface_points) : 0.0,
-                        r.tags_s, r.optimise_s, r.total_s, r.peak_mb,
+                        r.relax_s, r.tags_s, r.optimise_s, r.total_s, r.peak_mb,
                         r.peak_mb * 1048576.0 / double(r.cells), quality_text(r.before).c_str(),
                         quality_text(r.after).c_str(), edges, (long long)r.obtuse,
                         r.obtuse > 0 ? 100.0 * double(r.obtuse_on_gamma) / double(r.obtuse) : 0.0,
@@ -455,7 +461,8 @@ int main(int argc, char **argv) {
             std::fflush(stdout);
         }
     std::printf("# boundary = boundary refinement; surface = surface refinement; par%% = share of the\n"
-                "# surface points placed by territories in parallel; tags = Tri|Gamma, sides, numbering;\n"
+                "# surface points placed by territories in parallel; relax = the edge-length relaxation;\n"
+                "# tags = Tri|Gamma, sides, numbering;\n"
                 "# final l/h = edge length over h at its midpoint, of the final mesh (refined, or optimised)\n"
                 "# obtuse on-Gamma%% all-Gamma%% forced%% = obtuse triangles of the final mesh, the share of them with\n"
                 "# 2 or 3 vertices on Gamma, with 3, and the share forced by a Gamma vertex with one vertex off Gamma on that\n"

@@ -1,0 +1,64 @@
+// Edge-length relaxation after refinement. The surface criteria bound every
+// triangle's circumradius (sqrt(3) r < alpha h) and shape (r / e_min < rho),
+// but where two fronts meet they leave pairs of near-right triangles whose
+// shared diagonal is up to 2 alpha / sqrt(3) = 1.54 h long (2 % of the edges
+// of a uniform mesh above 1.35 h). No inserted point mends such a near-square
+// (every point inside it is within 0.71 h of a corner), so this pass moves
+// vertices instead: each vertex with an edge outside a band of lengths (in
+// units of h at the edge's midpoint) is pulled along its edges' length
+// errors. A move is kept only when
+//   - it lowers the number of the vertex's edges outside the band, or as many
+//     by less;
+//   - no edge of the vertex that was inside the band, or inside [lower,
+//     upper], leaves it;
+//   - every triangle around the vertex stays within the surface criteria;
+//   - it needs no flip: the star stays a regular star, so nothing beyond it
+//     changes and the triangulation stays the regular one of its points.
+// A crowded or stretched stretch of mesh needs room made around it first, so
+// the band starts narrower than [lower, upper] (by each of `margins` in turn)
+// and ends at it. Vertices on Gamma, or whose dual edges could reach Gamma,
+// stay where they are: the restricted edges and the sides do not change.
+// Serial, in slot order: deterministic for any thread count.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/context.hpp"
+#include "geom/arc_tree.hpp"
+#include "refine/surface.hpp"
+#include "tri/triangulation.hpp"
+
+namespace um::refine {
+
+struct RelaxOptions {
+    // The band every edge should end in, in units of h: 0.005 inside the
+    // issue's [0.75, 1.35], so that lengths measured another way (chords,
+    // another Earth radius: within 1e-4 of these) are inside that too.
+    double lower = 0.755, upper = 1.345;
+    // Where vertices are stuck: the rings around them, relaxed towards the
+    // bands [lower + m, upper - m] for each margin m in turn, before the band
+    // is tried again; for each ring count in turn while any are left.
+    std::vector<int> rings{3, 6, 12};
+    std::vector<double> margins{0.08, 0.04};
+    int rounds = 8;                        // per band: passes over the vertices left outside it
+    double alpha = 4.0 / 3.0, rho = 1.05;  // the surface criteria the moves keep
+    const geom::ArcTree *gamma = nullptr;  // with Gamma: vertices near it stay
+    const std::vector<int32_t> *on_gamma = nullptr;  // per vertex slot: Gamma arc or -1
+};
+
+struct RelaxStats {
+    int64_t outside_before = 0, outside_after = 0;  // edges outside [lower, upper]
+    int64_t moves = 0;                              // moves kept
+    int64_t removed = 0;                            // vertices removed (crowded spots)
+    int64_t replaced = 0;                           // vertices put elsewhere (crowded spots)
+};
+
+RelaxStats relax_edge_lengths(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
+                              const RelaxOptions &options);
+
+// Edges not strictly inside (lower, upper) h, each once.
+int64_t count_edges_outside(Context &ctx, const tri::Triangulation &tri, const SpacingRadians &h,
+                            double lower, double upper);
+
+}  // namespace um::refine
