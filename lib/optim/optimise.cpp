@@ -144,15 +144,19 @@ private:
     int64_t polish_poor_stars(const StarGraph &g);
     // What a mend met and mended (slid: of those, with a vertex sliding
     // along Gamma).
-    struct Mended {
-        int64_t met = 0, mended = 0, slid = 0;
-    };
     // What a mend keeps: no Q^P below qp; where vertices move, no Q^T below
     // qt and no angle larger than the one of cosine largest_angle_cosine.
     struct MendFloors {
-        double qp, qt, largest_angle_cosine;
+        double qp = 0, qt = 0, largest_angle_cosine = -1;
     };
-    Mended mend_off_centre_triangles(const MendFloors &floors);
+    struct Mended {
+        int64_t met = 0, mended = 0, slid = 0;
+        MendFloors floors;  // what it kept (from a summary, made only when it met any)
+    };
+    // The floors from a fresh summary: the mesh's least Q^P (or kMendQpFloor,
+    // when `qp_floor` and that is lower), least Q^T and largest angle.
+    MendFloors mend_floors(bool qp_floor);
+    Mended mend_off_centre_triangles();
     struct Candidate {  // a generator a vertex may take, and its segment of Gamma
         Generator g;
         int32_t segment;
@@ -171,7 +175,7 @@ private:
     enum class MendGoal { off_centre, obtuse };
     bool mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *candidates, const MendFloors &floors,
                       bool moves, MendGoal goal = MendGoal::off_centre);
-    Mended mend_obtuse_triangles(const MendFloors &floors);
+    Mended mend_obtuse_triangles();
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
     // The ODT target of a move of v (at `here`, link `ring` from the graph).
@@ -529,7 +533,12 @@ constexpr double kMendEdgeFloor = 0.5;  // of h: the edges moves may make
 // this and the least.
 constexpr double kMendQpFloor = 0.9;
 
-Optimiser::Mended Optimiser::mend_off_centre_triangles(const MendFloors &floors) {
+Optimiser::MendFloors Optimiser::mend_floors(bool qp_floor) {
+    const Summary now = summarise(true);  // with the largest angle
+    return {qp_floor ? std::min(now.qp_min, kMendQpFloor) : now.qp_min, now.qt_min, now.largest_angle_cosine};
+}
+
+Optimiser::Mended Optimiser::mend_off_centre_triangles() {
     auto off_centre = [&](int32_t t) {
         return staggering_score(generator(tri_.vertex(t, 0)), generator(tri_.vertex(t, 1)),
                                 generator(tri_.vertex(t, 2))) < 0;
@@ -537,6 +546,8 @@ Optimiser::Mended Optimiser::mend_off_centre_triangles(const MendFloors &floors)
     const std::vector<int32_t> found = live_triangles_where(off_centre);
     Mended out;
     out.met = static_cast<int64_t>(found.size());
+    if (found.empty()) return out;
+    const MendFloors floors = out.floors = mend_floors(true);
     for (int32_t t : found) {
         if (!off_centre(t)) continue;  // mended with an earlier one
         int32_t v[4] = {tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2), -1};
@@ -580,7 +591,7 @@ Optimiser::Mended Optimiser::mend_off_centre_triangles(const MendFloors &floors)
 // Gamma edge and a vertex off it, any single move makes a neighbour
 // worse); on the coastline at 60 km this takes 1,333 obtuse triangles to
 // 654. Serial, in slot order: deterministic.
-Optimiser::Mended Optimiser::mend_obtuse_triangles(const MendFloors &floors) {
+Optimiser::Mended Optimiser::mend_obtuse_triangles() {
     auto obtuse = [&](int32_t t) {
         return largest_angle_cosine(tri_.direction(tri_.vertex(t, 0)), tri_.direction(tri_.vertex(t, 1)),
                                     tri_.direction(tri_.vertex(t, 2))) < 0;
@@ -588,6 +599,8 @@ Optimiser::Mended Optimiser::mend_obtuse_triangles(const MendFloors &floors) {
     const std::vector<int32_t> found = live_triangles_where(obtuse);
     Mended out;
     out.met = static_cast<int64_t>(found.size());
+    if (found.empty()) return out;
+    const MendFloors floors = out.floors = mend_floors(false);  // the off-centre mend may have changed them
     for (int32_t t : found) {
         if (!obtuse(t)) continue;  // mended with an earlier one
         const int32_t v[3] = {tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)};
@@ -1205,21 +1218,18 @@ OptimiseStats Optimiser::run() {
     int64_t off_centre_left = 0;
     if (o_.weights && o_.outer_iterations > 0) {
         auto t0 = Clock::now();
-        const Summary end = summarise(true);  // last's, with the largest angle
-        const MendFloors floors{std::min(end.qp_min, kMendQpFloor), end.qt_min, end.largest_angle_cosine};
-        const Mended m = mend_off_centre_triangles(floors);
+        const Mended m = mend_off_centre_triangles();
         off_centre_left = m.met - m.mended;
         stats_.weight_updates += m.mended;
         stats_.seconds_weights += seconds_since(t0);
         // tests/capi/test_optimise_api.c reads this line.
         ctx_.log(UM_LOG_INFO, concat("optimise: joint weights mended ", m.mended, " of ", m.met,
-                                     " triangles not holding their orthocentre; Q^P floor ", floors.qp, "; ",
+                                     " triangles not holding their orthocentre; Q^P floor ", m.floors.qp, "; ",
                                      m.slid, " of them with vertices sliding along Gamma; ", seconds_since(t0), " s"));
     }
     if (o_.outer_iterations > 0) {
         auto t0 = Clock::now();
-        const Summary now = summarise(true);  // the off-centre mend may have changed them
-        const Mended m = mend_obtuse_triangles({now.qp_min, now.qt_min, now.largest_angle_cosine});
+        const Mended m = mend_obtuse_triangles();
         stats_.moves += m.mended;
         stats_.seconds_moves += seconds_since(t0);
         // tests/capi/test_optimise_api.c reads this line.
@@ -1231,9 +1241,7 @@ OptimiseStats Optimiser::run() {
         // triangles left (without adding any): another search may now mend
         // some. It only ever lowers their number.
         auto t0 = Clock::now();
-        const Summary end = summarise(true);
-        const MendFloors floors{std::min(end.qp_min, kMendQpFloor), end.qt_min, end.largest_angle_cosine};
-        const Mended m = mend_off_centre_triangles(floors);
+        const Mended m = mend_off_centre_triangles();
         stats_.weight_updates += m.mended;
         stats_.seconds_weights += seconds_since(t0);
         ctx_.log(UM_LOG_INFO, concat("optimise: after the joint moves, joint weights mended ", m.mended, " of ",

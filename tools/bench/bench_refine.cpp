@@ -5,7 +5,8 @@
 // primal-dual optimisation", with 1 and 2 threads, printing cells, time per
 // phase, peak memory and the quality metrics before and after optimising
 // (--no-optimise: refinement only; --log: the library's log lines of level
-// info and above go to stderr).
+// info and above go to stderr; --options "name=value;...": options for both
+// calls, as um_options_set_string reads them).
 //
 //   (a) uniform 30 km, global, no features;
 //   (b) coast_global_l + rivers_global_l at 60 km;
@@ -63,7 +64,8 @@ struct Result {
     char error[200] = {0};
 };
 
-bool g_log = false;  // --log
+bool g_log = false;          // --log
+const char *g_options = "";  // --options: um_options_set_string assignments for both calls
 
 // Phase timing through the progress callback: time spent since the first
 // report of a stage until the first report of the next one.
@@ -322,7 +324,10 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
     auto t0 = Clock::now();
     phases.start = phases.last = t0;
     um_mesh *m = nullptr;
-    um_status s = um_mesh_refine(ctx, h, f, nullptr, &m);
+    um_options *opts = nullptr;
+    check(um_options_create(ctx, &opts), ctx, "options");
+    check(um_options_set_string(opts, g_options), ctx, "--options");
+    um_status s = um_mesh_refine(ctx, h, f, opts, &m);
     auto t1 = Clock::now();
     double refine_s = std::chrono::duration<double>(t1 - t0).count();
     if (!phases.stage.empty()) phases.seconds[phases.stage] += std::chrono::duration<double>(t1 - phases.last).count();
@@ -333,7 +338,7 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
     if (s == UM_OK && optimise) {
         um_context_set_progress(ctx, nullptr, nullptr);
         auto t2 = Clock::now();
-        s = um_mesh_optimise(m, nullptr);
+        s = um_mesh_optimise(m, opts);
         r.optimise_s = std::chrono::duration<double>(Clock::now() - t2).count();
     }
     r.total_s = refine_s + r.optimise_s;
@@ -356,6 +361,7 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
         r.ok = 1;
     }
     um_mesh_destroy(m);
+    um_options_destroy(opts);
     um_features_destroy(f);
     um_spacing_destroy(h);
     um_context_destroy(ctx);
@@ -396,6 +402,7 @@ int main(int argc, char **argv) {
         if (!std::strcmp(argv[i], "--data") && i + 1 < argc) data = argv[++i];
         else if (!std::strcmp(argv[i], "--no-optimise")) optimise = false;
         else if (!std::strcmp(argv[i], "--log")) g_log = true;
+        else if (!std::strcmp(argv[i], "--options") && i + 1 < argc) g_options = argv[++i];
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) {
             thread_counts.clear();
             for (const char *p = argv[++i]; *p;) {
@@ -416,7 +423,7 @@ int main(int argc, char **argv) {
             }
         } else {
             std::fprintf(stderr, "usage: bench_refine [--cases uniform-30km,coast-rivers-60km,midatlantic] "
-                                 "[--threads 1,2] [--no-optimise] [--log] [--data DIR]\n");
+                                 "[--threads 1,2] [--no-optimise] [--log] [--options \"name=value;...\"] [--data DIR]\n");
             return 2;
         }
     }
