@@ -123,7 +123,7 @@ public:
         tri_.set_lifted(v, largest_circumcentre(link, &hint));
         tri_.restore_removed(v, hint);
         const RegionScore after = region_score(around);
-        if (after.bad_triangles == 0 && after.outside_edges < before.outside_edges) {
+        if (after.improves_on(before, hard_)) {
             touched_.insert(touched_.end(), around.begin(), around.end());
             ++replaced_;
             opened->insert(opened->end(), around.begin(), around.end());
@@ -185,12 +185,15 @@ private:
         return s;
     }
 
-    // The score at x, vetoed when an edge inside a band there would leave it.
+    // The score at x, vetoed when an edge inside a band there would leave
+    // it, or one outside [lower, upper] would go farther out (so no edge ever
+    // gets worse: none shorter than the shortest before, say).
     BandScore score_at(const Vec3 &x) const {
         BandScore s;
         for (size_t i = 0; i < link_.size(); ++i) {
             const double r = length_ratio(x, tri_.direction(link_[i]), h_);
             if ((status(r) & ~status_[i]) != 0) return BandScore::vetoed();
+            if (hard_.excess(r) > hard_.excess(length_[i] / spacing_[i])) return BandScore::vetoed();
             if (!target_.holds(r)) ++s.outside, s.excess += target_.excess(r);
         }
         return s;
@@ -238,6 +241,14 @@ private:
 
     struct RegionScore {
         int bad_triangles = 0, outside_edges = 0;
+        double shortest = 1e300, longest = 0;  // edges, in units of h
+        // No worse anywhere, and better in all: no triangle outside the
+        // criteria, fewer edges outside the band, none shorter or longer
+        // beyond it than the extremes before.
+        bool improves_on(const RegionScore &o, const Band &band) const {
+            return bad_triangles == 0 && outside_edges < o.outside_edges &&
+                   shortest >= std::min(o.shortest, band.lower) && longest <= std::max(o.longest, band.upper);
+        }
     };
     // Over the triangles around `vertices`: those outside the surface
     // criteria, and their edges outside [lower, upper], each once.
@@ -249,8 +260,9 @@ private:
                 if (!meets_criteria(t)) ++s.bad_triangles;
                 for (int k = 0; k < 3; ++k) {
                     const int32_t a = tri_.vertex(t, k == 2 ? 0 : k + 1), b = tri_.vertex(t, k == 0 ? 2 : k - 1);
-                    if (!hard_.holds(length_ratio(tri_.direction(a), tri_.direction(b), h_)))
-                        outside.push_back({std::min(a, b), std::max(a, b)});
+                    const double r = length_ratio(tri_.direction(a), tri_.direction(b), h_);
+                    s.shortest = std::min(s.shortest, r), s.longest = std::max(s.longest, r);
+                    if (!hard_.holds(r)) outside.push_back({std::min(a, b), std::max(a, b)});
                 }
             });
         std::sort(outside.begin(), outside.end());

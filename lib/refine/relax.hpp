@@ -10,15 +10,22 @@
 //   - it lowers the number of the vertex's edges outside the band, or as many
 //     by less;
 //   - no edge of the vertex that was inside the band, or inside [lower,
-//     upper], leaves it;
+//     upper], leaves it, and none outside [lower, upper] goes farther out
+//     (so no edge ends shorter than the shortest before, or longer than the
+//     longest);
 //   - every triangle around the vertex stays within the surface criteria;
 //   - it needs no flip: the star stays a regular star, so nothing beyond it
 //     changes and the triangulation stays the regular one of its points.
-// A crowded or stretched stretch of mesh needs room made around it first, so
-// the band starts narrower than [lower, upper] (by each of `margins` in turn)
-// and ends at it. Vertices on Gamma, or whose dual edges could reach Gamma,
-// stay where they are: the restricted edges and the sides do not change.
-// Serial, in slot order: deterministic for any thread count.
+// Where that is stuck, the stretch of mesh around is crowded or stretched as
+// a whole and needs room made first: the rings of vertices around are
+// relaxed towards narrower bands (by each of `margins` in turn), then the
+// band is tried again, over wider rings while any are stuck. A crowded spot
+// left after that has a vertex too many: it is removed when its hole comes
+// out good, or put at the circumcentre of the hole's largest triangle when
+// that leaves fewer edges around outside the band, none worse and every
+// triangle within the criteria. Vertices on Gamma, or whose dual edges could
+// reach Gamma, stay where they are: the restricted edges and the sides do not
+// change. Serial, in slot order: deterministic for any thread count.
 #pragma once
 
 #include <cstdint>
