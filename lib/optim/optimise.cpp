@@ -601,7 +601,9 @@ Optimiser::Mended Optimiser::mend_obtuse_triangles() {
     out.met = static_cast<int64_t>(found.size());
     if (found.empty()) return out;
     const MendFloors floors = out.floors = mend_floors(false);  // the off-centre mend may have changed them
-    for (int32_t t : found) {
+    for (size_t i = 0; i < found.size(); ++i) {
+        const int32_t t = found[i];
+        if (i % 256 == 255) ctx_.progress("optimise", 1.0);  // a cancel point: up to a second here
         if (!obtuse(t)) continue;  // mended with an earlier one
         const int32_t v[3] = {tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)};
         std::vector<Candidate> c[3];
@@ -617,13 +619,15 @@ Optimiser::Mended Optimiser::mend_obtuse_triangles() {
 // it) or, with off_gamma_moves, half as many in four directions (v off it).
 std::vector<Optimiser::Candidate> Optimiser::mend_candidates(int32_t v, int steps, int slides, bool off_gamma_moves) const {
     const Generator here = generator(v);
-    double spoke2 = 0;
-    int spokes = 0;
-    tri_.for_each_in_star(v, [&](int32_t u) {
-        const Vec3 d = here.x - tri_.direction(tri_.vertex(u, (tri_.local_index(u, v) + 1) % 3));
-        spoke2 += geom::dot(d, d), ++spokes;
-    });
-    spoke2 /= spokes;
+    double spoke2 = 0;  // the weight steps' unit; only with steps
+    if (steps > 0) {
+        int spokes = 0;
+        tri_.for_each_in_star(v, [&](int32_t u) {
+            const Vec3 d = here.x - tri_.direction(tri_.vertex(u, (tri_.local_index(u, v) + 1) % 3));
+            spoke2 += geom::dot(d, d), ++spokes;
+        });
+        spoke2 /= spokes;
+    }
     const double weight = 2.0 * (1.0 - 1.0 / here.s);
     // The positions: here, then along Gamma either way (on it), or with
     // `off_gamma_moves`, off it in four directions at half as many steps
