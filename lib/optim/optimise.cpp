@@ -156,7 +156,8 @@ private:
     // The floors from a fresh summary: the mesh's least Q^P (or kMendQpFloor,
     // when `qp_floor` and that is lower), least Q^T and largest angle.
     MendFloors mend_floors(bool qp_floor);
-    Mended mend_off_centre_triangles();
+    // keep_obtuse: its moves may not add obtuse triangles (after the obtuse mend).
+    Mended mend_off_centre_triangles(bool keep_obtuse);
     struct Candidate {  // a generator a vertex may take, and its segment of Gamma
         Generator g;
         int32_t segment;
@@ -171,8 +172,9 @@ private:
         });
     }
     // What a joint search lowers: the triangles not holding their
-    // orthocentre, or the obtuse ones (then without adding to the former).
-    enum class MendGoal { off_centre, obtuse };
+    // orthocentre (also without adding obtuse ones), or the obtuse ones
+    // (then without adding to the former).
+    enum class MendGoal { off_centre, off_centre_keeping_obtuse, obtuse };
     bool mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *candidates, const MendFloors &floors,
                       bool moves, MendGoal goal = MendGoal::off_centre);
     Mended mend_obtuse_triangles();
@@ -538,7 +540,8 @@ Optimiser::MendFloors Optimiser::mend_floors(bool qp_floor) {
     return {qp_floor ? std::min(now.qp_min, kMendQpFloor) : now.qp_min, now.qt_min, now.largest_angle_cosine};
 }
 
-Optimiser::Mended Optimiser::mend_off_centre_triangles() {
+Optimiser::Mended Optimiser::mend_off_centre_triangles(bool keep_obtuse) {
+    const MendGoal moving = keep_obtuse ? MendGoal::off_centre_keeping_obtuse : MendGoal::off_centre;
     auto off_centre = [&](int32_t t) {
         return staggering_score(generator(tri_.vertex(t, 0)), generator(tri_.vertex(t, 1)),
                                 generator(tri_.vertex(t, 2))) < 0;
@@ -549,6 +552,7 @@ Optimiser::Mended Optimiser::mend_off_centre_triangles() {
     if (found.empty()) return out;
     const MendFloors floors = out.floors = mend_floors(true);
     for (int32_t t : found) {
+        ctx_.progress("optimise", 1.0);  // a cancel point: a triangle's search can take a second
         if (!off_centre(t)) continue;  // mended with an earlier one
         int32_t v[4] = {tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2), -1};
         std::vector<Candidate> c[4];
@@ -569,10 +573,10 @@ Optimiser::Mended Optimiser::mend_off_centre_triangles() {
             c[i] = mend_candidates(v[i], kMendSlideWeightSteps, kMendSlides);
             slides |= c[i].size() > 2 * kMendSlideWeightSteps + 1;
         }
-        if (slides && mend_jointly(v, 3, c, floors, true)) done = true, ++out.slid;
+        if (slides && mend_jointly(v, 3, c, floors, true, moving)) done = true, ++out.slid;
         // Else farther along Gamma, with fewer weights.
         for (int i = 0; i < 3 && slides && !done; ++i) c[i] = mend_candidates(v[i], kMendWideWeightSteps, kMendWideSlides);
-        if (slides && !done && mend_jointly(v, 3, c, floors, true)) done = true, ++out.slid;
+        if (slides && !done && mend_jointly(v, 3, c, floors, true, moving)) done = true, ++out.slid;
         out.mended += done;
     }
     return out;
@@ -699,11 +703,12 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
     struct Score {
         int count;
         double worst;
-        int off_centre;
+        int off_centre, obtuse;
     };
-    constexpr Score kRefused{std::numeric_limits<int>::max(), -kInfinity, std::numeric_limits<int>::max()};
-    auto judge = [&](int limit, int off_limit) {
-        Score out{0, kInfinity, 0};
+    constexpr int kAny = std::numeric_limits<int>::max();
+    constexpr Score kRefused{kAny, -kInfinity, kAny, kAny};
+    auto judge = [&](int limit, int off_limit, int obtuse_limit) {
+        Score out{0, kInfinity, 0, 0};
         for (int32_t u : around) {
             double qp = 0;
             const Generator a = at(tri_.vertex(u, 0)), b = at(tri_.vertex(u, 1)), c = at(tri_.vertex(u, 2));
@@ -712,8 +717,9 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
             const bool below = qp < floors.qp || (moves && (area_length_ratio(a.x, b.x, c.x) < floors.qt ||
                                                             cosine < floors.largest_angle_cosine ||
                                                             shortest_edge2(a, b, c) < edge2_floor));
-            if (below || (out.off_centre += q < 0) > off_limit) return kRefused;
-            const double score = goal == MendGoal::off_centre ? q : cosine;
+            if (below || (out.off_centre += q < 0) > off_limit || (out.obtuse += cosine < 0) > obtuse_limit)
+                return kRefused;
+            const double score = goal == MendGoal::obtuse ? cosine : q;
             out.count += score < 0, out.worst = std::min(out.worst, score);
             if (out.count > limit) return kRefused;
         }
@@ -745,14 +751,15 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         if (candidates[i].empty()) return false;
         trial[i] = generator(v[i]);
     }
-    const Score now = judge(std::numeric_limits<int>::max(), std::numeric_limits<int>::max());
+    const Score now = judge(kAny, kAny, kAny);
     if (now.count == kRefused.count) return false;  // (the floors are the mesh's: not met here)
-    // The obtuse goal adds no off-centre triangle.
-    const int off_limit = goal == MendGoal::obtuse ? now.off_centre : std::numeric_limits<int>::max();
+    // The obtuse goal adds no off-centre triangle, and the keeping one no obtuse one.
+    const int off_limit = goal == MendGoal::obtuse ? now.off_centre : kAny;
+    const int obtuse_limit = goal == MendGoal::off_centre_keeping_obtuse ? now.obtuse : kAny;
     // The counted ones first: the count passes the limit sooner.
     std::stable_partition(around.begin(), around.end(), [&](int32_t u) {
         const Generator a = generator(tri_.vertex(u, 0)), b = generator(tri_.vertex(u, 1)), c = generator(tri_.vertex(u, 2));
-        return goal == MendGoal::off_centre ? staggering_score(a, b, c) < 0 : largest_angle_cosine(a.x, b.x, c.x) < 0;
+        return goal == MendGoal::obtuse ? largest_angle_cosine(a.x, b.x, c.x) < 0 : staggering_score(a, b, c) < 0;
     });
     Score best = now;
     int chosen[4] = {-1, -1, -1, -1};
@@ -760,7 +767,7 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
     int digit[4] = {0, 0, 0, 0};
     for (;;) {
         for (int i = 0; i < n; ++i) trial[i] = candidates[i][digit[i]].g;
-        const Score q = judge(std::min(best.count, now.count - 1), off_limit);
+        const Score q = judge(std::min(best.count, now.count - 1), off_limit, obtuse_limit);
         const bool better = q.count < best.count || (q.count == best.count && q.worst > best.worst + gain_);
         if (better && q.count < now.count && stars_valid() && regular_with_trial()) {
             best = q;
@@ -1222,7 +1229,7 @@ OptimiseStats Optimiser::run() {
     int64_t off_centre_left = 0;
     if (o_.weights && o_.outer_iterations > 0) {
         auto t0 = Clock::now();
-        const Mended m = mend_off_centre_triangles();
+        const Mended m = mend_off_centre_triangles(false);
         off_centre_left = m.met - m.mended;
         stats_.weight_updates += m.mended;
         stats_.seconds_weights += seconds_since(t0);
@@ -1243,9 +1250,10 @@ OptimiseStats Optimiser::run() {
     if (off_centre_left > 0) {
         // The moves have changed the neighbourhoods of the off-centre
         // triangles left (without adding any): another search may now mend
-        // some. It only ever lowers their number.
+        // some. It only ever lowers their number, and its moves add no
+        // obtuse triangle (so the obtuse mend's count stands).
         auto t0 = Clock::now();
-        const Mended m = mend_off_centre_triangles();
+        const Mended m = mend_off_centre_triangles(true);
         stats_.weight_updates += m.mended;
         stats_.seconds_weights += seconds_since(t0);
         ctx_.log(UM_LOG_INFO, concat("optimise: after the joint moves, joint weights mended ", m.mended, " of ",

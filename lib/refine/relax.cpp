@@ -34,6 +34,16 @@ struct BandScore {
     }
 };
 
+// Whether an arc of Gamma has its box within 4 h of x (a chord, a little
+// shorter than the arc): a box test, quicker than a distance.
+bool near_gamma(const Vec3 &x, const SpacingRadians &h, const RelaxOptions &o) {
+    if (!o.gamma || o.gamma->size() == 0) return false;
+    geom::Box near;
+    near.add(x);
+    near.grow(4 * h(x));
+    return o.gamma->any_overlaps(near);
+}
+
 // Vertices on Gamma stay, and so do those whose move could change a dual edge
 // near Gamma: a move changes the orthocentres of the triangles around v
 // (within r < 0.77 h of their corners), so the dual edges it changes lie
@@ -49,14 +59,7 @@ bool stays_put(const tri::Triangulation &tri, int32_t v, const SpacingRadians &h
         });
         if (near) return true;
     }
-    if (!o.gamma || o.gamma->size() == 0) return false;
-    // Any arc whose box comes within 4 h (a chord, a little shorter than
-    // the arc): a box test, quicker than a distance.
-    const Vec3 x = tri.direction(v);
-    geom::Box near;
-    near.add(x);
-    near.grow(4 * h(x));
-    return o.gamma->any_overlaps(near);
+    return near_gamma(tri.direction(v), h, o);
 }
 
 class Relaxer {
@@ -85,10 +88,9 @@ public:
             for (int64_t i = b; i < e; ++i) fixed(vertices[i]);  // distinct slots: no race
         });
     }
-    // The vertices whose edges may have changed so far: those moved or
-    // removed, and around a removal or a replacement (each once, ascending).
-    std::vector<int32_t> touched() const {
-        std::vector<int32_t> m = touched_;
+    // The vertices moved so far (each once, ascending).
+    std::vector<int32_t> moved() const {
+        std::vector<int32_t> m = moved_;
         std::sort(m.begin(), m.end());
         m.erase(std::unique(m.begin(), m.end()), m.end());
         return m;
@@ -111,26 +113,29 @@ public:
         const std::vector<int32_t> link = link_;
         const std::vector<int32_t> around = two_rings(v);
         const RegionScore before = region_score(around);
+        const Vec3 stored = tri_.lifted(v);
         int32_t hint = tri_.remove(v);
         if (hole_is_good(link)) {
             state_[v] = kFixed;  // gone: nothing more to do there
-            touched_.push_back(v);
-            touched_.insert(touched_.end(), link.begin(), link.end());
             ++removed_;
             opened->insert(opened->end(), link.begin(), link.end());
             return true;
         }
-        tri_.set_lifted(v, largest_circumcentre(link, &hint));
+        const Vec3 centre = largest_circumcentre(link, &hint);
+        if (near_gamma(centre, h_, o_)) {  // the 4 h margin holds where it goes too
+            tri_.restore_removed(v, hint);
+            return false;
+        }
+        tri_.set_lifted(v, centre);  // weight 0: the lifted point is the direction
         tri_.restore_removed(v, hint);
         const RegionScore after = region_score(around);
         if (after.improves_on(before, hard_)) {
-            touched_.insert(touched_.end(), around.begin(), around.end());
             ++replaced_;
             opened->insert(opened->end(), around.begin(), around.end());
             return true;
         }
         hint = tri_.remove(v);
-        tri_.set_lifted(v, x);  // weight 0: the lifted point is the direction
+        tri_.set_lifted(v, stored);  // bit for bit: the same regular triangulation again
         tri_.restore_removed(v, hint);
         return false;
     }
@@ -202,19 +207,22 @@ private:
     // Halving steps along two pulls in turn: every edge's, and only the edges
     // outside the target's (when the others are nearly balanced, they would
     // only hold v back).
+    // A move that would take v within 4 h of Gamma (moves add up) is not
+    // tried.
     void try_moves(int32_t v, const Vec3 &x, const BandScore &old) {
+        const Vec3 stored = tri_.lifted(v);  // put back bit for bit when a trial fails
         const Vec3 pulls[2] = {pull_at(x, false), pull_at(x, true)};
         for (int trial = 0; trial < 8; ++trial) {
             const double step = 0.5 / double(1 << (trial / 2));
             const Vec3 y = geom::normalized(x + step * pulls[trial % 2]);
-            if (!score_at(y).better_than(old)) continue;
+            if (!score_at(y).better_than(old) || near_gamma(y, h_, o_)) continue;
             tri_.set_lifted(v, y);  // weight 0: the lifted point is the direction
             if (star_is_valid(v)) {
                 ++moves_;
-                touched_.push_back(v);
+                moved_.push_back(v);
                 return;
             }
-            tri_.set_lifted(v, x);
+            tri_.set_lifted(v, stored);
         }
     }
 
@@ -367,7 +375,7 @@ private:
     const Band hard_;
     Band target_;
     std::vector<uint8_t> state_;   // per vertex slot: kUnknown, kFree, kFixed
-    std::vector<int32_t> touched_;
+    std::vector<int32_t> moved_;
     std::vector<int32_t> link_;    // of the vertex being relaxed, counter-clockwise
     std::vector<uint8_t> status_;  // per link vertex, before the move
     std::vector<double> length_, spacing_;  // per link vertex: its edge's length and h, before
@@ -472,6 +480,7 @@ std::vector<int32_t> rings_around(const tri::Triangulation &tri, const std::vect
 
 RelaxStats relax_edge_lengths(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
                               const RelaxOptions &options) {
+    ctx.progress("refine relax", 0.0);  // the phase starts (timed by its reports)
     RelaxStats stats;
     const Band hard{options.lower, options.upper};
     Relaxer relaxer(tri, h, options);
@@ -507,9 +516,16 @@ RelaxStats relax_edge_lengths(Context &ctx, tri::Triangulation &tri, const Spaci
     stats.removed = relaxer.removed();
     stats.replaced = relaxer.replaced();
     stats.moves = relaxer.moves();
-    // An edge outside the band now was so at the start with neither end
-    // touched since, or has a touched end: count those, each once.
-    const std::vector<int32_t> moved = relaxer.touched();
+    // After a removal or a replacement, whose flips may reach a little
+    // beyond what they touched, a full count.
+    if (stats.removed + stats.replaced > 0) {
+        stats.outside_after = count_edges_outside(ctx, tri, h, options.lower, options.upper);
+        return stats;
+    }
+    // Else only moves changed edges, those of the vertices moved: an edge
+    // outside the band now was so at the start with neither end moved since,
+    // or has a moved end. Count those, each once.
+    const std::vector<int32_t> moved = relaxer.moved();
     auto has_moved = [&](int32_t v) { return std::binary_search(moved.begin(), moved.end(), v); };
     for (const auto &[a, b] : outside_before) stats.outside_after += !has_moved(a) && !has_moved(b);
     std::vector<int32_t> outside(moved.size(), 0);

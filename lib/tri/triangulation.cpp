@@ -741,7 +741,12 @@ int32_t Triangulation::remove(int32_t v) {
 void Triangulation::restore_removed(int32_t v, int32_t hint) {
     if (vertex_tri_[v] != kRemoved) fail(UM_ERR_INTERNAL, "restore_removed: vertex slot ", v, " is not removed");
     vertex_tri_[v] = kNone;
-    reinsert(v, nullptr, hint);
+    try {
+        reinsert(v, nullptr, hint);
+    } catch (...) {
+        vertex_tri_[v] = kRemoved;  // still removed, as before the call
+        throw;
+    }
 }
 
 // Moves v a little towards one of its link vertices, keeping its star facing

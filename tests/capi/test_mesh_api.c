@@ -93,7 +93,7 @@ static void uniform_sphere(void **state) {
  * every edge of the refined mesh lies within [0.75, 1.35] h (the surface
  * pass leaves 2 % above 1.35 h; the relaxation moves them in). Without the
  * relaxation (refine_relax = 0) some edges are outside: the option is what
- * does it, and the cells are as many either way. */
+ * does it, and the cells are about as many either way. */
 static void uniform_edges_within_the_band(void **state) {
     um_context *ctx = *state;
     for (int i = 0; i < 2; ++i) {
@@ -117,7 +117,8 @@ static void uniform_edges_within_the_band(void **state) {
             free_copy(&c);
             um_mesh_destroy(m);
         }
-        assert_int_equal(cells[0], cells[1]);
+        /* It moves vertices (a crowded spot may lose one): about as many cells. */
+        assert_true(cells[1] <= cells[0] && cells[0] - cells[1] <= cells[0] / 1000);
         um_options_destroy(o);
         um_spacing_destroy(h);
     }

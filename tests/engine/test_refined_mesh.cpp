@@ -5,6 +5,7 @@
 // filter of features below the spacing), and no edge anywhere is shorter
 // than h/2.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdarg>
 #include <cstddef>
@@ -89,11 +90,72 @@ void coast_global_l_follows_gamma_where_not_filtered(void **) {
     assert_true(shortest >= kFilter * (1 - 1e-9));
 }
 
+// The edge-length relaxation (refine/relax.hpp) leaves Gamma alone: with and
+// without it (refine_relax), coastlines and rivers at 120 km give the same
+// restricted edges (by the ids of their ends, and their arcs), the same
+// vertices, the same side for every vertex, and the same position for every
+// vertex on Gamma; the relaxation did move vertices elsewhere.
+void relaxation_leaves_gamma_alone(void **) {
+    auto gamma = std::make_shared<features::Network>();
+    io::read_geojson_file(UNIMESH_DATA_DIR "/coast_global_l.geojson", {}, *gamma);
+    io::read_geojson_file(UNIMESH_DATA_DIR "/rivers_global_l.geojson", {}, *gamma);
+    struct Seen {
+        std::vector<std::array<int64_t, 3>> restricted;  // id, id, arc
+        std::vector<std::pair<int32_t, int>> sides;        // id, side
+        std::vector<std::pair<int32_t, Vec3>> on_gamma;    // id, position
+        std::vector<std::pair<int32_t, Vec3>> all;         // id, position
+    };
+    auto run = [&](int relax) {
+        Context ctx;
+        Options options;
+        options.set_int(UM_OPT_REFINE_RELAX, relax);
+        mesh::RefinedMesh m = mesh::refine_mesh(ctx, hfun::make_constant(120.0), gamma, options);
+        Seen s;
+        for (const refine::RestrictedEdge &e : m.restricted) {
+            int64_t a = m.tri.id(m.tri.vertex(e.triangle, (e.edge + 1) % 3));
+            int64_t b = m.tri.id(m.tri.vertex(e.triangle, (e.edge + 2) % 3));
+            s.restricted.push_back({std::min(a, b), std::max(a, b), e.arc});
+        }
+        for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
+            if (!m.tri.in_triangulation(v)) continue;
+            const int32_t id = m.tri.id(v);
+            s.sides.push_back({id, static_cast<int>(m.vertex_side[m.vertex_of_slot[v]])});
+            s.all.push_back({id, m.tri.direction(v)});
+            if (m.on_segment[v] >= 0) s.on_gamma.push_back({id, m.tri.direction(v)});
+        }
+        std::sort(s.restricted.begin(), s.restricted.end());
+        auto by_id = [](const auto &x, const auto &y) { return x.first < y.first; };
+        std::sort(s.sides.begin(), s.sides.end()), std::sort(s.all.begin(), s.all.end(), by_id);
+        std::sort(s.on_gamma.begin(), s.on_gamma.end(), by_id);
+        return s;
+    };
+    const Seen with = run(1), without = run(0);
+    assert_true(with.restricted == without.restricted);
+    assert_true(with.sides == without.sides);
+    assert_int_equal(with.all.size(), without.all.size());
+    assert_int_equal(with.on_gamma.size(), without.on_gamma.size());
+    for (size_t i = 0; i < with.on_gamma.size(); ++i) {
+        assert_int_equal(with.on_gamma[i].first, without.on_gamma[i].first);
+        const Vec3 d = with.on_gamma[i].second - without.on_gamma[i].second;
+        assert_true(geom::dot(d, d) == 0);
+    }
+    int64_t moved = 0;
+    for (size_t i = 0; i < with.all.size(); ++i) {
+        assert_int_equal(with.all[i].first, without.all[i].first);
+        const Vec3 d = with.all[i].second - without.all[i].second;
+        moved += geom::dot(d, d) > 0;
+    }
+    print_message("relaxation at 120 km: %lld of %zu vertices moved, %zu restricted edges the same\n",
+                  static_cast<long long>(moved), with.all.size(), with.restricted.size());
+    assert_true(moved > 100);
+}
+
 }  // namespace
 
 int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(coast_global_l_follows_gamma_where_not_filtered),
+        cmocka_unit_test(relaxation_leaves_gamma_alone),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
