@@ -71,7 +71,6 @@ public:
     void set_target(const Band &band) { target_ = band; }
     int64_t moves() const { return moves_; }
 
-
     // Whether v and a neighbour across an edge outside `band` could both
     // move: only then can room made around them help.
     bool stuck_between_free(int32_t v, const Band &band) {
@@ -206,9 +205,8 @@ private:
 
     // Halving steps along two pulls in turn: every edge's, and only the edges
     // outside the target's (when the others are nearly balanced, they would
-    // only hold v back).
-    // A move that would take v within 4 h of Gamma (moves add up) is not
-    // tried.
+    // only hold v back). A step that would take v within 4 h of Gamma (moves
+    // add up) is not tried.
     void try_moves(int32_t v, const Vec3 &x, const BandScore &old) {
         const Vec3 stored = tri_.lifted(v);  // put back bit for bit when a trial fails
         const Vec3 pulls[2] = {pull_at(x, false), pull_at(x, true)};
@@ -280,6 +278,7 @@ private:
         return s;
     }
 
+    // Both surface bounds: sqrt(3) r < alpha h (at the circumcentre), r / e_min < rho.
     bool meets_criteria(int32_t t) const {
         double r, e;
         Vec3 centre;
@@ -331,10 +330,7 @@ private:
         for (int32_t j : link)
             tri_.for_each_in_star(j, [&](int32_t t) {
                 if (!ok) return;
-                double r, e;
-                Vec3 centre;
-                triangle_size(tri_, t, &r, &e, &centre);
-                ok = std::sqrt(3.0) * r < o_.alpha * h_(centre) && r / e < o_.rho;
+                ok = meets_criteria(t);
                 for (int k = 0; k < 3 && ok; ++k) {
                     const int32_t a = tri_.vertex(t, k == 2 ? 0 : k + 1), b = tri_.vertex(t, k == 0 ? 2 : k - 1);
                     const int pa = position(a), pb = position(b);
@@ -359,11 +355,7 @@ private:
             const int32_t a = tri_.vertex(t, i == 2 ? 0 : i + 1), b = tri_.vertex(t, i == 0 ? 2 : i - 1);
             ok = geom::orient_origin(tri_.lifted(a).data(), tri_.lifted(b).data(),
                                      tri_.lifted(v).data()) > 0;
-            if (!ok) return;
-            double r, e;
-            Vec3 centre;
-            triangle_size(tri_, t, &r, &e, &centre);
-            ok = std::sqrt(3.0) * r < o_.alpha * h_(centre) && r / e < o_.rho;
+            ok = ok && meets_criteria(t);
             for (int k = 0; k < 3 && ok; ++k) ok = tri_.is_locally_regular(t, k);
         });
         return ok;
