@@ -62,6 +62,29 @@ bool stays_put(const tri::Triangulation &tri, int32_t v, const SpacingRadians &h
     return near_gamma(tri.direction(v), h, o);
 }
 
+// The vertices within `rings` edges of `seeds`, ascending. *mask (one byte
+// per vertex slot) must be clear for them on entry; they are flagged in it.
+std::vector<int32_t> rings_around(const tri::Triangulation &tri, const std::vector<int32_t> &seeds,
+                                  int rings, std::vector<uint8_t> *mask) {
+    std::vector<int32_t> found;
+    for (int32_t v : seeds)
+        if (!(*mask)[v]) (*mask)[v] = 1, found.push_back(v);
+    size_t ring_begin = 0;
+    for (int ring = 0; ring < rings; ++ring) {
+        const size_t ring_end = found.size();
+        for (size_t i = ring_begin; i < ring_end; ++i)
+            tri.for_each_in_star(found[i], [&](int32_t t) {
+                for (int k = 0; k < 3; ++k) {
+                    const int32_t u = tri.vertex(t, k);
+                    if (!(*mask)[u]) (*mask)[u] = 1, found.push_back(u);
+                }
+            });
+        ring_begin = ring_end;
+    }
+    std::sort(found.begin(), found.end());
+    return found;
+}
+
 class Relaxer {
 public:
     Relaxer(tri::Triangulation &tri, const SpacingRadians &h, const RelaxOptions &o)
@@ -286,18 +309,11 @@ private:
         return std::sqrt(3.0) * r < o_.alpha * h_(centre) && r / e < o_.rho;
     }
 
-    // v and the vertices within two edges of it.
-    std::vector<int32_t> two_rings(int32_t v) const {
-        std::vector<int32_t> ring{v};
-        for (int pass = 0; pass < 2; ++pass) {
-            const std::vector<int32_t> inner = ring;
-            for (int32_t u : inner)
-                tri_.for_each_in_star(u, [&](int32_t t) {
-                    for (int k = 0; k < 3; ++k) ring.push_back(tri_.vertex(t, k));
-                });
-            std::sort(ring.begin(), ring.end());
-            ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-        }
+    // v and the vertices within two edges of it, ascending.
+    std::vector<int32_t> two_rings(int32_t v) {
+        if (ring_mask_.empty()) ring_mask_.assign(state_.size(), 0);
+        std::vector<int32_t> ring = rings_around(tri_, {v}, 2, &ring_mask_);
+        for (int32_t u : ring) ring_mask_[u] = 0;
         return ring;
     }
 
@@ -367,6 +383,7 @@ private:
     const Band hard_;
     Band target_;
     std::vector<uint8_t> state_;   // per vertex slot: kUnknown, kFree, kFixed
+    std::vector<uint8_t> ring_mask_;  // per vertex slot, clear between calls of two_rings
     std::vector<int32_t> moved_;
     std::vector<int32_t> link_;    // of the vertex being relaxed, counter-clockwise
     std::vector<uint8_t> status_;  // per link vertex, before the move
@@ -443,30 +460,6 @@ std::vector<int32_t> relax_towards(Context &ctx, Relaxer &relaxer, const Band &t
     return todo;
 }
 
-// The vertices within `rings` edges of `seeds`, ascending; *mask flags them.
-std::vector<int32_t> rings_around(const tri::Triangulation &tri, const std::vector<int32_t> &seeds,
-                                  int rings, std::vector<uint8_t> *mask) {
-    mask->assign(static_cast<size_t>(tri.vertex_slots()), 0);
-    std::vector<int32_t> found;
-    for (int32_t v : seeds)
-        if (!(*mask)[v]) (*mask)[v] = 1, found.push_back(v);
-    size_t ring_begin = 0;
-    for (int ring = 0; ring < rings; ++ring) {
-        const size_t ring_end = found.size();
-        for (size_t i = ring_begin; i < ring_end; ++i) {
-            const int32_t v = found[i];
-            tri.for_each_in_star(v, [&](int32_t t) {
-                for (int k = 0; k < 3; ++k) {
-                    const int32_t u = tri.vertex(t, k);
-                    if (!(*mask)[u]) (*mask)[u] = 1, found.push_back(u);
-                }
-            });
-        }
-        ring_begin = ring_end;
-    }
-    std::sort(found.begin(), found.end());
-    return found;
-}
 
 }  // namespace
 
@@ -491,6 +484,7 @@ RelaxStats relax_edge_lengths(Context &ctx, tri::Triangulation &tri, const Spaci
                                   [&](int32_t v) { return !relaxer.stuck_between_free(v, hard); }),
                    left.end());
         if (left.empty()) break;
+        mask.assign(static_cast<size_t>(tri.vertex_slots()), 0);
         const std::vector<int32_t> region = rings_around(tri, left, rings, &mask);
         for (double margin : options.margins)
             relax_towards(ctx, relaxer, Band{options.lower + margin, options.upper - margin}, region,
