@@ -162,7 +162,6 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
     if (start == kNone) return RegionInsert::hidden;  // the hull only grows: hidden for good
     if (!owns(g.keys, start) || !fill_cavity(v, start, g.scratch, &g.keys))
         return RegionInsert::deferred;
-    collect_horizon(g.scratch);
     stitch_new_triangles(v, g.scratch, g.pool);
     // The next walk starts from the new fan, which the region owns (v and
     // the horizon vertices are its own).

@@ -166,7 +166,6 @@ Triangulation::TerritoryInsert Triangulation::insert_in(Territory &g, const Vec3
     if (!visible(t, v)) return TerritoryInsert::hidden;
     Scratch &s = g.scratch_;
     if (!fill_cavity(v, t, s, &g.keys_)) return TerritoryInsert::deferred;
-    collect_horizon(s);
     // Weights are 0: a cavity with a vertex inside would mean a duplicate.
     const bool buries = s.cavity.size() + 2 != s.horizon.size();
     const size_t room = g.reuse_.size() + s.cavity.size() + static_cast<size_t>(g.pool_.fresh_end - g.pool_.fresh);

@@ -343,14 +343,11 @@ int64_t Triangulation::priority(int32_t v) const {
     return i >= 0 ? i : (int64_t(1) << 40) - i;
 }
 
-bool Triangulation::visible(int32_t t, int32_t v) const {
+bool Triangulation::visible_on_tie(int32_t t, int32_t v) const {
     const int32_t *tv = &tris_[t].v[0];
-    auto ids = [&](int64_t out[4]) {
-        out[0] = priority(tv[0]), out[1] = priority(tv[1]), out[2] = priority(tv[2]);
-        out[3] = priority(v);
-    };
-    return orient3d_perturbed(q_[tv[0]].data(), q_[tv[1]].data(), q_[tv[2]].data(),
-                              q_[v].data(), ids) > 0;
+    return geom::orient3d_tie_break(q_[tv[0]].data(), q_[tv[1]].data(), q_[tv[2]].data(),
+                                    q_[v].data(), priority(tv[0]), priority(tv[1]),
+                                    priority(tv[2]), priority(v)) > 0;
 }
 
 void Triangulation::set_neighbour(int32_t outer, int32_t from, int32_t to, int32_t t) {
@@ -374,7 +371,6 @@ Triangulation::InsertResult Triangulation::insert_slot(int32_t v, int32_t &hint,
         return InsertResult::hidden;
     }
     fill_cavity(v, start, scratch_, nullptr);
-    collect_horizon(scratch_);
     SlotPool pool{&free_};
     stitch_new_triangles(v, scratch_, pool);
     hint = scratch_.new_tris[0];
@@ -403,40 +399,43 @@ int32_t Triangulation::walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_
                             uint32_t &counter, int64_t max_steps, const KeyRange *owner,
                             int32_t *last_owned) const {
     int32_t from = kNone;  // the edge just crossed is known to have p inside
+    // The first edge tested rotates with `counter` (one step per triangle),
+    // which keeps the walk from cycling.
+    int k0 = static_cast<int>(counter % 3);
     for (int64_t step = 0; step < max_steps; ++step) {
         const Tri &tr = tris_[t];
-        int k0 = static_cast<int>(counter++ % 3);
         n_zero = 0;
         int32_t to = kNone;
         for (int j = 0; j < 3; ++j) {
-            int k = k0 + j < 3 ? k0 + j : k0 + j - 3;
+            const int k = k0 + j < 3 ? k0 + j : k0 + j - 3;
             if (tr.n[k] == from) continue;
-            int s = orient_origin(q_[tr.v[next(k)]].data(), q_[tr.v[prev(k)]].data(), p.data());
+            const int s = orient_origin(q_[tr.v[next(k)]].data(), q_[tr.v[prev(k)]].data(), p.data());
             if (s < 0) {
                 to = tr.n[k];
                 break;
             }
             if (s == 0) zero_edges[n_zero++] = k;
         }
+        k0 = k0 == 2 ? 0 : k0 + 1;
+        // (The edge just crossed cannot hold p: it had p strictly outside
+        // in the triangle before, and the exact sign is antisymmetric.)
         if (to == kNone) {
-            if (from != kNone) {  // the skipped edge may hold p exactly: test it too
-                for (int k = 0; k < 3; ++k)
-                    if (tr.n[k] == from &&
-                        orient_origin(q_[tr.v[next(k)]].data(), q_[tr.v[prev(k)]].data(),
-                                      p.data()) == 0)
-                        zero_edges[n_zero++] = k;
-            }
+            counter += static_cast<uint32_t>(step + 1);
             return t;
         }
         // Beyond a triangle the region does not own, another region may be
         // changing the mesh.
         if (owner) {
-            if (!owns(*owner, t)) return kNone;
+            if (!owns(*owner, t)) {
+                counter += static_cast<uint32_t>(step + 1);
+                return kNone;
+            }
             *last_owned = t;
         }
         from = t;
         t = to;
     }
+    counter += static_cast<uint32_t>(max_steps);
     return kNone;
 }
 
@@ -482,26 +481,42 @@ int32_t Triangulation::find_visible_start(int32_t v, int32_t t, const int zero_e
     return kNone;
 }
 
+// The cavity grows across every edge to a visible triangle; each edge to
+// a triangle that is not visible is a horizon edge, recorded as it is met
+// (with its index in the outside triangle, which stitching rewrites). The
+// horizon is a simple cycle, but stitching needs no order: each new
+// triangle finds the next around v through its vertex (vertex_tri_).
 bool Triangulation::fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyRange *owner) {
     s.cavity.clear();
     s.touched.clear();
+    s.horizon.clear();
     s.cavity.push_back(start);
     mark_[start] = 1;
     for (size_t i = 0; i < s.cavity.size(); ++i) {
-        int32_t c = s.cavity[i];
+        const int32_t c = s.cavity[i];
         for (int k = 0; k < 3; ++k) {
-            int32_t u = tris_[c].n[k];
-            if (mark_[u] != 0) continue;
-            if (visible(u, v)) {
-                if (owner && !owns(*owner, u)) {
-                    clear_cavity_marks(s);
-                    return false;
+            const int32_t u = tris_[c].n[k];
+            uint8_t m = mark_[u];
+            if (m == 0) {
+                if (visible(u, v)) {
+                    if (owner && !owns(*owner, u)) {
+                        clear_cavity_marks(s);
+                        return false;
+                    }
+                    mark_[u] = 1;
+                    s.cavity.push_back(u);
+                    continue;
                 }
-                mark_[u] = 1;
-                s.cavity.push_back(u);
-            } else {
-                mark_[u] = 2;
+                mark_[u] = m = 2;
                 s.touched.push_back(u);
+            }
+            if (m == 2) {
+                // The edge runs a -> b in c and b -> a in u: in u it is the
+                // edge after a's corner.
+                const int32_t a = tris_[c].v[next(k)], b = tris_[c].v[prev(k)];
+                const int32_t *uv = tris_[u].v;
+                const int j = uv[0] == a ? 1 : (uv[1] == a ? 2 : 0);
+                s.horizon.push_back({a, b, u, j});
             }
         }
     }
@@ -511,35 +526,6 @@ bool Triangulation::fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyR
 void Triangulation::clear_cavity_marks(const Scratch &s) {
     for (int32_t t : s.cavity) mark_[t] = 0;
     for (int32_t t : s.touched) mark_[t] = 0;
-}
-
-// The boundary of the cavity (a topological disc) as a cycle of edges, each
-// directed as in its cavity triangle.
-void Triangulation::collect_horizon(Scratch &s) {
-    s.horizon.clear();
-    int32_t c = kNone;
-    int k = 0;
-    for (int32_t t : s.cavity) {
-        for (k = 0; k < 3; ++k)
-            if (mark_[tris_[t].n[k]] != 1) break;
-        if (k < 3) {
-            c = t;
-            break;
-        }
-    }
-    const int32_t start_c = c;
-    const int start_k = k;
-    do {
-        int32_t a = tris_[c].v[next(k)], b = tris_[c].v[prev(k)];
-        s.horizon.push_back({a, b, tris_[c].n[k]});
-        // Turn around b through cavity triangles to the boundary edge leaving b.
-        int kk = next(k);  // the edge of c leaving b = v(c, k + 2)
-        while (mark_[tris_[c].n[kk]] == 1) {
-            c = tris_[c].n[kk];
-            kk = next(next(local_index(c, b)));
-        }
-        k = kk;
-    } while (!(c == start_c && k == start_k));
 }
 
 int32_t Triangulation::new_triangle_slot(SlotPool &pool) {
@@ -560,33 +546,37 @@ void Triangulation::stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool) 
     // A cavity of k triangles bounded by m edges has (k - m + 2) / 2 vertices
     // inside it; those are buried (hidden) by v. Only then do the cavity's
     // vertices need a fresh incident triangle from the new fan.
-    const bool buries = s.cavity.size() + 2 != s.horizon.size();
+    const size_t k = s.cavity.size(), m = s.horizon.size();
+    const bool buries = k + 2 != m;
     s.cavity_vertices.clear();
     for (int32_t t : s.cavity) {
         mark_[t] = 0;
         if (buries)
-            for (int k = 0; k < 3; ++k) {
-                int32_t u = tris_[t].v[k];
+            for (int c = 0; c < 3; ++c) {
+                int32_t u = tris_[t].v[c];
                 if (vertex_tri_[u] >= 0) s.cavity_vertices.push_back(u);
                 vertex_tri_[u] = kNone;
             }
     }
     for (int32_t t : s.touched) mark_[t] = 0;
-    for (auto it = s.cavity.rbegin(); it != s.cavity.rend(); ++it) free_triangle_slot(*it, pool);
-
-    const size_t m = s.horizon.size();
+    // The fan takes the cavity's slots first (in cavity order), then the pool's.
     s.new_tris.resize(m);
-    for (size_t i = 0; i < m; ++i) s.new_tris[i] = new_triangle_slot(pool);
+    for (size_t i = 0; i < m && i < k; ++i) s.new_tris[i] = s.cavity[i];
+    for (size_t i = m; i < k; ++i) free_triangle_slot(s.cavity[i], pool);
+    for (size_t i = k; i < m; ++i) s.new_tris[i] = new_triangle_slot(pool);
     for (size_t i = 0; i < m; ++i) {
         const HorizonEdge &h = s.horizon[i];
-        int32_t t = s.new_tris[i];
-        tris_[t].v[0] = v, tris_[t].v[1] = h.a, tris_[t].v[2] = h.b;
-        tris_[t].n[0] = h.outside;
-        tris_[t].n[1] = s.new_tris[i + 1 == m ? 0 : i + 1];
-        tris_[t].n[2] = s.new_tris[i == 0 ? m - 1 : i - 1];
-        // The outside triangle's edge from b to a now faces t.
-        set_neighbour(h.outside, h.b, h.a, t);
-        vertex_tri_[h.a] = t;
+        Tri &t = tris_[s.new_tris[i]];
+        t.v[0] = v, t.v[1] = h.a, t.v[2] = h.b;
+        t.n[0] = h.outside;
+        tris_[h.outside].n[h.outside_edge] = s.new_tris[i];
+        vertex_tri_[h.a] = s.new_tris[i];
+    }
+    // Around v: the fan triangle after (v, a, b) is the one that starts at b.
+    for (size_t i = 0; i < m; ++i) {
+        const int32_t t = s.new_tris[i], after = vertex_tri_[s.horizon[i].b];
+        tris_[t].n[1] = after;
+        tris_[after].n[2] = t;
     }
     vertex_tri_[v] = s.new_tris[0];
 }

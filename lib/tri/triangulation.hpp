@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/context.hpp"
+#include "geom/predicates.hpp"
 #include "geom/sphere.hpp"
 #include "tri/spatial_order.hpp"
 
@@ -255,6 +256,7 @@ private:
     struct HorizonEdge {
         int32_t a, b;     // directed as in the cavity triangle
         int32_t outside;  // triangle across the edge, not in the cavity
+        int outside_edge; // the edge's index in `outside`
     };
     // The lists of one insertion: one set for the serial path, one per
     // region of a parallel round.
@@ -316,9 +318,16 @@ private:
     void clear_cavity_marks(const Scratch &s);
     // locate_in's walk; n_zero: the edges of the triangle found that hold p.
     int32_t walk_in(const Territory &g, const Vec3 &p, int32_t hint, int &n_zero) const;
-    void collect_horizon(Scratch &s);
     void stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool);
-    bool visible(int32_t t, int32_t v) const;
+    // Inline: the insertion's innermost test (about ten per point).
+    bool visible(int32_t t, int32_t v) const {
+        const int32_t *tv = tris_[t].v;
+        const int s = geom::orient3d(q_[tv[0]].data(), q_[tv[1]].data(), q_[tv[2]].data(),
+                                     q_[v].data());
+        return s != 0 ? s > 0 : visible_on_tie(t, v);
+    }
+    // The exact tie's symbolic perturbation (predicates.hpp).
+    bool visible_on_tie(int32_t t, int32_t v) const;
     int64_t priority(int32_t v) const;
     // The neighbour of `outer` across its edge from -> to becomes t.
     void set_neighbour(int32_t outer, int32_t from, int32_t to, int32_t t);
