@@ -159,7 +159,7 @@ public:
         hint = tri_.remove(v);
         tri_.set_lifted(v, stored);  // bit for bit: the same regular triangulation again
         tri_.restore_removed(v, hint);
-        return false;
+        return collapse_shortest_edge(v, around, before, opened);
     }
     int64_t removed() const { return removed_; }
     int64_t replaced() const { return replaced_; }
@@ -299,6 +299,40 @@ private:
         // A triangle is seen from each of its vertices in the list: the count
         // is only compared with itself, over the same list.
         return s;
+    }
+    // The last resort for a crowded spot: v's shortest edge to a free
+    // neighbour j collapses, v removed and j put at the edge's midpoint, if
+    // that improves the region (the two rings of v, which hold j's star).
+    bool collapse_shortest_edge(int32_t v, const std::vector<int32_t> &around,
+                                const RegionScore &before, std::vector<int32_t> *opened) {
+        gather_link(v);
+        const Vec3 x = tri_.direction(v);
+        int32_t j = -1;
+        double shortest = hard_.lower;
+        for (int32_t u : link_) {
+            const double r = length_ratio(x, tri_.direction(u), h_);
+            if (r <= shortest && !fixed(u)) j = u, shortest = r;
+        }
+        if (j < 0) return false;
+        const Vec3 mid = geom::normalized(x + tri_.direction(j));
+        if (near_gamma(mid, h_, o_)) return false;
+        const Vec3 stored_j = tri_.lifted(j);
+        tri_.remove(v);
+        int32_t hint = tri_.remove(j);
+        tri_.set_lifted(j, mid);  // weight 0
+        tri_.restore_removed(j, hint);
+        if (region_score(around).improves_on(before, hard_)) {
+            state_[v] = kFixed;
+            ++removed_;
+            moved_.push_back(j);
+            opened->insert(opened->end(), around.begin(), around.end());
+            return true;
+        }
+        hint = tri_.remove(j);
+        tri_.set_lifted(j, stored_j);
+        tri_.restore_removed(j, hint);
+        tri_.restore_removed(v, hint);
+        return false;
     }
 
     // Both surface bounds: sqrt(3) r < alpha h (at the circumcentre), r / e_min < rho.
@@ -478,27 +512,32 @@ RelaxStats relax_edge_lengths(Context &ctx, tri::Triangulation &tri, const Spaci
     // Where that is stuck, the mesh around is crowded or stretched as a
     // whole: the rings around make room, relaxed towards narrower bands,
     // before the band is tried again; wider rings when that is not enough.
-    std::vector<uint8_t> mask;
-    for (int rings : options.rings) {
-        left.erase(std::remove_if(left.begin(), left.end(),
-                                  [&](int32_t v) { return !relaxer.stuck_between_free(v, hard); }),
-                   left.end());
-        if (left.empty()) break;
-        mask.assign(static_cast<size_t>(tri.vertex_slots()), 0);
-        const std::vector<int32_t> region = rings_around(tri, left, rings, &mask);
-        for (double margin : options.margins)
-            relax_towards(ctx, relaxer, Band{options.lower + margin, options.upper - margin}, region,
-                          options.rounds, &mask);
-        left = relax_towards(ctx, relaxer, hard, region, options.rounds, nullptr);
-    }
     // What is still too short after that is a crowded spot, a vertex too
     // many: removing one end, or putting it where the hole needs a point,
-    // then relaxing around, mends it.
-    std::vector<int32_t> opened;
-    for (int32_t v : left) relaxer.try_removal(v, &opened);
-    std::sort(opened.begin(), opened.end());
-    opened.erase(std::unique(opened.begin(), opened.end()), opened.end());
-    if (!opened.empty()) relax_towards(ctx, relaxer, hard, opened, options.rounds, nullptr);
+    // then relaxing around, mends it. A spot that needed that may need it
+    // again around its new neighbours: a few attempts while any change.
+    std::vector<uint8_t> mask;
+    for (int attempt = 0; attempt < options.crowded_attempts && !left.empty(); ++attempt) {
+        for (int rings : options.rings) {
+            left.erase(std::remove_if(left.begin(), left.end(),
+                                      [&](int32_t v) { return !relaxer.stuck_between_free(v, hard); }),
+                       left.end());
+            if (left.empty()) break;
+            mask.assign(static_cast<size_t>(tri.vertex_slots()), 0);
+            const std::vector<int32_t> region = rings_around(tri, left, rings, &mask);
+            for (double margin : options.margins)
+                relax_towards(ctx, relaxer, Band{options.lower + margin, options.upper - margin},
+                              region, options.rounds, &mask);
+            left = relax_towards(ctx, relaxer, hard, region, options.rounds, nullptr);
+        }
+        const int64_t changes_before = relaxer.removed() + relaxer.replaced();
+        std::vector<int32_t> opened;
+        for (int32_t v : left) relaxer.try_removal(v, &opened);
+        if (relaxer.removed() + relaxer.replaced() == changes_before) break;
+        std::sort(opened.begin(), opened.end());
+        opened.erase(std::unique(opened.begin(), opened.end()), opened.end());
+        left = relax_towards(ctx, relaxer, hard, opened, options.rounds, nullptr);
+    }
     stats.removed = relaxer.removed();
     stats.replaced = relaxer.replaced();
     stats.moves = relaxer.moves();
