@@ -49,35 +49,46 @@ constexpr HilbertTable make_hilbert_table() {
 }
 constexpr HilbertTable kHilbert = make_hilbert_table();
 
-// Two levels per lookup: [state][x bits 1..0, y bits 1..0] -> 4-bit digit and
-// next state, composed from the one-level table.
-struct HilbertTable2 {
-    uint8_t digit[4][16];
-    uint8_t next[4][16];
+// Levels per lookup composed from the one-level table: [state][x bits,
+// y bits] -> the digits of those levels and the state after them. Two
+// levels (16 entries a state) for the top of the curve, four (256) for the
+// rest: fewer dependent lookups per key, and 2 KB still sit in L1.
+template <int Levels>
+struct HilbertTableN {
+    static constexpr int kEntries = 1 << (2 * Levels);
+    uint8_t digit[4][kEntries];
+    uint8_t next[4][kEntries];
 };
 
-constexpr HilbertTable2 make_hilbert_table2() {
-    HilbertTable2 t{};
+template <int Levels>
+constexpr HilbertTableN<Levels> make_hilbert_table_n() {
+    HilbertTableN<Levels> t{};
     for (int s = 0; s < 4; ++s)
-        for (int xy = 0; xy < 16; ++xy) {
-            int x = xy >> 2, y = xy & 3;
-            int q1 = ((x >> 1) << 1) | (y >> 1), q0 = ((x & 1) << 1) | (y & 1);
-            int s1 = kHilbert.next[s][q1];
-            t.digit[s][xy] = static_cast<uint8_t>(kHilbert.digit[s][q1] * 4 + kHilbert.digit[s1][q0]);
-            t.next[s][xy] = kHilbert.next[s1][q0];
+        for (int xy = 0; xy < HilbertTableN<Levels>::kEntries; ++xy) {
+            const int x = xy >> Levels, y = xy & ((1 << Levels) - 1);
+            int state = s, digits = 0;
+            for (int level = Levels - 1; level >= 0; --level) {
+                const int q = ((x >> level) & 1) << 1 | ((y >> level) & 1);
+                digits = digits * 4 + kHilbert.digit[state][q];
+                state = kHilbert.next[state][q];
+            }
+            t.digit[s][xy] = static_cast<uint8_t>(digits);
+            t.next[s][xy] = static_cast<uint8_t>(state);
         }
     return t;
 }
-constexpr HilbertTable2 kHilbert2 = make_hilbert_table2();
-static_assert(kBitsPerAxis % 2 == 0, "two levels per step");
+constexpr HilbertTableN<2> kHilbert2 = make_hilbert_table_n<2>();
+constexpr HilbertTableN<4> kHilbert4 = make_hilbert_table_n<4>();
+static_assert(kBitsPerAxis == 2 + 3 * 4, "one two-level step, then three four-level ones");
 
 uint64_t hilbert_2d(uint32_t x, uint32_t y) {
-    uint64_t d = 0;
-    int state = 0;
-    for (int level = kBitsPerAxis - 2; level >= 0; level -= 2) {
-        int xy = static_cast<int>(((x >> level) & 3) << 2 | ((y >> level) & 3));
-        d = (d << 4) | kHilbert2.digit[state][xy];
-        state = kHilbert2.next[state][xy];
+    int xy = static_cast<int>((x >> 12) << 2 | (y >> 12));
+    uint64_t d = kHilbert2.digit[0][xy];
+    int state = kHilbert2.next[0][xy];
+    for (int level = 8; level >= 0; level -= 4) {
+        xy = static_cast<int>(((x >> level) & 15) << 4 | ((y >> level) & 15));
+        d = (d << 8) | kHilbert4.digit[state][xy];
+        state = kHilbert4.next[state][xy];
     }
     return d;
 }
@@ -92,12 +103,16 @@ uint64_t splitmix64(uint64_t x) {
 }  // namespace
 
 uint64_t hilbert_key(const geom::Vec3 &p) {
-    double ax = std::fabs(p.x), ay = std::fabs(p.y), az = std::fabs(p.z);
-    int face;
-    double u, v, m;
-    if (ax >= ay && ax >= az) face = p.x > 0 ? 0 : 3, m = ax, u = p.y, v = p.z;
-    else if (ay >= az) face = p.y > 0 ? 1 : 4, m = ay, u = p.z, v = p.x;
-    else face = p.z > 0 ? 2 : 5, m = az, u = p.x, v = p.y;
+    // The cube face of the largest coordinate i (ties to the lower axis), and
+    // the two after it as the face's axes. Selected, not branched on: the
+    // face of a random point is a coin toss for the branch predictor.
+    const double coord[3] = {p.x, p.y, p.z};
+    const double ax = std::fabs(p.x), ay = std::fabs(p.y), az = std::fabs(p.z);
+    const bool x_largest = ax >= ay && ax >= az, y_largest = ay >= az;
+    const int i = x_largest ? 0 : (y_largest ? 1 : 2);
+    const double m = x_largest ? ax : (y_largest ? ay : az);
+    const int face = coord[i] > 0 ? i : i + 3;
+    const double u = coord[i == 2 ? 0 : i + 1], v = coord[i == 0 ? 2 : i - 1];
     if (m == 0) return 0;
     // t in [-1, 1] -> cell in [0, 2^bits - 1].
     constexpr double half_cells = 0.5 * double(1u << kBitsPerAxis);
