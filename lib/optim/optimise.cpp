@@ -150,7 +150,7 @@ private:
         double qp = 0, qt = 0, largest_angle_cosine = -1;
     };
     struct Mended {
-        int64_t met = 0, mended = 0, slid = 0;
+        int64_t met = 0, mended = 0, slid = 0, flipped = 0;
         MendFloors floors;  // what it kept (from a summary, made only when it met any)
     };
     // The floors from a fresh summary: the mesh's least Q^P (or kMendQpFloor,
@@ -175,8 +175,17 @@ private:
     // orthocentre (also without adding obtuse ones), or the obtuse ones
     // (then without adding to the former).
     enum class MendGoal { off_centre, off_centre_keeping_obtuse, obtuse };
+    // The off-centre and obtuse triangles around, counted before a flip
+    // that left the mesh as it is not regular (mend_by_flip): what a joint
+    // search after it must beat, instead of the counts as they are.
+    struct Baseline {
+        int off_centre, obtuse;
+    };
     bool mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *candidates, const MendFloors &floors,
-                      bool moves, MendGoal goal = MendGoal::off_centre);
+                      bool moves, MendGoal goal = MendGoal::off_centre, const Baseline *baseline = nullptr);
+    bool mend_by_flip(int32_t &t, int k, const MendFloors &floors, MendGoal goal);
+    bool runs_along_gamma(int32_t b, int32_t c, int32_t a, int32_t d) const;
+    double position_along_part(int32_t v) const;
     Mended mend_obtuse_triangles();
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
@@ -529,6 +538,8 @@ constexpr int kMendSlideWeightSteps = 3;
 constexpr int kMendWideSlides = 8;  // the last try: 5 weights at 17 positions, 85^3 combinations
 constexpr int kMendWideWeightSteps = 2;
 constexpr int kObtuseSlides = 4;  // mend_obtuse_triangles: 9 positions a vertex
+constexpr int kFlipSlides = 2;  // mend_by_flip, vertices on Gamma: 5 positions, 3 weights
+constexpr int kFlipSlideWeightSteps = 1;
 constexpr double kMendEdgeFloor = 0.5;  // of h: the edges moves may make
 // The Q^P a mend may go down to when the mesh's least is above it: a
 // triangle holding its orthocentre matters more to MPAS than Q^P between
@@ -577,6 +588,13 @@ Optimiser::Mended Optimiser::mend_off_centre_triangles(bool keep_obtuse) {
         // Else farther along Gamma, with fewer weights.
         for (int i = 0; i < 3 && slides && !done; ++i) c[i] = mend_candidates(v[i], kMendWideWeightSteps, kMendWideSlides);
         if (slides && !done && mend_jointly(v, 3, c, floors, true, moving)) done = true, ++out.slid;
+        // Else a flip of one of its edges, the quad's weights searched so
+        // that the new diagonal is regular.
+        // (An undone flip leaves t's triangle in another slot: each edge is
+        // found again by its opposite corner.)
+        int32_t holder = t;
+        for (int i = 0; i < 3 && !done; ++i)
+            if (mend_by_flip(holder, tri_.local_index(holder, v[i]), floors, moving)) done = true, ++out.flipped;
         out.mended += done;
     }
     return out;
@@ -612,9 +630,121 @@ Optimiser::Mended Optimiser::mend_obtuse_triangles() {
         const int32_t v[3] = {tri_.vertex(t, 0), tri_.vertex(t, 1), tri_.vertex(t, 2)};
         std::vector<Candidate> c[3];
         for (int i = 0; i < 3; ++i) c[i] = mend_candidates(v[i], 0, kObtuseSlides, true);
-        out.mended += mend_jointly(v, 3, c, floors, true, MendGoal::obtuse);
+        if (mend_jointly(v, 3, c, floors, true, MendGoal::obtuse)) {
+            ++out.mended;
+            continue;
+        }
+        // Else a flip of its longest edge, opposite the obtuse angle.
+        int k = 0;
+        double longest = -1;
+        for (int j = 0; j < 3; ++j) {
+            const Vec3 e = tri_.direction(v[(j + 1) % 3]) - tri_.direction(v[(j + 2) % 3]);
+            if (geom::dot(e, e) > longest) longest = geom::dot(e, e), k = j;
+        }
+        int32_t holder = t;
+        if (mend_by_flip(holder, k, floors, MendGoal::obtuse)) ++out.mended, ++out.flipped;
     }
     return out;
+}
+
+// A triangle whose orthocentre no weight or slide of its own vertices
+// brings inside (most often three vertices on Gamma: a bend, or a narrow
+// inlet) may be mended by flipping an edge: the edge (b, c) of t opposite
+// corner k becomes (a, d), d the apex across, and the four weights are
+// searched (7^4 combinations) for a configuration where the new diagonal is
+// locally regular - so the triangulation stays the regular one of its
+// generators - with fewer off-centre triangles around than before the flip,
+// every floor of the mesh kept (Q^P, Q^T, largest angle, edges). An edge
+// that runs along Gamma is never flipped: it is how the mesh follows the
+// feature. If no combination does, the flip is undone.
+bool Optimiser::mend_by_flip(int32_t &t, int k, const MendFloors &floors, MendGoal goal) {
+    const int32_t u = tri_.neighbour(t, k);
+    const int32_t a = tri_.vertex(t, k), b = tri_.vertex(t, (k + 1) % 3), c = tri_.vertex(t, (k + 2) % 3);
+    const int32_t d = tri_.vertex(u, tri_.mirror_edge(t, k));
+    if (runs_along_gamma(b, c, a, d)) return false;
+    const int32_t quad[4] = {a, b, c, d};
+    // The triangles around the quad (the same slots after the flip) and
+    // how many of them are off-centre now.
+    std::vector<int32_t> around;
+    for (int32_t v : quad) tri_.for_each_in_star(v, [&](int32_t s) { around.push_back(s); });
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    Baseline before{0, 0};
+    for (int32_t s : around) {
+        const Generator x = generator(tri_.vertex(s, 0)), y = generator(tri_.vertex(s, 1)), z = generator(tri_.vertex(s, 2));
+        before.off_centre += staggering_score(x, y, z) < 0;
+        before.obtuse += largest_angle_cosine(x.x, y.x, z.x) < 0;
+    }
+    if (!tri_.flip(t, k)) return false;  // t = (a, b, d), u = (d, c, a)
+    // The candidates: first the four weights alone (7^4 combinations), then
+    // with the vertices on Gamma sliding too (15^3 x 7 at most). For an
+    // obtuse triangle (there are hundreds) only the second, with the
+    // sliding vertices' weights held (5^3 x 7): the weights alone mend none
+    // of them, and with the sliding ones' weights too the search mends 2.5
+    // times as many (coastlines at 60 km: 33 against 13) for 1 s more.
+    const bool sliding = gamma_ && !o_.fix_boundary;
+    std::vector<Candidate> candidates[4];
+    bool mended = false;
+    if (goal != MendGoal::obtuse) {
+        for (int i = 0; i < 4; ++i) candidates[i] = mend_candidates(quad[i], kMendPairSteps, 0);
+        mended = mend_jointly(quad, 4, candidates, floors, true, goal, &before);
+    }
+    const int slide_weights = goal == MendGoal::obtuse ? 0 : kFlipSlideWeightSteps;
+    const int off_weights = kMendPairSteps;
+    bool slides = false;
+    for (int i = 0; i < 4 && !mended; ++i) {
+        const bool on_gamma = sliding && on_segment_[quad[i]] >= 0;
+        candidates[i] = on_gamma ? mend_candidates(quad[i], slide_weights, kFlipSlides)
+                                 : mend_candidates(quad[i], off_weights, 0);
+        slides |= on_gamma;
+    }
+    if (slides && !mended) mended = mend_jointly(quad, 4, candidates, floors, true, goal, &before);
+    if (!mended) {
+        tri_.flip(t, 1);  // the edge (d, a) of (a, b, d): back to (b, c), t now (b, d, c) and u (c, a, b)
+        t = u;
+        return false;
+    }
+    for (int32_t v : quad)
+        for (int32_t s : tri_.star(v))
+            for (int j = 0; j < 3; ++j) changed_at_[tri_.vertex(s, j)] = clock_;
+    return true;
+}
+
+// Whether the edge (b, c), between the apexes a and d, follows Gamma: both
+// ends on one part of it, that part passing within a quarter of the edge's
+// length of its midpoint, and neither apex on the part between them (a
+// chord across a bend or an inlet does not follow it).
+bool Optimiser::runs_along_gamma(int32_t b, int32_t c, int32_t a, int32_t d) const {
+    if (!gamma_) return false;
+    const int32_t sb = on_segment_[b], sc = on_segment_[c];
+    if (sb < 0 || sc < 0) return false;
+    const int64_t part = gamma_->segment_part(sb);
+    if (gamma_->segment_part(sc) != part) return false;
+    const Vec3 xb = tri_.direction(b), xc = tri_.direction(c);
+    const Vec3 mid = geom::normalized(xb + xc);
+    if (geom::norm(slide_along(*gamma_, sb, mid).x - mid) >= 0.25 * geom::norm(xb - xc)) return false;
+    // Between b and c along the part: on a closed one, the shorter way round.
+    const double pb = position_along_part(b), pc = position_along_part(c);
+    const double lo = std::min(pb, pc), hi = std::max(pb, pc);
+    const features::Part &p = gamma_->part(part);
+    const bool wraps = p.closed && hi - lo > 0.5 * double(p.n_segments);
+    for (int32_t apex : {a, d}) {
+        if (apex < 0 || on_segment_[apex] < 0 || gamma_->segment_part(on_segment_[apex]) != part) continue;
+        const double pa = position_along_part(apex);
+        if (wraps ? (pa < lo || pa > hi) : (pa > lo && pa < hi)) return false;
+    }
+    return true;
+}
+
+// Where vertex v (on Gamma) lies along its part: the index of its segment
+// within the part plus the fraction of that segment's chord up to v.
+double Optimiser::position_along_part(int32_t v) const {
+    const int32_t s = on_segment_[v];
+    const features::Part &p = gamma_->part(gamma_->segment_part(s));
+    const Vec3 a = gamma_->segment_a(s), b = gamma_->segment_b(s), x = tri_.direction(v);
+    const double length = geom::norm(b - a);
+    const double along = length > 0 ? std::min(1.0, geom::norm(x - a) / length) : 0.0;
+    return double(s - p.first_segment) + along;
 }
 
 // The candidates of a joint search for vertex v: its weight `steps` steps
@@ -667,7 +797,7 @@ std::vector<Optimiser::Candidate> Optimiser::mend_candidates(int32_t v, int step
 // candidates of the n vertices v; applies the best and returns true when it
 // has fewer off-centre triangles around.
 bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *candidates,
-                             const MendFloors &floors, bool moves, MendGoal goal) {
+                             const MendFloors &floors, bool moves, MendGoal goal, const Baseline *baseline) {
     // The triangles around the vertices, each once.
     std::vector<int32_t> around;
     for (int i = 0; i < n; ++i) tri_.for_each_in_star(v[i], [&](int32_t u) { around.push_back(u); });
@@ -751,7 +881,11 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         if (candidates[i].empty()) return false;
         trial[i] = generator(v[i]);
     }
-    const Score now = judge(kAny, kAny, kAny);
+    Score now = judge(kAny, kAny, kAny);
+    // (After a flip, its new triangles need not meet the floors yet.)
+    if (baseline)
+        now = {goal == MendGoal::obtuse ? baseline->obtuse : baseline->off_centre, -kInfinity, baseline->off_centre,
+               baseline->obtuse};
     if (now.count == kRefused.count) return false;  // (the floors are the mesh's: not met here)
     // The obtuse goal adds no off-centre triangle, and the keeping one no obtuse one.
     const int off_limit = goal == MendGoal::obtuse ? now.off_centre : kAny;
@@ -1236,7 +1370,8 @@ OptimiseStats Optimiser::run() {
         // tests/capi/test_optimise_api.c reads this line.
         ctx_.log(UM_LOG_INFO, concat("optimise: joint weights mended ", m.mended, " of ", m.met,
                                      " triangles not holding their orthocentre; Q^P floor ", m.floors.qp, "; ",
-                                     m.slid, " of them with vertices sliding along Gamma; ", seconds_since(t0), " s"));
+                                     m.slid, " of them with vertices sliding along Gamma, ", m.flipped,
+                                     " by a flip; ", seconds_since(t0), " s"));
     }
     if (o_.outer_iterations > 0) {
         auto t0 = Clock::now();
@@ -1244,8 +1379,8 @@ OptimiseStats Optimiser::run() {
         stats_.moves += m.mended;
         stats_.seconds_moves += seconds_since(t0);
         // tests/capi/test_optimise_api.c reads this line.
-        ctx_.log(UM_LOG_INFO, concat("optimise: joint moves mended ", m.mended, " of ", m.met, " obtuse triangles; ",
-                                     seconds_since(t0), " s"));
+        ctx_.log(UM_LOG_INFO, concat("optimise: joint moves mended ", m.mended, " of ", m.met, " obtuse triangles (",
+                                     m.flipped, " by a flip); ", seconds_since(t0), " s"));
     }
     if (off_centre_left > 0) {
         // The moves have changed the neighbourhoods of the off-centre
@@ -1257,7 +1392,8 @@ OptimiseStats Optimiser::run() {
         stats_.weight_updates += m.mended;
         stats_.seconds_weights += seconds_since(t0);
         ctx_.log(UM_LOG_INFO, concat("optimise: after the joint moves, joint weights mended ", m.mended, " of ",
-                                     m.met, " triangles not holding their orthocentre; ", seconds_since(t0), " s"));
+                                     m.met, " triangles not holding their orthocentre (", m.flipped, " by a flip); ",
+                                     seconds_since(t0), " s"));
     }
     ctx_.progress("optimise", 1.0);
     return stats_;

@@ -95,6 +95,34 @@ void coast_global_l_follows_gamma_where_not_filtered(void **) {
 // restricted edges (by the ids of their ends, and their arcs), the same
 // vertices, the same side for every vertex, and the same position for every
 // vertex on Gamma; the relaxation did move vertices elsewhere.
+// After the optimisation of a coastal mesh - whose joint searches flip some
+// edges at Gamma, the weights then holding the new diagonals regular - the
+// triangulation is still the exact regular triangulation of its generators,
+// and every vertex placed on Gamma is still on its segment.
+void optimised_coastal_mesh_stays_regular(void **) {
+    auto gamma = std::make_shared<features::Network>();
+    io::read_geojson_file(UNIMESH_DATA_DIR "/coast_global_l.geojson", {}, *gamma);
+    io::read_geojson_file(UNIMESH_DATA_DIR "/rivers_global_l.geojson", {}, *gamma);
+    Context ctx;
+    const Options options;
+    mesh::RefinedMesh m = mesh::refine_mesh(ctx, hfun::make_constant(120.0), gamma, options);
+    mesh::optimise_mesh(ctx, m, options, nullptr);
+    const std::string problem = tri::check_triangulation(m.tri);
+    if (!problem.empty()) fail_msg("%s", problem.c_str());
+    int64_t on_gamma = 0;
+    for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
+        const int32_t s = m.on_segment[v];
+        if (!m.tri.in_triangulation(v) || s < 0) continue;
+        ++on_gamma;
+        const Vec3 x = m.tri.direction(v), a = gamma->segment_a(s), b = gamma->segment_b(s);
+        // On the great circle of its segment (to rounding) and between its ends.
+        const Vec3 n = geom::normalized(geom::cross(a, b));
+        assert_true(std::fabs(geom::dot(n, x)) < 1e-12);
+        assert_true(geom::dot(geom::cross(a, x), n) >= -1e-12 && geom::dot(geom::cross(x, b), n) >= -1e-12);
+    }
+    assert_true(on_gamma > 1000);
+}
+
 void relaxation_leaves_gamma_alone(void **) {
     auto gamma = std::make_shared<features::Network>();
     io::read_geojson_file(UNIMESH_DATA_DIR "/coast_global_l.geojson", {}, *gamma);
@@ -156,6 +184,7 @@ int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(coast_global_l_follows_gamma_where_not_filtered),
         cmocka_unit_test(relaxation_leaves_gamma_alone),
+        cmocka_unit_test(optimised_coastal_mesh_stays_regular),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
