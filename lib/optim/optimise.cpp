@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 
 #include "core/error.hpp"
@@ -199,6 +200,8 @@ private:
     int64_t flip_for_valence();
     bool relax_into_regularity(const int32_t (&quad)[4]);
     int32_t insert_between(int32_t a, int32_t b);
+    bool leaves_long_edge(const Vec3 &x, double h_x, std::initializer_list<int32_t> ends) const;
+    bool leaves_short_edge(int32_t a, int32_t b) const;
     void split_vertex(int32_t v, const std::vector<int32_t> &star);
     struct EdgeRatio {
         double ratio;
@@ -211,7 +214,9 @@ private:
     std::pair<int64_t, int64_t> collapse_and_split();
     int64_t collapse_short_edges(std::vector<EdgeRatio> edges);
     int64_t split_long_edges(std::vector<EdgeRatio> edges);
-    bool lock_neighbourhood(int32_t v, std::vector<uint8_t> &locked) const;
+    // Claims the given vertices and their neighbours for this pass's one
+    // change around them; false (nothing claimed) if any is taken.
+    bool lock_neighbourhood(std::initializer_list<int32_t> vertices, std::vector<uint8_t> &locked) const;
 
     // Stopping ---------------------------------------------------------------
     struct Summary {
@@ -997,12 +1002,13 @@ std::vector<Optimiser::EdgeRatio> Optimiser::edge_ratios(double below, double ab
     });
 }
 
-// Claims v and its neighbours for this pass's one change around them; false
-// if any is already claimed.
-bool Optimiser::lock_neighbourhood(int32_t v, std::vector<uint8_t> &locked) const {
-    std::vector<int32_t> around{v};
-    for (int32_t t : tri_.star(v))
-        for (int k = 0; k < 3; ++k) around.push_back(tri_.vertex(t, k));
+// (Both ends of an edge at once: claimed one after the other, the second
+// would always find itself claimed, as a neighbour of the first.)
+bool Optimiser::lock_neighbourhood(std::initializer_list<int32_t> vertices, std::vector<uint8_t> &locked) const {
+    std::vector<int32_t> around(vertices);
+    for (int32_t v : vertices)
+        for (int32_t t : tri_.star(v))
+            for (int k = 0; k < 3; ++k) around.push_back(tri_.vertex(t, k));
     for (int32_t u : around)
         if (locked[u]) return false;
     for (int32_t u : around) locked[u] = 1;
@@ -1018,9 +1024,9 @@ std::pair<int64_t, int64_t> Optimiser::collapse_and_split() {
     return {collapsed, split_long_edges(std::move(edges))};
 }
 
-// An edge much shorter than h loses a vertex (the one off Gamma, or the
-// later slot), the other moving to the edge's midpoint when it is free to
-// move. Shortest first, one change per neighbourhood per pass.
+// An edge much shorter than h, between two vertices off Gamma, loses its
+// later slot, the other moving to the edge's midpoint. Shortest first, one
+// change per neighbourhood per pass.
 int64_t Optimiser::collapse_short_edges(std::vector<Optimiser::EdgeRatio> edges) {
     if (o_.collapse_ratio <= 0) return 0;
     edges.erase(std::remove_if(edges.begin(), edges.end(),
@@ -1033,16 +1039,17 @@ int64_t Optimiser::collapse_short_edges(std::vector<Optimiser::EdgeRatio> edges)
     int64_t done = 0;
     for (const EdgeRatio &e : edges) {
         if (!tri_.in_triangulation(e.a) || !tri_.in_triangulation(e.b)) continue;
-        const bool a_on = on_segment_[e.a] >= 0, b_on = on_segment_[e.b] >= 0;
-        if (a_on && b_on) continue;  // Gamma keeps its vertices
-        const int32_t gone = a_on ? e.b : (b_on ? e.a : e.b), kept = gone == e.a ? e.b : e.a;
-        if (!lock_neighbourhood(e.a, locked) || !lock_neighbourhood(e.b, locked)) continue;
+        // Gamma keeps its vertices, and taking out the vertex off it next
+        // to one leaves that one a spoke fewer on its side (Mid-Atlantic
+        // case: 2 -> 4 triangles not holding their orthocentre).
+        if (on_segment_[e.a] >= 0 || on_segment_[e.b] >= 0) continue;
+        const int32_t gone = e.b, kept = e.a;  // e.a < e.b
         const Vec3 mid = geom::normalized(tri_.direction(e.a) + tri_.direction(e.b));
+        if (leaves_long_edge(mid, static_cast<double>(h_at_[kept]), {gone, kept})) continue;
+        if (!lock_neighbourhood({e.a, e.b}, locked)) continue;
         tri_.remove(gone);
-        if (on_segment_[kept] < 0) {
-            for (int32_t u : tri_.move(kept, mid)) changed_at_[u] = clock_;
-            h_at_[kept] = static_cast<float>(h_(tri_.direction(kept)));
-        }
+        for (int32_t u : tri_.move(kept, mid)) changed_at_[u] = clock_;
+        h_at_[kept] = static_cast<float>(h_(tri_.direction(kept)));
         changed_at_[kept] = clock_;
         ++done;
     }
@@ -1063,11 +1070,52 @@ int64_t Optimiser::split_long_edges(std::vector<Optimiser::EdgeRatio> edges) {
     int64_t done = 0;
     for (const EdgeRatio &e : edges) {
         if (!tri_.in_triangulation(e.a) || !tri_.in_triangulation(e.b)) continue;
-        if (!lock_neighbourhood(e.a, locked) || !lock_neighbourhood(e.b, locked)) continue;
+        // Gamma gets its vertices from the refinement (a midpoint off it
+        // would sit on it, with a degree of 4, and be taken out again).
+        if (on_segment_[e.a] >= 0 && on_segment_[e.b] >= 0) continue;
+        if (leaves_short_edge(e.a, e.b)) continue;
+        if (!lock_neighbourhood({e.a, e.b}, locked)) continue;
         done += insert_between(e.a, e.b) >= 0;
         locked.resize(static_cast<size_t>(tri_.vertex_slots()), 1);
     }
     return done;
+}
+
+// Whether a vertex at x (spacing h_x) joined to the links of `ends` would
+// have an edge longer than split_ratio h: a collapse that makes one is not
+// made, else the split that follows would undo it (and the next collapse
+// redo it, each outer iteration, so that the schedule never settles).
+bool Optimiser::leaves_long_edge(const Vec3 &x, double h_x, std::initializer_list<int32_t> ends) const {
+    bool long_edge = false;
+    for (int32_t v : ends)
+        tri_.for_each_in_star(v, [&](int32_t t) {
+            for (int k = 0; k < 3; ++k) {
+                const int32_t u = tri_.vertex(t, k);
+                if (std::find(ends.begin(), ends.end(), u) != ends.end()) continue;
+                const double h = 0.5 * (h_x + static_cast<double>(h_at_[u]));
+                long_edge = long_edge || geom::norm(x - tri_.direction(u)) > o_.split_ratio * h;
+            }
+        });
+    return long_edge;
+}
+
+// Whether the midpoint of the edge (a, b) is nearer than collapse_ratio h
+// to an apex of the edge: such a split is not made (the collapse that
+// would follow undoes it).
+bool Optimiser::leaves_short_edge(int32_t a, int32_t b) const {
+    const Vec3 mid = geom::normalized(tri_.direction(a) + tri_.direction(b));
+    const double h = 0.5 * (static_cast<double>(h_at_[a]) + static_cast<double>(h_at_[b]));
+    bool short_edge = false;
+    tri_.for_each_in_star(a, [&](int32_t t) {
+        const int i = tri_.local_index(t, a);
+        if (tri_.vertex(t, (i + 1) % 3) != b && tri_.vertex(t, (i + 2) % 3) != b) return;
+        for (int k = 0; k < 3; ++k) {
+            const int32_t u = tri_.vertex(t, k);
+            if (u != a && u != b)
+                short_edge = short_edge || geom::norm(mid - tri_.direction(u)) < o_.collapse_ratio * h;
+        }
+    });
+    return short_edge;
 }
 
 // A new vertex at the midpoint of (a, b), with the mean of their weights;
@@ -1106,7 +1154,7 @@ int64_t Optimiser::improve_valence() {
         std::vector<int32_t> st = tri_.star(v);  // now: earlier changes may have altered it
         const int degree_now = static_cast<int>(st.size());
         if (degree_now > 4 && degree_now < 8) continue;
-        if (!lock_neighbourhood(v, locked)) continue;
+        if (!lock_neighbourhood({v}, locked)) continue;
         if (degree_now <= 4) {
             for (int32_t t : st)  // before removal frees these triangles
                 for (int k = 0; k < 3; ++k) changed_at_[tri_.vertex(t, k)] = clock_;

@@ -1,4 +1,5 @@
 // Engine tests: the weighted primal-dual optimisation (paper section 6).
+#include <algorithm>
 #include <cmath>
 #include <cstdarg>
 #include <cstddef>
@@ -176,6 +177,51 @@ void optimised_mesh_is_regular_and_better(void **) {
     assert_true(stats.outer_iterations >= 1 && stats.outer_iterations <= o.outer_iterations);
 }
 
+// Section 6.4 on its own (no sweeps, no weights, one outer iteration, so
+// no valence repair): vertices planted 0.2 h from others make edges much
+// shorter than h, and removed vertices leave holes with edges much longer;
+// each short edge is collapsed and each hole gets a vertex, and the mesh
+// stays a valid regular triangulation with every edge within the options'
+// band.
+void short_edges_collapse_and_long_ones_split(void **) {
+    Context ctx;
+    const double h = 0.05;  // 320 km
+    tri::Triangulation tri = uniform_mesh(ctx, h);
+    const int64_t before = tri.vertex_count();
+    constexpr int kEach = 8;
+    const int32_t n = tri.vertex_slots();
+    int32_t next_id = 0;
+    for (int32_t v = 0; v < n; ++v) next_id = std::max(next_id, tri.id(v) + 1);
+    for (int i = 0; i < kEach; ++i) {
+        // Far apart: vertices a sixteenth of the slots from each other.
+        const int32_t planted_next_to = (2 * i) * n / (2 * kEach), removed = (2 * i + 1) * n / (2 * kEach);
+        tri.remove(removed);
+        const Vec3 x = tri.direction(planted_next_to);
+        const Vec3 side = geom::normalized(geom::cross(x, {0.3, 0.5, 0.7}));
+        tri.insert(geom::normalized(x + (0.2 * h) * side), 0.0, next_id++);
+    }
+    assert_int_equal(tri.vertex_count(), before);
+    std::vector<int32_t> on_segment(static_cast<size_t>(tri.vertex_slots()), -1);
+    optim::OptimiseOptions o;
+    o.outer_iterations = 1, o.inner_iterations = 0, o.weights = false;
+    optim::OptimiseStats stats =
+        optim::optimise(ctx, tri, on_segment, nullptr, [h](const Vec3 &) { return h; }, o);
+    tri.compact();
+    const std::string problem = tri::check_triangulation(tri);
+    if (!problem.empty()) fail_msg("%s", problem.c_str());
+    assert_int_equal(stats.collapses, kEach);
+    assert_int_equal(stats.splits, kEach);
+    assert_int_equal(tri.vertex_count(), before);
+    double shortest = 1e9, longest = 0;
+    for (int32_t t = 0; t < tri.triangle_slots(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const double l = geom::norm(tri.direction(tri.vertex(t, k)) - tri.direction(tri.vertex(t, (k + 1) % 3)));
+            shortest = std::min(shortest, l / h), longest = std::max(longest, l / h);
+        }
+    if (shortest < o.collapse_ratio || longest > o.split_ratio)
+        fail_msg("edges from %.3f h to %.3f h", shortest, longest);
+}
+
 }  // namespace
 
 int main() {
@@ -185,6 +231,7 @@ int main() {
         cmocka_unit_test(slide_stays_on_the_polyline),
         cmocka_unit_test(colouring_separates_neighbours),
         cmocka_unit_test(optimised_mesh_is_regular_and_better),
+        cmocka_unit_test(short_edges_collapse_and_long_ones_split),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
