@@ -306,6 +306,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     o.fix_boundary = options.integer(UM_OPT_OPTIM_FIX_BOUNDARY) != 0;
     o.collapse_ratio = options.real(UM_OPT_OPTIM_COLLAPSE_RATIO);
     o.split_ratio = options.real(UM_OPT_OPTIM_SPLIT_RATIO);
+    o.corner_vertices = options.integer(UM_OPT_OPTIM_CORNER_VERTICES) != 0;
     // The optimisation inserts a few per cent of new vertex slots (splits)
     // and, as it also removes about as many vertices (collapses), needs few
     // new triangle slots: their room first, while neither the undo nor the

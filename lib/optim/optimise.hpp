@@ -41,11 +41,13 @@ struct OptimiseOptions {
     bool fix_boundary = false;   // vertices on Gamma stay put (else they slide along it)
     double collapse_ratio = 0.5; // collapse edges shorter than this times h
     double split_ratio = 1.6;    // split edges longer than this times h
+    bool corner_vertices = true; // vertices for obtuse corners on Gamma (support_gamma_corners)
 };
 
 struct OptimiseStats {
     int outer_iterations = 0;  // done (fewer than N when it stopped early)
     int64_t moves = 0, weight_updates = 0, flips = 0, collapses = 0, splits = 0;
+    int64_t corner_vertices = 0;  // added at obtuse corners on Gamma (not among the splits)
     double seconds_moves = 0, seconds_weights = 0, seconds_topology = 0;
 };
 

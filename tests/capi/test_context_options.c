@@ -236,7 +236,7 @@ static void option_names_round_trip(void **state) {
     (void)state;
     const um_option keys[] = {UM_OPT_SPHERE_RADIUS, UM_OPT_REFINE_ALPHA, UM_OPT_REFINE_BETA,
                               UM_OPT_REFINE_RHO, UM_OPT_OPTIM_OUTER_ITERATIONS,
-                              UM_OPT_OPTIM_SPLIT_RATIO};
+                              UM_OPT_OPTIM_SPLIT_RATIO, UM_OPT_OPTIM_CORNER_VERTICES};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i) {
         char name[64];
         int64_t needed = 0;

@@ -104,23 +104,42 @@ void optimised_coastal_mesh_stays_regular(void **) {
     io::read_geojson_file(UNIMESH_DATA_DIR "/coast_global_l.geojson", {}, *gamma);
     io::read_geojson_file(UNIMESH_DATA_DIR "/rivers_global_l.geojson", {}, *gamma);
     Context ctx;
-    const Options options;
-    mesh::RefinedMesh m = mesh::refine_mesh(ctx, hfun::make_constant(120.0), gamma, options);
-    mesh::optimise_mesh(ctx, m, options, nullptr);
-    const std::string problem = tri::check_triangulation(m.tri);
-    if (!problem.empty()) fail_msg("%s", problem.c_str());
-    int64_t on_gamma = 0;
-    for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
-        const int32_t s = m.on_segment[v];
-        if (!m.tri.in_triangulation(v) || s < 0) continue;
-        ++on_gamma;
-        const Vec3 x = m.tri.direction(v), a = gamma->segment_a(s), b = gamma->segment_b(s);
-        // On the great circle of its segment (to rounding) and between its ends.
-        const Vec3 n = geom::normalized(geom::cross(a, b));
-        assert_true(std::fabs(geom::dot(n, x)) < 1e-12);
-        assert_true(geom::dot(geom::cross(a, x), n) >= -1e-12 && geom::dot(geom::cross(x, b), n) >= -1e-12);
-    }
-    assert_true(on_gamma > 1000);
+    const mesh::RefinedMesh refined = mesh::refine_mesh(ctx, hfun::make_constant(120.0), gamma, Options());
+    auto optimised = [&](int corner_vertices) {
+        Options options;
+        options.set_int(UM_OPT_OPTIM_CORNER_VERTICES, corner_vertices);
+        mesh::RefinedMesh m = refined;
+        mesh::optimise_mesh(ctx, m, options, nullptr);
+        const std::string problem = tri::check_triangulation(m.tri);
+        if (!problem.empty()) fail_msg("%s", problem.c_str());
+        int64_t on_gamma = 0;
+        for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
+            const int32_t s = m.on_segment[v];
+            if (!m.tri.in_triangulation(v) || s < 0) continue;
+            ++on_gamma;
+            const Vec3 x = m.tri.direction(v), a = gamma->segment_a(s), b = gamma->segment_b(s);
+            // On the great circle of its segment (to rounding) and between its ends.
+            const Vec3 n = geom::normalized(geom::cross(a, b));
+            assert_true(std::fabs(geom::dot(n, x)) < 1e-12);
+            assert_true(geom::dot(geom::cross(a, x), n) >= -1e-12 && geom::dot(geom::cross(x, b), n) >= -1e-12);
+        }
+        assert_true(on_gamma > 1000);
+        return m;
+    };
+    // The vertices at obtuse corners on Gamma leave fewer obtuse triangles
+    // and no more off-centre ones.
+    const mesh::RefinedMesh with = optimised(1), without = optimised(0);
+    assert_true(with.optimisation.corner_vertices > 0);
+    assert_int_equal(without.optimisation.corner_vertices, 0);
+    const quality::Report q_with = quality::measure(ctx, with.tri, {}, &with.on_segment);
+    const quality::Report q_without = quality::measure(ctx, without.tri, {}, &without.on_segment);
+    print_message("optimised at 120 km: %lld vertices at obtuse corners; obtuse %lld (without: %lld), off-centre %lld (%lld)\n",
+                  (long long)with.optimisation.corner_vertices, (long long)q_with.obtuse, (long long)q_without.obtuse,
+                  (long long)q_with.not_well_centred, (long long)q_without.not_well_centred);
+    if (!(q_with.obtuse < q_without.obtuse) || q_with.not_well_centred > q_without.not_well_centred)
+        fail_msg("obtuse %lld with corner vertices, %lld without; off-centre %lld, %lld",
+                 (long long)q_with.obtuse, (long long)q_without.obtuse, (long long)q_with.not_well_centred,
+                 (long long)q_without.not_well_centred);
 }
 
 void relaxation_leaves_gamma_alone(void **) {

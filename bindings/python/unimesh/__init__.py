@@ -94,6 +94,7 @@ class Option(enum.IntEnum):
     OPTIM_FIX_BOUNDARY = 204
     OPTIM_COLLAPSE_RATIO = 205
     OPTIM_SPLIT_RATIO = 206
+    OPTIM_CORNER_VERTICES = 207
 
 
 class OptionType(enum.IntEnum):
