@@ -39,10 +39,10 @@ constexpr double kGainOverTolerance = 10;
 constexpr double kShortestMove = 1e-4;
 
 // A vertex support_gamma_corners adds may be this close (in units of h) to
-// a vertex on Gamma, and collapse_ratio h to others: on the coastline case
-// at 60 km, 0.3 takes the obtuse triangles from 668 to 621 (0.4: 636, 0.5,
-// the collapse ratio: 664), Gamma's own vertices often being closer
-// together than h where it bends.
+// a vertex on Gamma, and collapse_ratio h to others: Gamma's own vertices
+// are often closer together than h where it bends. On the coastline case
+// at 60 km, 0.3 takes the obtuse triangles from 668 to 565 (0.25: the same,
+// 0.35: 574; the collapse ratio, 0.5, only to 664).
 constexpr double kCornerEdge = 0.3;
 
 // Once an outer iteration of the shape phase moves fewer than kPolishAfter
@@ -1192,6 +1192,8 @@ int64_t Optimiser::support_gamma_corners() {
         if (!buried.empty() || !corner_vertex_helps(d, region, gamma_edges, obtuse_before)) {
             tri_.remove(d);
             for (int32_t u : buried) tri_.restore_removed(u, tri_.star(b).front());
+            // Nothing changed: the neighbourhood is free again.
+            for (int32_t u : region) locked[u] = 0;
             continue;
         }
         changed_at_[d] = clock_;
