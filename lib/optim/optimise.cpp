@@ -41,9 +41,11 @@ constexpr double kShortestMove = 1e-4;
 // A vertex support_gamma_corners adds may be this close (in units of h) to
 // a vertex on Gamma, and collapse_ratio h to others: Gamma's own vertices
 // are often closer together than h where it bends. On the coastline case
-// at 60 km, 0.3 takes the obtuse triangles from 668 to 565 (0.25: the same,
-// 0.35: 574; the collapse ratio, 0.5, only to 664).
+// at 60 km, 0.3 takes the obtuse triangles from 668 to 342 (0.4: 359; the
+// collapse ratio, 0.5: 435). Its ODT steps: 3 (6 mend 4 more).
 constexpr double kCornerEdge = 0.3;
+constexpr double kUnweighted = 1e-12;  // |w| (units of R^2) below which a vertex counts as unweighted
+constexpr int kCornerSteps = 3;  // ODT steps a corner vertex may take before it is judged
 
 // Once an outer iteration of the shape phase moves fewer than kPolishAfter
 // vertices per vertex, the stars whose worst shape score is within
@@ -206,6 +208,7 @@ private:
     int64_t improve_valence();
     int64_t flip_for_valence();
     bool relax_into_regularity(const int32_t (&quad)[4]);
+    Vec3 star_odt_point(int32_t v) const;
     int32_t insert_between(int32_t a, int32_t b);
     int64_t support_gamma_corners();
     bool corner_vertex_helps(int32_t d, const std::vector<int32_t> &region,
@@ -1169,6 +1172,17 @@ int64_t Optimiser::support_gamma_corners() {
             });
         std::sort(region.begin(), region.end());
         region.erase(std::unique(region.begin(), region.end()), region.end());
+        // Unweighted points all lie on the hull: the new vertex and its
+        // steps then hide none, and taking it out again restores the mesh.
+        // (Weights appear only after the shape phase, unless optimised
+        // twice; a unit vector's rounding, |w| ~ 1e-16, hides a point only
+        // from neighbours within ~1e-8 of it, far below any edge here.)
+        bool unweighted = true;
+        for (int32_t u : region) unweighted = unweighted && std::fabs(tri_.weight(u)) <= kUnweighted;
+        if (!unweighted) {
+            for (int32_t u : region) locked[u] = 0;
+            continue;
+        }
         std::vector<std::pair<int32_t, int32_t>> gamma_edges;
         for (int32_t v : region)
             tri_.for_each_in_star(v, [&](int32_t s) {
@@ -1184,14 +1198,26 @@ int64_t Optimiser::support_gamma_corners() {
         const Vec3 xb = tri_.direction(b);
         const Vec3 centre = geom::normalized(geom::cross(tri_.direction(p) - xb, tri_.direction(q) - xb));
         const Vec3 at = geom::normalized(centre + kPull * (xb - centre));
-        const double w = (tri_.weight(b) + tri_.weight(p) + tri_.weight(q)) / 3;
         std::vector<int32_t> buried;
-        const int32_t d = tri_.insert(at, w, next_id_++, &buried, t);
+        const int32_t d = tri_.insert(at, 0.0, next_id_++, &buried, t);
         grow_slots();
         h_at_[d] = static_cast<float>(h_(at));
-        if (!buried.empty() || !corner_vertex_helps(d, region, gamma_edges, obtuse_before)) {
+        // Where it is put, and then after each of a few ODT steps of its own
+        // (the sweeps will move it, and a vertex just past the chord it cut
+        // leaves the triangles beyond it obtuse until it does).
+        bool helps = buried.empty() && corner_vertex_helps(d, region, gamma_edges, obtuse_before);
+        for (int step = 0; step < kCornerSteps && !helps && buried.empty() && tri_.in_triangulation(d); ++step) {
+            const Vec3 to = star_odt_point(d);
+            buried = tri_.move(d, to);  // (none: see above)
+            if (!buried.empty()) break;
+            h_at_[d] = static_cast<float>(h_(to));
+            helps = corner_vertex_helps(d, region, gamma_edges, obtuse_before);
+        }
+        if (!buried.empty())
+            fail(UM_ERR_INTERNAL, "a vertex at an obtuse corner on Gamma hid vertex slot ", buried.front(),
+                 " among unweighted ones");
+        if (!helps) {
             tri_.remove(d);
-            for (int32_t u : buried) tri_.restore_removed(u, tri_.star(b).front());
             // Nothing changed: the neighbourhood is free again.
             for (int32_t u : region) locked[u] = 0;
             continue;
@@ -1388,21 +1414,25 @@ int64_t Optimiser::flip_for_valence() {
     return done;
 }
 
+// The ODT point of v's star as the triangulation has it: the mean of its
+// triangles' orthocentres weighted by their (chord) areas.
+Vec3 Optimiser::star_odt_point(int32_t v) const {
+    Vec3 sum{};
+    tri_.for_each_in_star(v, [&](int32_t s) {
+        const Vec3 a = tri_.direction(tri_.vertex(s, 0));
+        const double area = 0.5 * geom::norm(geom::cross(tri_.direction(tri_.vertex(s, 1)) - a,
+                                                         tri_.direction(tri_.vertex(s, 2)) - a));
+        sum = sum + area * tri_.orthocentre(s);
+    });
+    return geom::normalized(sum);
+}
+
 // Moves the four vertices towards their ODT targets in the current topology
 // (a few rounds) until every edge around them is locally regular and every
 // triangle around them still faces outwards.
 bool Optimiser::relax_into_regularity(const int32_t (&quad)[4]) {
     for (int round = 0; round < 4; ++round) {
-        for (int32_t v : quad) {
-            Vec3 sum{};
-            for (int32_t s : tri_.star(v)) {
-                const Vec3 a = tri_.direction(tri_.vertex(s, 0));
-                const double area = 0.5 * geom::norm(geom::cross(tri_.direction(tri_.vertex(s, 1)) - a,
-                                                                 tri_.direction(tri_.vertex(s, 2)) - a));
-                sum = sum + area * tri_.orthocentre(s);
-            }
-            set_generator(v, {geom::normalized(sum), generator(v).s});
-        }
+        for (int32_t v : quad) set_generator(v, {star_odt_point(v), generator(v).s});
         bool good = true;
         for (int32_t v : quad)
             for (int32_t s : tri_.star(v)) {
