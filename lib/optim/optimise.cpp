@@ -45,7 +45,8 @@ constexpr double kShortestMove = 1e-4;
 // collapse ratio, 0.5: 435). Its ODT steps: 3 (6 mend 4 more).
 constexpr double kCornerEdge = 0.3;
 constexpr double kUnweighted = 1e-12;  // |w| (units of R^2) below which a vertex counts as unweighted
-constexpr int kCornerSteps = 3;  // ODT steps a corner vertex may take before it is judged
+constexpr int kCornerSteps = 3;
+constexpr double kBisectorSpoke = 0.6;  // h: the second place a corner vertex is tried (0.45: 314 obtuse at 60 km, 0.6: 304, 0.75: 311)
 
 // Once an outer iteration of the shape phase moves fewer than kPolishAfter
 // vertices per vertex, the stars whose worst shape score is within
@@ -211,6 +212,8 @@ private:
     Vec3 star_odt_point(int32_t v) const;
     int32_t insert_between(int32_t a, int32_t b);
     int64_t support_gamma_corners();
+    int32_t try_corner_vertex(const Vec3 &at, int32_t t, const std::vector<int32_t> &region,
+                              const std::vector<std::pair<int32_t, int32_t>> &gamma_edges, int obtuse_before);
     bool corner_vertex_helps(int32_t d, const std::vector<int32_t> &region,
                              const std::vector<std::pair<int32_t, int32_t>> &gamma_edges, int obtuse_before) const;
     int obtuse_touching(const std::vector<int32_t> &vertices) const;
@@ -1197,29 +1200,17 @@ int64_t Optimiser::support_gamma_corners() {
         const int obtuse_before = obtuse_touching(region);
         const Vec3 xb = tri_.direction(b);
         const Vec3 centre = geom::normalized(geom::cross(tri_.direction(p) - xb, tri_.direction(q) - xb));
-        const Vec3 at = geom::normalized(centre + kPull * (xb - centre));
-        std::vector<int32_t> buried;
-        const int32_t d = tri_.insert(at, 0.0, next_id_++, &buried, t);
-        grow_slots();
-        h_at_[d] = static_cast<float>(h_(at));
-        // Where it is put, and then after each of a few ODT steps of its own
-        // (the sweeps will move it, and a vertex just past the chord it cut
-        // leaves the triangles beyond it obtuse until it does).
-        bool helps = buried.empty() && corner_vertex_helps(d, region, gamma_edges, obtuse_before);
-        for (int step = 0; step < kCornerSteps && !helps && buried.empty() && tri_.in_triangulation(d); ++step) {
-            const Vec3 to = star_odt_point(d);
-            buried = tri_.move(d, to);  // (none: see above)
-            if (!buried.empty()) break;
-            h_at_[d] = static_cast<float>(h_(to));
-            helps = corner_vertex_helps(d, region, gamma_edges, obtuse_before);
-        }
-        if (!buried.empty())
-            fail(UM_ERR_INTERNAL, "a vertex at an obtuse corner on Gamma hid vertex slot ", buried.front(),
-                 " among unweighted ones");
-        if (!helps) {
-            tri_.remove(d);
-            // Nothing changed: the neighbourhood is free again.
-            for (int32_t u : region) locked[u] = 0;
+        // Near the circumcentre, else a spoke's length along the corner's bisector.
+        const Vec3 tp = tri_.direction(p) - geom::dot(xb, tri_.direction(p)) * xb;
+        const Vec3 tq = tri_.direction(q) - geom::dot(xb, tri_.direction(q)) * xb;
+        const Vec3 bisector = geom::normalized(geom::normalized(tp) + geom::normalized(tq));
+        const Vec3 candidates[2] = {geom::normalized(centre + kPull * (xb - centre)),
+                                    geom::normalized(xb + (kBisectorSpoke * static_cast<double>(h_at_[b])) * bisector)};
+        int32_t d = -1;
+        for (const Vec3 &at : candidates)
+            if ((d = try_corner_vertex(at, t, region, gamma_edges, obtuse_before)) >= 0) break;
+        if (d < 0) {
+            for (int32_t u : region) locked[u] = 0;  // nothing changed: free again
             continue;
         }
         changed_at_[d] = clock_;
@@ -1229,6 +1220,33 @@ int64_t Optimiser::support_gamma_corners() {
         ++done;
     }
     return done;
+}
+
+// Inserts a corner vertex at `at` (near triangle t) and keeps it if it helps
+// where it is put or after one of its ODT steps (the sweeps will move it, and
+// a vertex just past the chord it cut leaves the triangles beyond it obtuse
+// until it does); its slot, or -1 with the mesh as it was.
+int32_t Optimiser::try_corner_vertex(const Vec3 &at, int32_t t, const std::vector<int32_t> &region,
+                                     const std::vector<std::pair<int32_t, int32_t>> &gamma_edges,
+                                     int obtuse_before) {
+    std::vector<int32_t> buried;
+    const int32_t d = tri_.insert(at, 0.0, next_id_++, &buried, t);
+    grow_slots();
+    h_at_[d] = static_cast<float>(h_(at));
+    bool helps = buried.empty() && corner_vertex_helps(d, region, gamma_edges, obtuse_before);
+    for (int step = 0; step < kCornerSteps && !helps && buried.empty() && tri_.in_triangulation(d); ++step) {
+        const Vec3 to = star_odt_point(d);
+        buried = tri_.move(d, to);  // (none: support_gamma_corners tries unweighted regions only)
+        if (!buried.empty()) break;
+        h_at_[d] = static_cast<float>(h_(to));
+        helps = corner_vertex_helps(d, region, gamma_edges, obtuse_before);
+    }
+    if (!buried.empty())
+        fail(UM_ERR_INTERNAL, "a vertex at an obtuse corner on Gamma hid vertex slot ", buried.front(),
+             " among unweighted ones");
+    if (helps) return d;
+    tri_.remove(d);
+    return -1;
 }
 
 // support_gamma_corners' test of its new vertex d.
