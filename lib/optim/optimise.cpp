@@ -46,7 +46,11 @@ constexpr double kShortestMove = 1e-4;
 constexpr double kCornerEdge = 0.3;
 constexpr double kUnweighted = 1e-12;  // |w| (units of R^2) below which a vertex counts as unweighted
 constexpr int kCornerSteps = 3;
-constexpr double kBisectorSpoke = 0.6;  // h: the second place a corner vertex is tried (0.45: 314 obtuse at 60 km, 0.6: 304, 0.75: 311)
+// Where a corner vertex is tried when the circumcentre fails: these many h
+// from the corner along its bisector, in turn. On the coastline at 60 km:
+// 0.6 alone leaves 304 obtuse triangles (0.45: 314, 0.75: 311), then 0.8 and
+// 0.45 276 (and 1.0 after those 272).
+constexpr double kBisectorSpokes[] = {0.6, 0.8, 0.45};
 
 // Once an outer iteration of the shape phase moves fewer than kPolishAfter
 // vertices per vertex, the stars whose worst shape score is within
@@ -1200,15 +1204,17 @@ int64_t Optimiser::support_gamma_corners() {
         const int obtuse_before = obtuse_touching(region);
         const Vec3 xb = tri_.direction(b);
         const Vec3 centre = geom::normalized(geom::cross(tri_.direction(p) - xb, tri_.direction(q) - xb));
-        // Near the circumcentre, else a spoke's length along the corner's bisector.
+        // Near the circumcentre, else along the corner's bisector.
         const Vec3 tp = tri_.direction(p) - geom::dot(xb, tri_.direction(p)) * xb;
         const Vec3 tq = tri_.direction(q) - geom::dot(xb, tri_.direction(q)) * xb;
         const Vec3 bisector = geom::normalized(geom::normalized(tp) + geom::normalized(tq));
-        const Vec3 candidates[2] = {geom::normalized(centre + kPull * (xb - centre)),
-                                    geom::normalized(xb + (kBisectorSpoke * static_cast<double>(h_at_[b])) * bisector)};
-        int32_t d = -1;
-        for (const Vec3 &at : candidates)
-            if ((d = try_corner_vertex(at, t, region, gamma_edges, obtuse_before)) >= 0) break;
+        int32_t d = try_corner_vertex(geom::normalized(centre + kPull * (xb - centre)), t, region, gamma_edges,
+                                      obtuse_before);
+        for (double spoke : kBisectorSpokes) {
+            if (d >= 0) break;
+            const Vec3 at = geom::normalized(xb + (spoke * static_cast<double>(h_at_[b])) * bisector);
+            d = try_corner_vertex(at, t, region, gamma_edges, obtuse_before);
+        }
         if (d < 0) {
             for (int32_t u : region) locked[u] = 0;  // nothing changed: free again
             continue;
