@@ -41,8 +41,9 @@ constexpr double kShortestMove = 1e-4;
 // A vertex support_gamma_corners adds may be this close (in units of h) to
 // a vertex on Gamma, and collapse_ratio h to others: Gamma's own vertices
 // are often closer together than h where it bends. On the coastline case
-// at 60 km, 0.3 takes the obtuse triangles from 668 to 342 (0.4: 359; the
-// collapse ratio, 0.5: 435). Its ODT steps: 3 (6 mend 4 more).
+// at 60 km (before the bisector tries), 0.3 takes the obtuse triangles from
+// 668 to 342 (0.4: 359; the collapse ratio, 0.5: 435). Its ODT steps: 3 (6
+// mend 4 more).
 constexpr double kCornerEdge = 0.3;
 constexpr double kUnweighted = 1e-12;  // |w| (units of R^2) below which a vertex counts as unweighted
 constexpr int kCornerSteps = 3;
@@ -221,6 +222,8 @@ private:
     bool corner_vertex_helps(int32_t d, const std::vector<int32_t> &region,
                              const std::vector<std::pair<int32_t, int32_t>> &gamma_edges, int obtuse_before) const;
     int obtuse_touching(const std::vector<int32_t> &vertices) const;
+    std::vector<std::pair<int32_t, int32_t>> gamma_edges_among(const std::vector<int32_t> &vertices) const;
+    bool has_edge(int32_t a, int32_t b) const;
     bool leaves_long_edge(const Vec3 &x, double h_x, std::initializer_list<int32_t> ends) const;
     bool leaves_short_edge(int32_t a, int32_t b) const;
     void split_vertex(int32_t v, const std::vector<int32_t> &star);
@@ -235,9 +238,14 @@ private:
     std::pair<int64_t, int64_t> collapse_and_split();
     int64_t collapse_short_edges(std::vector<EdgeRatio> edges);
     int64_t split_long_edges(std::vector<EdgeRatio> edges);
-    // Claims the given vertices and their neighbours for this pass's one
-    // change around them; false (nothing claimed) if any is taken.
-    bool lock_neighbourhood(std::initializer_list<int32_t> vertices, std::vector<uint8_t> &locked) const;
+    // The given vertices and their neighbours (sorted, each once).
+    std::vector<int32_t> closed_stars(std::initializer_list<int32_t> vertices) const;
+    // Claims `vertices` for this pass's one change around them; false
+    // (nothing claimed) if any is taken.
+    static bool claim(const std::vector<int32_t> &vertices, std::vector<uint8_t> &locked);
+    bool lock_neighbourhood(std::initializer_list<int32_t> vertices, std::vector<uint8_t> &locked) const {
+        return claim(closed_stars(vertices), locked);
+    }
 
     // Stopping ---------------------------------------------------------------
     struct Summary {
@@ -1023,16 +1031,24 @@ std::vector<Optimiser::EdgeRatio> Optimiser::edge_ratios(double below, double ab
     });
 }
 
-// (Both ends of an edge at once: claimed one after the other, the second
-// would always find itself claimed, as a neighbour of the first.)
-bool Optimiser::lock_neighbourhood(std::initializer_list<int32_t> vertices, std::vector<uint8_t> &locked) const {
+std::vector<int32_t> Optimiser::closed_stars(std::initializer_list<int32_t> vertices) const {
     std::vector<int32_t> around(vertices);
     for (int32_t v : vertices)
-        for (int32_t t : tri_.star(v))
+        tri_.for_each_in_star(v, [&](int32_t t) {
             for (int k = 0; k < 3; ++k) around.push_back(tri_.vertex(t, k));
-    for (int32_t u : around)
+        });
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    return around;
+}
+
+// (An edge's two ends are claimed at once, through closed_stars: claimed one
+// after the other, the second would always find itself claimed, as a
+// neighbour of the first.)
+bool Optimiser::claim(const std::vector<int32_t> &vertices, std::vector<uint8_t> &locked) {
+    for (int32_t u : vertices)
         if (locked[u]) return false;
-    for (int32_t u : around) locked[u] = 1;
+    for (int32_t u : vertices) locked[u] = 1;
     return true;
 }
 
@@ -1146,10 +1162,12 @@ bool Optimiser::leaves_short_edge(int32_t a, int32_t b) const {
 // the obtuse triangles left on coastlines). Each such triangle gets a
 // vertex off Gamma near its circumcentre, pulled towards the obtuse corner
 // (so strictly inside the circumcircle: the triangle goes, the corner gains
-// a spoke and splits its angle), kept only when the triangles around then
-// have fewer obtuse ones, every edge of the new vertex is at least
-// collapse_ratio h, and every edge along Gamma there is still an edge.
-// Serial, in slot order, one change per neighbourhood.
+// a spoke and splits its angle), else at kBisectorSpokes along the corner's
+// bisector, kept only when the triangles around then have fewer obtuse ones,
+// its edges are at least kCornerEdge h to Gamma's vertices and
+// collapse_ratio h to others, and every edge along Gamma there is still an
+// edge (try_corner_vertex, corner_vertex_helps). Serial, in slot order, one
+// change per neighbourhood.
 int64_t Optimiser::support_gamma_corners() {
     if (!gamma_) return 0;
     constexpr double kPull = 0.2;  // of the way from the circumcentre to the corner
@@ -1170,15 +1188,13 @@ int64_t Optimiser::support_gamma_corners() {
         if (k < 0) continue;
         const int32_t b = tri_.vertex(t, k), p = tri_.vertex(t, (k + 1) % 3), q = tri_.vertex(t, (k + 2) % 3);
         const int32_t y = tri_.vertex(tri_.neighbour(t, k), tri_.mirror_edge(t, k));
-        if (runs_along_gamma(p, q, b, y) || !lock_neighbourhood({b, p, q}, locked)) continue;
-        // The region the new vertex may change: the closed stars of t's vertices.
-        std::vector<int32_t> region;
-        for (int32_t v : {b, p, q})
-            tri_.for_each_in_star(v, [&](int32_t s) {
-                for (int j = 0; j < 3; ++j) region.push_back(tri_.vertex(s, j));
-            });
-        std::sort(region.begin(), region.end());
-        region.erase(std::unique(region.begin(), region.end()), region.end());
+        if (runs_along_gamma(p, q, b, y)) continue;
+        // The region the new vertex may change, claimed: the closed stars of t's vertices.
+        const std::vector<int32_t> region = closed_stars({b, p, q});
+        if (!claim(region, locked)) continue;
+        auto release = [&] {  // nothing changed there: free again
+            for (int32_t u : region) locked[u] = 0;
+        };
         // Unweighted points all lie on the hull: the new vertex and its
         // steps then hide none, and taking it out again restores the mesh.
         // (Weights appear only after the shape phase, unless optimised
@@ -1187,20 +1203,10 @@ int64_t Optimiser::support_gamma_corners() {
         bool unweighted = true;
         for (int32_t u : region) unweighted = unweighted && std::fabs(tri_.weight(u)) <= kUnweighted;
         if (!unweighted) {
-            for (int32_t u : region) locked[u] = 0;
+            release();
             continue;
         }
-        std::vector<std::pair<int32_t, int32_t>> gamma_edges;
-        for (int32_t v : region)
-            tri_.for_each_in_star(v, [&](int32_t s) {
-                const int i = tri_.local_index(s, v);
-                const int32_t c = tri_.vertex(s, (i + 1) % 3);  // the edge (v, c) once, from v's side
-                if (on_segment_[v] < 0 || on_segment_[c] < 0 || v > c) return;
-                const int32_t apex = tri_.vertex(s, (i + 2) % 3);
-                const int e = (i + 2) % 3;  // the edge opposite apex: (v, c)
-                const int32_t across = tri_.vertex(tri_.neighbour(s, e), tri_.mirror_edge(s, e));
-                if (runs_along_gamma(v, c, apex, across)) gamma_edges.push_back({v, c});
-            });
+        const std::vector<std::pair<int32_t, int32_t>> gamma_edges = gamma_edges_among(region);
         const int obtuse_before = obtuse_touching(region);
         const Vec3 xb = tri_.direction(b);
         const Vec3 centre = geom::normalized(geom::cross(tri_.direction(p) - xb, tri_.direction(q) - xb));
@@ -1216,7 +1222,7 @@ int64_t Optimiser::support_gamma_corners() {
             d = try_corner_vertex(at, t, region, gamma_edges, obtuse_before);
         }
         if (d < 0) {
-            for (int32_t u : region) locked[u] = 0;  // nothing changed: free again
+            release();
             continue;
         }
         changed_at_[d] = clock_;
@@ -1269,17 +1275,38 @@ bool Optimiser::corner_vertex_helps(int32_t d, const std::vector<int32_t> &regio
         ok = ok && std::binary_search(region.begin(), region.end(), u) &&
              geom::norm(x - tri_.direction(u)) >= floor * h;
     });
-    for (const auto &[a, c] : gamma_edges) {
-        bool still = false;
-        tri_.for_each_in_star(a, [&](int32_t s) {
-            still = still || tri_.vertex(s, 0) == c || tri_.vertex(s, 1) == c || tri_.vertex(s, 2) == c;
-        });
-        ok = ok && still;
-    }
+    for (const auto &[a, c] : gamma_edges) ok = ok && has_edge(a, c);
     if (!ok) return false;
     std::vector<int32_t> around = region;
     around.push_back(d);
     return obtuse_touching(around) < obtuse_before;
+}
+
+// The edges along Gamma (runs_along_gamma) between two of `vertices`
+// (sorted), each once.
+std::vector<std::pair<int32_t, int32_t>> Optimiser::gamma_edges_among(const std::vector<int32_t> &vertices) const {
+    std::vector<std::pair<int32_t, int32_t>> edges;
+    for (int32_t v : vertices) {
+        if (on_segment_[v] < 0) continue;
+        tri_.for_each_in_star(v, [&](int32_t s) {
+            const int i = tri_.local_index(s, v);
+            const int32_t c = tri_.vertex(s, (i + 1) % 3);  // the edge (v, c) once, from v's side
+            if (on_segment_[c] < 0 || v > c) return;
+            const int32_t apex = tri_.vertex(s, (i + 2) % 3);
+            const int e = (i + 2) % 3;  // the edge opposite apex: (v, c)
+            const int32_t across = tri_.vertex(tri_.neighbour(s, e), tri_.mirror_edge(s, e));
+            if (runs_along_gamma(v, c, apex, across)) edges.push_back({v, c});
+        });
+    }
+    return edges;
+}
+
+bool Optimiser::has_edge(int32_t a, int32_t b) const {
+    bool found = false;
+    tri_.for_each_in_star(a, [&](int32_t s) {
+        found = found || tri_.vertex(s, 0) == b || tri_.vertex(s, 1) == b || tri_.vertex(s, 2) == b;
+    });
+    return found;
 }
 
 // The obtuse triangles with a vertex among `vertices` (each counted once).
