@@ -55,9 +55,11 @@ void expect_identical(const tri::Triangulation &a, const tri::Triangulation &b) 
         }
 }
 
+// The live triangles by input ids (after updates, free slots lie among them).
 std::set<std::array<int32_t, 3>> triangle_set(const tri::Triangulation &t) {
     std::set<std::array<int32_t, 3>> out;
-    for (int32_t f = 0; f < t.triangle_count(); ++f) {
+    for (int32_t f = 0; f < t.triangle_slots(); ++f) {
+        if (t.is_free(f)) continue;
         std::array<int32_t, 3> ids = {t.id(t.vertex(f, 0)), t.id(t.vertex(f, 1)),
                                       t.id(t.vertex(f, 2))};
         std::rotate(ids.begin(), std::min_element(ids.begin(), ids.end()), ids.end());
@@ -574,6 +576,52 @@ void insert_remove_move_and_reweight(void **) {
     expect_valid(t);
 }
 
+// A point tried and taken out again leaves the triangulation as it was
+// (the same triangles, every other vertex where it was): how the
+// optimisation undoes a vertex it put at an obtuse corner and moved a few
+// steps (optim/optimise.cpp, try_corner_vertex). On an icosahedral grid,
+// where the triangles across cocircular quadruples are those of the tie
+// rule, and on random points; tried at circumcentres (cocircular with the
+// triangle's corners), on edges' chords and near vertices.
+void a_point_tried_and_removed_leaves_the_triangulation(void **) {
+    for (int input = 0; input < 2; ++input) {
+        const std::vector<Vec3> pts = input == 0 ? test::icosahedral_points(4) : test::random_points(3000, 53);
+        tri::Triangulation t = build(pts);
+        const auto before = triangle_set(t);
+        std::vector<Vec3> where(static_cast<size_t>(t.vertex_slots()));
+        for (int32_t v = 0; v < t.vertex_slots(); ++v) where[v] = t.lifted(v);
+        std::mt19937_64 rng(61);
+        std::uniform_real_distribution<double> share(0.0, 1.0);
+        int tried = 0;
+        for (int i = 0; i < 300; ++i) {
+            const int32_t f = static_cast<int32_t>(rng() % static_cast<uint64_t>(t.triangle_slots()));
+            if (t.is_free(f)) continue;
+            const Vec3 a = t.direction(t.vertex(f, 0)), b = t.direction(t.vertex(f, 1)), c = t.direction(t.vertex(f, 2));
+            Vec3 at;
+            switch (i % 3) {
+            case 0: at = geom::normalized(geom::cross(b - a, c - a)); break;      // circumcentre
+            case 1: at = geom::normalized(a + share(rng) * (b - a)); break;        // on an edge's chord
+            default: at = geom::normalized(a + 1e-3 * (b + c - 2.0 * a)); break;  // near a vertex
+            }
+            std::vector<int32_t> buried;
+            const int32_t v = t.insert(at, 0.0, 1000000 + i, &buried, f);
+            assert_true(buried.empty());
+            assert_true(t.in_triangulation(v));
+            for (int step = 0; step < 3; ++step) {
+                const Vec3 to = geom::normalized(t.direction(v) + 0.3 * share(rng) * (b - a) + 0.2 * share(rng) * (c - a));
+                assert_true(t.move(v, to).empty());
+            }
+            t.remove(v);
+            expect_valid(t);
+            ++tried;
+        }
+        assert_true(tried > 200);
+        assert_true(triangle_set(t) == before);
+        for (size_t v = 0; v < where.size(); ++v)
+            assert_memory_equal(t.lifted(static_cast<int32_t>(v)).data(), where[v].data(), sizeof(Vec3));
+    }
+}
+
 // Removing vertices whose links lie along one great circle (a meridian
 // through the pole, a latitude-free grid of meridians): every hull ear of
 // such a link can be flat, and removal must still leave the exact regular
@@ -644,6 +692,7 @@ int main() {
         cmocka_unit_test(power_cells_and_orthocentres),
         cmocka_unit_test(weighted_edge_orthocentre_is_on_the_bisector),
         cmocka_unit_test(insert_remove_move_and_reweight),
+        cmocka_unit_test(a_point_tried_and_removed_leaves_the_triangulation),
         cmocka_unit_test(flips_keep_a_valid_sphere),
     };
     return cmocka_run_group_tests_name("triangulation", tests, nullptr, nullptr);
