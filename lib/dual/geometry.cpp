@@ -91,6 +91,15 @@ void vertex_geometry(Context &ctx, const UnitPositions &pos, MpasMesh &m) {
 
 }  // namespace
 
+void cross_edge_points(Context &ctx, UnitPositions &pos, const MpasMesh &m) {
+    ctx.parallel_for(m.n_edges, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i)
+            pos.edge[i] = arc_crossing(pos.cell[m.cells_on_edge[2 * i]], pos.cell[m.cells_on_edge[2 * i + 1]],
+                                       pos.vertex[m.vertices_on_edge[2 * i]], pos.vertex[m.vertices_on_edge[2 * i + 1]],
+                                       pos.edge[i]);
+    });
+}
+
 void fill_geometry(Context &ctx, const UnitPositions &pos, MpasMesh &m) {
     cell_geometry(ctx, pos, m);
     edge_geometry(ctx, pos, m);

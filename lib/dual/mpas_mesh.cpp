@@ -325,6 +325,7 @@ MpasMesh build_mpas_mesh(Context &ctx, const tri::Triangulation &tri, const Mpas
     cell_connectivity(ctx, tri, num, m);
     vertex_connectivity(ctx, tri, num, m);
     num = Numbering();
+    cross_edge_points(ctx, pos, m);
     fill_geometry(ctx, pos, m);
     pos = UnitPositions();
     fill_trsk_weights(ctx, m);

@@ -18,6 +18,11 @@ struct UnitPositions {
     std::vector<Vec3> cell, edge, vertex;
 };
 
+// Moves each edge point (xEdge) onto the crossing of its primal and dual
+// great circles (arc_crossing), from the connectivity and the cell and
+// vertex positions: so that a cell's kites add up to its polygon.
+void cross_edge_points(Context &ctx, UnitPositions &pos, const MpasMesh &m);
+
 // Fills positions, lat/lon, dcEdge, dvEdge, angleEdge, areaCell,
 // areaTriangle and kiteAreasOnVertex from the connectivity and the unit
 // positions, scaled by m.radius_m.

@@ -395,6 +395,88 @@ void weighted_mesh(void **) {
     assert_true(off > 0.01);
 }
 
+// Cells from 200 m to 1,000 km wide: a graded log-polar patch
+// (rings 1.3 times wider each, 24 points a ring, from 1e-4 rad = 640 m) in
+// an icosahedral grid. The staggered mesh must stay consistent on the
+// smallest cells to the contract's 1e-10 relative: a cell's kites add up to
+// its areaCell, areaCell is its polygon (fanned from a corner with the
+// relative-accuracy determinant, in long double), and the TRSK weights are
+// the formula from the kites and areaCell as stored (what mpas_check.py
+// recomputes). With xEdge on the primal great circle only, the sliver it
+// left off the dual arc put the kites of the smallest cells (~170 m wide)
+// 1e-7 off their areaCell (4e-12 now: the rounding of their corners).
+void small_cells_stay_consistent(void **) {
+    std::vector<Vec3> pts;
+    const Vec3 centre = geom::normalized({0.3, -0.5, 0.8});
+    const Vec3 e1 = geom::normalized(geom::cross(centre, {0, 0, 1})), e2 = geom::cross(centre, e1);
+    pts.push_back(centre);
+    for (double r = 1e-4, k = 0; r < 0.5; r *= 1.3, ++k)
+        for (int j = 0; j < 24; ++j) {
+            const double a = (j + 0.5 * k) * 2 * M_PI / 24;
+            pts.push_back(geom::normalized(centre + r * std::cos(a) * e1 + r * std::sin(a) * e2));
+        }
+    for (const Vec3 &p : test::icosahedral_points(3))
+        if (geom::arc_length(p, centre) > 0.7) pts.push_back(p);
+    MpasMesh m = staggered(triangulate(pts, nullptr));
+    Units u(m);
+    const int w = m.max_edges, w2 = m.max_edges2();
+    std::vector<double> kites_of_cell(static_cast<size_t>(m.n_cells), 0.0);
+    for (int32_t v = 0; v < m.n_vertices; ++v)
+        for (int j = 0; j < 3; ++j) kites_of_cell[m.cells_on_vertex[3 * v + j]] += m.kite_areas_on_vertex[3 * v + j];
+    auto polygon = [&](int32_t c) {  // steradians
+        const int32_t *corner = &m.vertices_on_cell[w * c];
+        long double area = 0;
+        for (int j = 1; j + 1 < m.n_edges_on_cell[c]; ++j) {
+            long double a[3] = {u.vertex[corner[0]].x, u.vertex[corner[0]].y, u.vertex[corner[0]].z};
+            long double b[3] = {u.vertex[corner[j]].x, u.vertex[corner[j]].y, u.vertex[corner[j]].z};
+            long double d[3] = {u.vertex[corner[j + 1]].x, u.vertex[corner[j + 1]].y, u.vertex[corner[j + 1]].z};
+            long double p[3], q[3];
+            for (int i = 0; i < 3; ++i) p[i] = b[i] - a[i], q[i] = d[i] - a[i];
+            const long double det = a[0] * (p[1] * q[2] - p[2] * q[1]) + a[1] * (p[2] * q[0] - p[0] * q[2]) +
+                                    a[2] * (p[0] * q[1] - p[1] * q[0]);
+            const long double den = 1 + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) +
+                                    (b[0] * d[0] + b[1] * d[1] + b[2] * d[2]) + (d[0] * a[0] + d[1] * a[1] + d[2] * a[2]);
+            area += 2 * std::atan2(det, den);
+        }
+        return static_cast<double>(area);
+    };
+    double kites = 0, areas = 0, smallest = 1e300;
+    for (int32_t c = 0; c < m.n_cells; ++c) {
+        kites = std::max(kites, std::fabs(kites_of_cell[c] / m.area_cell[c] - 1));
+        areas = std::max(areas, std::fabs(m.area_cell[c] / (kRadius * kRadius * polygon(c)) - 1));
+        smallest = std::min(smallest, m.area_cell[c]);
+    }
+    // The weights as mpas_check.py recomputes them, with areaCell.
+    double weights = 0, scale = 0;
+    for (int32_t e = 0; e < m.n_edges; ++e) {
+        int k = 0;
+        for (int side = 0; side < 2; ++side) {
+            const int32_t cell = m.cells_on_edge[2 * e + side];
+            const int n = m.n_edges_on_cell[cell];
+            int j0 = 0;
+            while (m.edges_on_cell[w * cell + j0] != e) ++j0;
+            double passed = 0;
+            for (int step = 1; step < n; ++step, ++k) {
+                const int j = (j0 + step) % n;
+                const int32_t other = m.edges_on_cell[w * cell + j], corner = m.vertices_on_cell[w * cell + (j + n - 1) % n];
+                for (int i = 0; i < 3; ++i)
+                    if (m.cells_on_vertex[3 * corner + i] == cell) passed += m.kite_areas_on_vertex[3 * corner + i] / m.area_cell[cell];
+                const double sign = (m.cells_on_edge[2 * other] == cell ? 1.0 : -1.0) * (side == 1 ? -1.0 : 1.0);
+                const double formula = sign * (0.5 - passed) * m.dv_edge[other] / m.dc_edge[e];
+                weights = std::max(weights, std::fabs(formula - m.weights_on_edge[w2 * e + k]));
+                scale = std::max(scale, std::fabs(formula));
+            }
+        }
+    }
+    print_message("cells of %.3g to %.3g m^2: kites/areaCell - 1 = %.2g, areaCell/polygon - 1 = %.2g, weights %.2g\n",
+                  smallest, *std::max_element(m.area_cell.begin(), m.area_cell.end()), kites, areas, weights / scale);
+    assert_true(smallest < 1e5);
+    expect_below(kites, 1e-11, "kites against areaCell, 200 m cells");
+    expect_below(areas, 1e-10, "areaCell against the polygon, 200 m cells");
+    expect_below(weights / scale, 1e-10, "TRSK weights against the formula with areaCell");
+    check_trsk(m);
+}
+
 // Large weights hide some points: they are no cells, and a numbering that
 // lists them is refused.
 void hidden_points_are_not_cells(void **) {
@@ -653,6 +735,7 @@ int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(icosahedral_mesh),
         cmocka_unit_test(weighted_mesh),
+        cmocka_unit_test(small_cells_stay_consistent),
         cmocka_unit_test(hidden_points_are_not_cells),
         cmocka_unit_test(refined_mesh_with_sides),
         cmocka_unit_test(same_mesh_for_any_thread_count),
