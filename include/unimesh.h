@@ -213,7 +213,8 @@ enum {
     UM_OPT_OPTIM_FIX_BOUNDARY = 204,     /* int 0/1; vertices on features stay fixed, default 0 */
     UM_OPT_OPTIM_COLLAPSE_RATIO = 205,   /* real; collapse edges shorter than r*h, default 0.5 */
     UM_OPT_OPTIM_SPLIT_RATIO = 206,      /* real; split edges longer than r*h, default 1.6 */
-    UM_OPT_OPTIM_CORNER_VERTICES = 207   /* int 0/1; vertices for obtuse corners on features, default 1 */
+    UM_OPT_OPTIM_CORNER_VERTICES = 207   /* int 0/1/2; vertices for obtuse corners on features (2: only where
+                                            their cells stay clear of the features), default 1 */
 };
 enum {
     UM_OPTION_TYPE_INT = 1,
@@ -517,8 +518,10 @@ UM_API void um_mesh_destroy(um_mesh *m); /* NULL-safe */
  * then edge collapse (< UM_OPT_OPTIM_COLLAPSE_RATIO * h) and splits
  * (> UM_OPT_OPTIM_SPLIT_RATIO * h), and while the weights are held, a vertex
  * near the circumcentre of a triangle obtuse at a vertex on the features
- * where that lowers the obtuse triangles around (UM_OPT_OPTIM_CORNER_VERTICES);
- * an update is taken only if the worst
+ * where that lowers the obtuse triangles around (UM_OPT_OPTIM_CORNER_VERTICES;
+ * with 2, only where the new cell stays clear of the features); an update of
+ * a vertex is taken only if it lets the features into no more cells of
+ * vertices off them around it than before, and only if the worst
  * quality of its triangles improves (or stays, and their mean improves), a
  * weight only if it leaves every adjacent dual edge crossing its primal edge
  * (no vertex can become hidden). Stops early when an outer iteration changes

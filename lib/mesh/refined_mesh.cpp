@@ -307,6 +307,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     o.collapse_ratio = options.real(UM_OPT_OPTIM_COLLAPSE_RATIO);
     o.split_ratio = options.real(UM_OPT_OPTIM_SPLIT_RATIO);
     o.corner_vertices = options.integer(UM_OPT_OPTIM_CORNER_VERTICES) != 0;
+    o.corner_cells_clear = options.integer(UM_OPT_OPTIM_CORNER_VERTICES) == 2;
     // The optimisation inserts a few per cent of new vertex slots (splits)
     // and, as it also removes about as many vertices (collapses), needs few
     // new triangle slots: their room first, while neither the undo nor the

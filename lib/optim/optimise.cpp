@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/growth.hpp"
 #include "core/text.hpp"
+#include "geom/arc_tree.hpp"
 #include "geom/predicates.hpp"
 #include "optim/local_quality.hpp"
 #include "optim/slide.hpp"
@@ -45,6 +46,10 @@ constexpr double kShortestMove = 1e-4;
 // 668 to 342 (0.4: 359; the collapse ratio, 0.5: 435). Its ODT steps: 3 (6
 // mend 4 more).
 constexpr double kCornerEdge = 0.3;
+// Vertices this many h from Gamma get the crossing test of their updates
+// (flag_near_gamma): a cell reaches about h from its generator, and a vertex
+// moves less than h in an outer iteration.
+constexpr double kNearGamma = 2.5;
 constexpr double kUnweighted = 1e-12;  // |w| (units of R^2) below which a vertex counts as unweighted
 constexpr int kCornerSteps = 3;
 // Where a corner vertex is tried when the circumcentre fails: these many h
@@ -139,7 +144,14 @@ public:
               const features::Network *gamma, const refine::SpacingRadians &h,
               const OptimiseOptions &o)
         : ctx_(ctx), tri_(tri), on_segment_(on_segment), gamma_(gamma), h_(h), o_(o),
-          gain_(kGainOverTolerance * o.tolerance) {}
+          gain_(kGainOverTolerance * o.tolerance) {
+        if (gamma_ && gamma_->segment_count() > 0) {
+            std::vector<geom::ArcTree::Arc> arcs;
+            arcs.reserve(static_cast<size_t>(gamma_->segment_count()));
+            for (int64_t s = 0; s < gamma_->segment_count(); ++s) arcs.push_back({gamma_->segment_a(s), gamma_->segment_b(s)});
+            arcs_ = geom::ArcTree(std::move(arcs));
+        }
+    }
 
     OptimiseStats run();
 
@@ -205,6 +217,19 @@ private:
     Mended mend_obtuse_triangles();
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
+    // Gamma and the cells off it. The refinement leaves Gamma crossing the
+    // cells of the vertices placed on it (Tri|Gamma runs from one to the
+    // next); a move or weight that lets it into a cell off it adds edges to
+    // Tri|Gamma that branch off the feature's chain (the river and coast
+    // tags of the MPAS edges). Sweeps and mends therefore take no update
+    // that adds such a crossing around the vertex. near_gamma_ flags the
+    // vertices within kNearGamma h of an arc of Gamma (the others cannot
+    // reach it in one outer iteration); gamma_crossings counts the spokes of
+    // v's star, v at `at`, that do not join two vertices on Gamma and whose
+    // dual arc crosses Gamma.
+    void flag_near_gamma();
+    int gamma_crossings(int32_t v, const Ring &ring, const int32_t *link, const Generator &at) const;
+    bool crosses_gamma(const Vec3 &c0, const Vec3 &c1) const;
     // The ODT target of a move of v (at `here`, link `ring` from the graph).
     Vec3 odt_target(const StarGraph &g, int32_t v, const Generator &here, const Ring &ring) const;
 
@@ -262,6 +287,8 @@ private:
     const refine::SpacingRadians &h_;
     OptimiseOptions o_;
     double gain_;  // the least gain in local quality an update must bring
+    geom::ArcTree arcs_;               // Gamma's arcs (empty without Gamma)
+    std::vector<uint8_t> near_gamma_;  // per slot, from flag_near_gamma
 
     // The generator of vertex v, read from its lifted point q = s x: the
     // triangulation holds the only copy (a second one would cost 32 bytes
@@ -388,6 +415,44 @@ bool Optimiser::gather_ring(const StarGraph &g, int32_t v, Ring &ring) const {
     return true;
 }
 
+void Optimiser::flag_near_gamma() {
+    near_gamma_.assign(static_cast<size_t>(tri_.vertex_slots()), 0);
+    if (arcs_.size() == 0) return;
+    ctx_.parallel_for(tri_.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v) {
+            if (!tri_.in_triangulation(static_cast<int32_t>(v))) continue;
+            geom::Box box;
+            box.add(tri_.direction(static_cast<int32_t>(v)));
+            box.grow(kNearGamma * static_cast<double>(h_at_[v]));
+            near_gamma_[v] = arcs_.any_overlaps(box);
+        }
+    });
+}
+
+bool Optimiser::crosses_gamma(const Vec3 &c0, const Vec3 &c1) const {
+    return arcs_.query_until(geom::arc_box(c0, c1), [&](int32_t i) {
+        Vec3 x;
+        return geom::arc_intersection(c0, c1, arcs_.arc(i).a, arcs_.arc(i).b, x);
+    });
+}
+
+int Optimiser::gamma_crossings(int32_t v, const Ring &ring, const int32_t *link, const Generator &at) const {
+    const Vec3 q = at.lifted();
+    const bool v_on_gamma = on_segment_[v] >= 0;
+    // The orthocentre of triangle k, (v, link k, link k+1): its facet's outward normal.
+    auto ortho = [&](int k) {
+        return geom::normalized(geom::cross(ring.q[k] - q, ring.q[k + 1 == ring.m ? 0 : k + 1] - q));
+    };
+    int count = 0;
+    Vec3 before = ortho(ring.m - 1);
+    for (int k = 0; k < ring.m; ++k) {  // spoke (v, link k) between triangles k - 1 and k
+        const Vec3 now = ortho(k);
+        if (!(v_on_gamma && on_segment_[link[k]] >= 0)) count += crosses_gamma(before, now);
+        before = now;
+    }
+    return count;
+}
+
 // The star stays a valid piece of triangulated sphere (every triangle
 // counter-clockwise, exactly) and every spoke's crossing with its dual edge
 // stays inside it.
@@ -430,6 +495,12 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
     if (!gather_ring(g, v, ring)) return false;
     const Generator here = generator(v);
     const LocalQuality before = ring_quality<true>(ring, here, -kInfinity);
+    // A move may not let Gamma into more cells off it around v.
+    const bool guarded = !near_gamma_.empty() && near_gamma_[v];
+    const int crossings = guarded ? gamma_crossings(v, ring, g.link(v), here) : 0;
+    auto keeps_gamma = [&](const Generator &moved) {
+        return !guarded || gamma_crossings(v, ring, g.link(v), moved) <= crossings;
+    };
     // Tries the move to x (slid onto Gamma when v is on it); true if taken.
     auto take = [&](const Generator &moved, int64_t segment) {
         set_generator(v, moved);
@@ -447,7 +518,7 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
         }
         // The cheaper test first: most trials fail on quality.
         if (!better(ring_quality<true>(ring, moved, before.worst, before.worst_k), before, gain_)) return false;
-        if (!star_is_valid(ring, moved)) return false;
+        if (!star_is_valid(ring, moved) || !keeps_gamma(moved)) return false;
         take(moved, segment);
         return true;
     };
@@ -477,7 +548,8 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
                 const auto [c, s] = compass_direction(d);
                 const Generator moved{geom::normalized(here.x + step * (c * e1 + s * e2)), here.s};
                 const LocalQuality now = ring_quality<true>(ring, moved, std::max(before.worst, best_worst), before.worst_k);
-                if (better(now, before, gain_) && now.worst > best_worst && star_is_valid(ring, moved))
+                if (better(now, before, gain_) && now.worst > best_worst && star_is_valid(ring, moved) &&
+                    keeps_gamma(moved))
                     best = moved, best_worst = now.worst;
             }
             // Tested already (off Gamma nothing slides): taken as it is.
@@ -536,6 +608,9 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
             const LocalQuality now = ring_quality<false>(ring, weighted, before.worst + gain_, worst_k);
             if (!(now.worst > before.worst + gain_)) continue;
             if (!star_is_valid(ring, weighted)) continue;
+            if (!near_gamma_.empty() && near_gamma_[v] &&
+                gamma_crossings(v, ring, g.link(v), weighted) > gamma_crossings(v, ring, g.link(v), here))
+                continue;
             set_generator(v, weighted);
             changed_at_[v] = clock_;
             return true;
@@ -889,18 +964,23 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         }
         return out;
     };
-    auto stars_valid = [&] {
+    // The stars valid with the trial, and how many of their spokes let Gamma
+    // into a cell off it (gamma_crossings; -1 when a star is not valid).
+    auto crossings_if_valid = [&] {
+        int crossings = 0;
         for (int i = 0; i < n; ++i) {
             Ring ring;
+            int32_t link[Ring::kMax];
             bool fits = true;
             tri_.for_each_in_star(v[i], [&](int32_t u) {
                 if (ring.m == Ring::kMax) return void(fits = false);
                 const int32_t w = tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3);
-                ring.g[ring.m] = at(w), ring.q[ring.m] = at(w).lifted(), ++ring.m;
+                link[ring.m] = w, ring.g[ring.m] = at(w), ring.q[ring.m] = at(w).lifted(), ++ring.m;
             });
-            if (!fits || !star_is_valid(ring, trial[i])) return false;
+            if (!fits || !star_is_valid(ring, trial[i])) return -1;
+            if (arcs_.size() > 0) crossings += gamma_crossings(v[i], ring, link, trial[i]);
         }
-        return true;
+        return crossings;
     };
     auto regular_with_trial = [&] {  // stored for the exact tests, then put back
         Vec3 kept[4];
@@ -914,6 +994,22 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
     for (int i = 0; i < n; ++i) {
         if (candidates[i].empty()) return false;
         trial[i] = generator(v[i]);
+    }
+    // (Counted as the mesh is now: after a flip its stars may not be valid yet.)
+    int crossings_now = 0;
+    if (arcs_.size() > 0) {
+        for (int i = 0; i < n; ++i) {
+            Ring ring;
+            int32_t link[Ring::kMax];
+            bool fits = true;
+            tri_.for_each_in_star(v[i], [&](int32_t u) {
+                if (ring.m == Ring::kMax) return void(fits = false);
+                const int32_t w = tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3);
+                link[ring.m] = w, ring.g[ring.m] = generator(w), ring.q[ring.m] = tri_.lifted(w), ++ring.m;
+            });
+            if (!fits) return false;
+            crossings_now += gamma_crossings(v[i], ring, link, trial[i]);
+        }
     }
     Score now = judge(kAny, kAny, kAny);
     // (After a flip, its new triangles need not meet the floors yet.)
@@ -937,9 +1033,12 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         for (int i = 0; i < n; ++i) trial[i] = candidates[i][digit[i]].g;
         const Score q = judge(std::min(best.count, now.count - 1), off_limit, obtuse_limit);
         const bool better = q.count < best.count || (q.count == best.count && q.worst > best.worst + gain_);
-        if (better && q.count < now.count && stars_valid() && regular_with_trial()) {
-            best = q;
-            for (int j = 0; j < n; ++j) chosen[j] = digit[j];
+        if (better && q.count < now.count) {
+            const int crossings = crossings_if_valid();
+            if (crossings >= 0 && crossings <= crossings_now && regular_with_trial()) {
+                best = q;
+                for (int j = 0; j < n; ++j) chosen[j] = digit[j];
+            }
         }
         int i = 0;
         while (i < n && digit[i] + 1 == static_cast<int>(candidates[i].size())) digit[i++] = 0;
@@ -1277,6 +1376,14 @@ bool Optimiser::corner_vertex_helps(int32_t d, const std::vector<int32_t> &regio
     });
     for (const auto &[a, c] : gamma_edges) ok = ok && has_edge(a, c);
     if (!ok) return false;
+    // With corner_cells_clear, its cell stays clear of Gamma (gamma_crossings):
+    // at 60 km on the coastlines and rivers that keeps 380 edges to cells off
+    // Gamma out of Tri|Gamma, and 110 obtuse triangles in the mesh.
+    if (o_.corner_cells_clear) {
+        const std::vector<int32_t> star = tri_.star(d);
+        for (size_t i = 0; i < star.size(); ++i)
+            if (crosses_gamma(tri_.orthocentre(star[i]), tri_.orthocentre(star[(i + 1) % star.size()]))) return false;
+    }
     std::vector<int32_t> around = region;
     around.push_back(d);
     return obtuse_touching(around) < obtuse_before;
@@ -1556,6 +1663,7 @@ OptimiseStats Optimiser::run() {
         ctx_.progress("optimise", double(n) / o_.outer_iterations);
         const bool shape_phase = n < shape_iterations;
         if (!shape_phase && !weighing_) weighing_ = true, grow_slots();
+        flag_near_gamma();
         const int32_t outer_start = clock_;
         int64_t changes = 0;
         for (int m = 0; m < o_.inner_iterations; ++m) {

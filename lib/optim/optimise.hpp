@@ -42,6 +42,7 @@ struct OptimiseOptions {
     double collapse_ratio = 0.5; // collapse edges shorter than this times h
     double split_ratio = 1.6;    // split edges longer than this times h
     bool corner_vertices = true; // vertices for obtuse corners on Gamma (support_gamma_corners)
+    bool corner_cells_clear = false;  // ... only where the new cell stays clear of Gamma
 };
 
 struct OptimiseStats {

@@ -247,6 +247,18 @@ static void option_names_round_trip(void **state) {
     }
     um_option k = 0;
     assert_int_equal(um_option_key("nonsense", &k), UM_ERR_UNKNOWN_OPTION);
+    /* optim_corner_vertices: 0, 1 or 2 (only where the new cells stay clear of the features) */
+    um_context *ctx = NULL;
+    um_options *o = NULL;
+    assert_int_equal(um_context_create(&ctx), UM_OK);
+    assert_int_equal(um_options_create(ctx, &o), UM_OK);
+    assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_CORNER_VERTICES, 2), UM_OK);
+    assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_CORNER_VERTICES, 3), UM_ERR_INVALID_ARGUMENT);
+    int64_t value = 0;
+    assert_int_equal(um_options_get_int(o, UM_OPT_OPTIM_CORNER_VERTICES, &value), UM_OK);
+    assert_int_equal(value, 2);
+    um_options_destroy(o);
+    um_context_destroy(ctx);
 }
 
 static void context_outlives_nothing_objects_outlive_context(void **state) {
