@@ -964,9 +964,10 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         }
         return out;
     };
-    // The stars valid with the trial, and how many of their spokes let Gamma
-    // into a cell off it (gamma_crossings; -1 when a star is not valid).
-    auto crossings_if_valid = [&] {
+    // How many spokes of the vertices' stars let Gamma into a cell off it
+    // with the trial (gamma_crossings); -1 when a star is beyond Ring::kMax
+    // or, with require_valid, not valid.
+    auto crossings_with_trial = [&](bool require_valid) {
         int crossings = 0;
         for (int i = 0; i < n; ++i) {
             Ring ring;
@@ -977,7 +978,7 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
                 const int32_t w = tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3);
                 link[ring.m] = w, ring.g[ring.m] = at(w), ring.q[ring.m] = at(w).lifted(), ++ring.m;
             });
-            if (!fits || !star_is_valid(ring, trial[i])) return -1;
+            if (!fits || (require_valid && !star_is_valid(ring, trial[i]))) return -1;
             if (arcs_.size() > 0) crossings += gamma_crossings(v[i], ring, link, trial[i]);
         }
         return crossings;
@@ -996,21 +997,8 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         trial[i] = generator(v[i]);
     }
     // (Counted as the mesh is now: after a flip its stars may not be valid yet.)
-    int crossings_now = 0;
-    if (arcs_.size() > 0) {
-        for (int i = 0; i < n; ++i) {
-            Ring ring;
-            int32_t link[Ring::kMax];
-            bool fits = true;
-            tri_.for_each_in_star(v[i], [&](int32_t u) {
-                if (ring.m == Ring::kMax) return void(fits = false);
-                const int32_t w = tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3);
-                link[ring.m] = w, ring.g[ring.m] = generator(w), ring.q[ring.m] = tri_.lifted(w), ++ring.m;
-            });
-            if (!fits) return false;
-            crossings_now += gamma_crossings(v[i], ring, link, trial[i]);
-        }
-    }
+    const int crossings_now = crossings_with_trial(false);
+    if (crossings_now < 0) return false;
     Score now = judge(kAny, kAny, kAny);
     // (After a flip, its new triangles need not meet the floors yet.)
     if (baseline)
@@ -1034,7 +1022,7 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         const Score q = judge(std::min(best.count, now.count - 1), off_limit, obtuse_limit);
         const bool better = q.count < best.count || (q.count == best.count && q.worst > best.worst + gain_);
         if (better && q.count < now.count) {
-            const int crossings = crossings_if_valid();
+            const int crossings = crossings_with_trial(true);
             if (crossings >= 0 && crossings <= crossings_now && regular_with_trial()) {
                 best = q;
                 for (int j = 0; j < n; ++j) chosen[j] = digit[j];
