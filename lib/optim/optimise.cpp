@@ -208,6 +208,7 @@ private:
     // search after it must beat, instead of the counts as they are.
     struct Baseline {
         int off_centre, obtuse;
+        int gamma_crossings;  // stars_gamma_crossings of the quad before the flip
     };
     bool mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *candidates, const MendFloors &floors,
                       bool moves, MendGoal goal = MendGoal::off_centre, const Baseline *baseline = nullptr);
@@ -230,6 +231,26 @@ private:
     void flag_near_gamma();
     int gamma_crossings(int32_t v, const Ring &ring, const int32_t *link, const Generator &at) const;
     bool crosses_gamma(const Vec3 &c0, const Vec3 &c1) const;
+    // gamma_crossings summed over the stars of v[0..n), the generators read
+    // through at(u); -1 when a star is beyond Ring::kMax or, with
+    // require_valid, not valid (star_is_valid) for its centre's generator.
+    template <class At>
+    int stars_gamma_crossings(const int32_t *v, int n, At &&at, bool require_valid) const {
+        int crossings = 0;
+        for (int i = 0; i < n; ++i) {
+            Ring ring;
+            int32_t link[Ring::kMax];
+            bool fits = true;
+            tri_.for_each_in_star(v[i], [&](int32_t u) {
+                if (ring.m == Ring::kMax) return void(fits = false);
+                const int32_t w = tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3);
+                link[ring.m] = w, ring.g[ring.m] = at(w), ring.q[ring.m] = at(w).lifted(), ++ring.m;
+            });
+            if (!fits || (require_valid && !star_is_valid(ring, at(v[i])))) return -1;
+            if (arcs_.size() > 0) crossings += gamma_crossings(v[i], ring, link, at(v[i]));
+        }
+        return crossings;
+    }
     // The ODT target of a move of v (at `here`, link `ring` from the graph).
     Vec3 odt_target(const StarGraph &g, int32_t v, const Generator &here, const Ring &ring) const;
 
@@ -600,6 +621,9 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
     const double gain = sum_qp / m - worst_qp;
     if (slope != 0 && gain > 0) {
         const double w = 2.0 * (1.0 - 1.0 / here.s);
+        // A weight may not let Gamma into more cells off it around v (counted once, when first needed).
+        const bool guarded = !near_gamma_.empty() && near_gamma_[v];
+        int crossings = -1;
         double dw = gain / slope;  // eq. 6
         for (int i = 0; i <= kHalvings; ++i, dw *= 0.5) {
             Generator weighted = here;
@@ -608,9 +632,8 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
             const LocalQuality now = ring_quality<false>(ring, weighted, before.worst + gain_, worst_k);
             if (!(now.worst > before.worst + gain_)) continue;
             if (!star_is_valid(ring, weighted)) continue;
-            if (!near_gamma_.empty() && near_gamma_[v] &&
-                gamma_crossings(v, ring, g.link(v), weighted) > gamma_crossings(v, ring, g.link(v), here))
-                continue;
+            if (crossings < 0) crossings = guarded ? gamma_crossings(v, ring, g.link(v), here) : 0;
+            if (guarded && gamma_crossings(v, ring, g.link(v), weighted) > crossings) continue;
             set_generator(v, weighted);
             changed_at_[v] = clock_;
             return true;
@@ -778,7 +801,8 @@ bool Optimiser::mend_by_flip(int32_t &t, int k, const MendFloors &floors, MendGo
     for (int32_t v : quad) tri_.for_each_in_star(v, [&](int32_t s) { around.push_back(s); });
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
-    Baseline before{0, 0};
+    const auto current = [&](int32_t u) { return generator(u); };
+    Baseline before{0, 0, stars_gamma_crossings(quad, 4, current, false)};
     for (int32_t s : around) {
         const Generator x = generator(tri_.vertex(s, 0)), y = generator(tri_.vertex(s, 1)), z = generator(tri_.vertex(s, 2));
         before.off_centre += staggering_score(x, y, z) < 0;
@@ -964,25 +988,6 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         }
         return out;
     };
-    // How many spokes of the vertices' stars let Gamma into a cell off it
-    // with the trial (gamma_crossings); -1 when a star is beyond Ring::kMax
-    // or, with require_valid, not valid.
-    auto crossings_with_trial = [&](bool require_valid) {
-        int crossings = 0;
-        for (int i = 0; i < n; ++i) {
-            Ring ring;
-            int32_t link[Ring::kMax];
-            bool fits = true;
-            tri_.for_each_in_star(v[i], [&](int32_t u) {
-                if (ring.m == Ring::kMax) return void(fits = false);
-                const int32_t w = tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3);
-                link[ring.m] = w, ring.g[ring.m] = at(w), ring.q[ring.m] = at(w).lifted(), ++ring.m;
-            });
-            if (!fits || (require_valid && !star_is_valid(ring, trial[i]))) return -1;
-            if (arcs_.size() > 0) crossings += gamma_crossings(v[i], ring, link, trial[i]);
-        }
-        return crossings;
-    };
     auto regular_with_trial = [&] {  // stored for the exact tests, then put back
         Vec3 kept[4];
         for (int i = 0; i < n; ++i) kept[i] = tri_.lifted(v[i]), set_generator(v[i], trial[i]);
@@ -996,8 +1001,9 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         if (candidates[i].empty()) return false;
         trial[i] = generator(v[i]);
     }
-    // (Counted as the mesh is now: after a flip its stars may not be valid yet.)
-    const int crossings_now = crossings_with_trial(false);
+    // Gamma's crossings now, or before the flip that left the mesh as it is
+    // (its quad's stars are those v lists: the same spokes but the diagonal).
+    const int crossings_now = baseline ? baseline->gamma_crossings : stars_gamma_crossings(v, n, at, false);
     if (crossings_now < 0) return false;
     Score now = judge(kAny, kAny, kAny);
     // (After a flip, its new triangles need not meet the floors yet.)
@@ -1022,7 +1028,7 @@ bool Optimiser::mend_jointly(const int32_t *v, int n, const std::vector<Candidat
         const Score q = judge(std::min(best.count, now.count - 1), off_limit, obtuse_limit);
         const bool better = q.count < best.count || (q.count == best.count && q.worst > best.worst + gain_);
         if (better && q.count < now.count) {
-            const int crossings = crossings_with_trial(true);
+            const int crossings = stars_gamma_crossings(v, n, at, true);
             if (crossings >= 0 && crossings <= crossings_now && regular_with_trial()) {
                 best = q;
                 for (int j = 0; j < n; ++j) chosen[j] = digit[j];

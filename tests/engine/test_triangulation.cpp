@@ -345,10 +345,12 @@ void territories_insert_as_the_serial_path_would(void **) {
     print_message("territories inserted %lld of %zu points\n", (long long)in_territories, extra.size());
     assert_true(in_territories > static_cast<int64_t>(extra.size()) / 2);
     t.compact();
+    assert_int_equal(t.triangle_count(), t.triangle_slots());  // compact() leaves no free slot
     expect_complete(t, base.size() + extra.size());
     assert_true(triangle_set(t) == triangle_set(build(point_of_id)));
     tri::Triangulation t2 = insert_by_territories(base, extra, 2, &point_of_id_2, &in_territories_2);
     t2.compact();
+    assert_int_equal(t2.triangle_count(), t2.triangle_slots());  // compact() leaves no free slot
     assert_int_equal(point_of_id.size(), point_of_id_2.size());
     for (size_t i = 0; i < point_of_id.size(); ++i)
         assert_true(std::memcmp(&point_of_id[i], &point_of_id_2[i], sizeof(Vec3)) == 0);
@@ -379,6 +381,7 @@ void territory_insertion_refuses_without_changes(void **) {
     const auto moved = t.close_territories(ctx, one);
     assert_true(moved.new_slot.size() == 4 && moved.new_slot[0] < 0);
     t.compact();
+    assert_int_equal(t.triangle_count(), t.triangle_slots());  // compact() leaves no free slot
     expect_valid(t);
     assert_true(triangle_set(t) == before);
     // A budget of one vertex: the second insertion is deferred.
@@ -394,6 +397,7 @@ void territory_insertion_refuses_without_changes(void **) {
     assert_int_equal(closed.next_id, id + 1);
     assert_int_equal(t.id(closed.new_slot[0]), id);
     t.compact();
+    assert_int_equal(t.triangle_count(), t.triangle_slots());  // compact() leaves no free slot
     expect_complete(t, 4001);
 }
 
@@ -418,6 +422,7 @@ void spatial_reordering_keeps_the_triangulation(void **) {
         t.insert(x, 0.0, id + 1000000);
     }
     t.compact();
+    assert_int_equal(t.triangle_count(), t.triangle_slots());  // compact() leaves no free slot
     auto mean_edge_gap = [](const tri::Triangulation &m) {
         double sum = 0;
         for (int32_t f = 0; f < m.triangle_count(); ++f)
