@@ -255,4 +255,12 @@ double Network::segment_length(int64_t s) const {
     return geom::arc_length(segment_a(s), segment_b(s));
 }
 
+geom::ArcTree segment_arc_tree(const Network *net) {
+    if (!net || net->segment_count() == 0) return {};
+    std::vector<geom::ArcTree::Arc> arcs;
+    arcs.reserve(static_cast<size_t>(net->segment_count()));
+    for (int64_t s = 0; s < net->segment_count(); ++s) arcs.push_back({net->segment_a(s), net->segment_b(s)});
+    return geom::ArcTree(std::move(arcs));
+}
+
 }  // namespace um::features

@@ -28,6 +28,7 @@
 #include <string_view>
 #include <vector>
 
+#include "geom/arc_tree.hpp"
 #include "geom/sphere.hpp"
 
 namespace um::features {
@@ -131,5 +132,9 @@ private:
     std::vector<int32_t> segment_part_;
     double total_length_ = 0;
 };
+
+// The arc tree of every segment of `net` (arc i = segment i); empty for a
+// null or empty network.
+geom::ArcTree segment_arc_tree(const Network *net);
 
 }  // namespace um::features

@@ -117,15 +117,6 @@ void number_vertices(RefinedMesh &m) {
         }
 }
 
-geom::ArcTree gamma_arcs(const features::Network *gamma) {
-    if (!gamma || gamma->segment_count() == 0) return {};
-    std::vector<geom::ArcTree::Arc> list;
-    list.reserve(static_cast<size_t>(gamma->segment_count()));
-    for (int64_t s = 0; s < gamma->segment_count(); ++s)
-        list.push_back({gamma->segment_a(s), gamma->segment_b(s)});
-    return geom::ArcTree(std::move(list));
-}
-
 // What every stage hands on: no degenerate dual edge, compact slots in
 // Hilbert order (tri::Triangulation::reorder_spatially), vertex numbers,
 // and Tri|Gamma with the sides for the triangulation as it is now.
@@ -187,7 +178,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     m.tri = refine::icosahedron(ctx);
     int32_t next_id = 12;
 
-    const geom::ArcTree arcs = gamma_arcs(m.gamma.get());
+    const geom::ArcTree arcs = features::segment_arc_tree(m.gamma.get());
     refine::BoundaryOptions bo;
     bo.alpha = options.real(UM_OPT_REFINE_ALPHA);
     bo.beta = options.real(UM_OPT_REFINE_BETA);
@@ -318,7 +309,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
         m.refined_quality = before;
         m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o);
         m.optimised = true;
-        finish(ctx, m, gamma_arcs(m.gamma.get()));
+        finish(ctx, m, features::segment_arc_tree(m.gamma.get()));
     } catch (...) {
         put_back(m, std::move(undo));
         throw;

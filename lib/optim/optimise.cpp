@@ -144,14 +144,7 @@ public:
               const features::Network *gamma, const refine::SpacingRadians &h,
               const OptimiseOptions &o)
         : ctx_(ctx), tri_(tri), on_segment_(on_segment), gamma_(gamma), h_(h), o_(o),
-          gain_(kGainOverTolerance * o.tolerance) {
-        if (gamma_ && gamma_->segment_count() > 0) {
-            std::vector<geom::ArcTree::Arc> arcs;
-            arcs.reserve(static_cast<size_t>(gamma_->segment_count()));
-            for (int64_t s = 0; s < gamma_->segment_count(); ++s) arcs.push_back({gamma_->segment_a(s), gamma_->segment_b(s)});
-            arcs_ = geom::ArcTree(std::move(arcs));
-        }
-    }
+          gain_(kGainOverTolerance * o.tolerance), arcs_(features::segment_arc_tree(gamma)) {}
 
     OptimiseStats run();
 
@@ -436,9 +429,10 @@ bool Optimiser::gather_ring(const StarGraph &g, int32_t v, Ring &ring) const {
     return true;
 }
 
+// (Without Gamma the flags stay empty: no update is guarded.)
 void Optimiser::flag_near_gamma() {
-    near_gamma_.assign(static_cast<size_t>(tri_.vertex_slots()), 0);
     if (arcs_.size() == 0) return;
+    near_gamma_.assign(static_cast<size_t>(tri_.vertex_slots()), 0);
     ctx_.parallel_for(tri_.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
         for (int64_t v = b; v < e; ++v) {
             if (!tri_.in_triangulation(static_cast<int32_t>(v))) continue;
@@ -516,11 +510,14 @@ bool Optimiser::update_position(const StarGraph &g, int32_t v) {
     if (!gather_ring(g, v, ring)) return false;
     const Generator here = generator(v);
     const LocalQuality before = ring_quality<true>(ring, here, -kInfinity);
-    // A move may not let Gamma into more cells off it around v.
+    // A move may not let Gamma into more cells off it around v (the count
+    // as it is taken once, when a trial first gets this far).
     const bool guarded = !near_gamma_.empty() && near_gamma_[v];
-    const int crossings = guarded ? gamma_crossings(v, ring, g.link(v), here) : 0;
+    int crossings = -1;
     auto keeps_gamma = [&](const Generator &moved) {
-        return !guarded || gamma_crossings(v, ring, g.link(v), moved) <= crossings;
+        if (!guarded) return true;
+        if (crossings < 0) crossings = gamma_crossings(v, ring, g.link(v), here);
+        return gamma_crossings(v, ring, g.link(v), moved) <= crossings;
     };
     // Tries the move to x (slid onto Gamma when v is on it); true if taken.
     auto take = [&](const Generator &moved, int64_t segment) {
@@ -1373,11 +1370,9 @@ bool Optimiser::corner_vertex_helps(int32_t d, const std::vector<int32_t> &regio
     // With corner_cells_clear, its cell stays clear of Gamma (gamma_crossings):
     // at 60 km on the coastlines and rivers that keeps 380 edges to cells off
     // Gamma out of Tri|Gamma, and 110 obtuse triangles in the mesh.
-    if (o_.corner_cells_clear) {
-        const std::vector<int32_t> star = tri_.star(d);
-        for (size_t i = 0; i < star.size(); ++i)
-            if (crosses_gamma(tri_.orthocentre(star[i]), tri_.orthocentre(star[(i + 1) % star.size()]))) return false;
-    }
+    // (d is off Gamma: every spoke of its star counts.)
+    if (o_.corner_cells_clear && stars_gamma_crossings(&d, 1, [&](int32_t u) { return generator(u); }, false) != 0)
+        return false;
     std::vector<int32_t> around = region;
     around.push_back(d);
     return obtuse_touching(around) < obtuse_before;
@@ -1412,12 +1407,8 @@ bool Optimiser::has_edge(int32_t a, int32_t b) const {
 
 // The obtuse triangles with a vertex among `vertices` (each counted once).
 int Optimiser::obtuse_touching(const std::vector<int32_t> &vertices) const {
-    std::vector<int32_t> triangles;
-    for (int32_t v : vertices) tri_.for_each_in_star(v, [&](int32_t s) { triangles.push_back(s); });
-    std::sort(triangles.begin(), triangles.end());
-    triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
     int obtuse = 0;
-    for (int32_t s : triangles)
+    for (int32_t s : tri_.triangles_around(vertices))
         obtuse += largest_angle_cosine(tri_.direction(tri_.vertex(s, 0)), tri_.direction(tri_.vertex(s, 1)),
                                        tri_.direction(tri_.vertex(s, 2))) < 0;
     return obtuse;
