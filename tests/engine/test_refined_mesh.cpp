@@ -108,8 +108,9 @@ void coast_global_l_follows_gamma_where_not_filtered(void **) {
 // no more edges of Tri|Gamma to a vertex off Gamma than refined, but for
 // those of the vertices at obtuse corners (corner_vertices 1; with 2 they
 // too keep their cells clear). Measured at 120 km, edges to a vertex off
-// Gamma: refined 400; optimised 556 / 280 / 301 with corner_vertices 1 / 0
-// / 2 (1083 with 1 before the updates were held to Gamma).
+// Gamma: refined 400; optimised 647 / 280 / 310 with corner_vertices 1 / 0
+// / 2 (1083 with 1 before the updates were held to Gamma; 556 with 1 while
+// a corner vertex had to leave fewer obtuse triangles, not only no more).
 void expect_gamma_still_followed(const mesh::RefinedMesh &refined, const mesh::RefinedMesh &m, int corner_vertices) {
     auto census = [](const mesh::RefinedMesh &r) {
         struct {
@@ -133,7 +134,7 @@ void expect_gamma_still_followed(const mesh::RefinedMesh &refined, const mesh::R
     assert_true(after.edges >= before.edges * 9 / 10 && after.edges <= before.edges * 115 / 100);
     assert_true(after.both_on_gamma >= before.both_on_gamma * 95 / 100);
     assert_true(after.far <= before.far * 110 / 100);
-    if (corner_vertices == 1) assert_true(off_after <= off_before * 3 / 2);
+    if (corner_vertices == 1) assert_true(off_after <= off_before * 7 / 4);
     else assert_true(off_after <= off_before);
 }
 
