@@ -1,6 +1,7 @@
 #include "optim/optimise.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -266,6 +267,7 @@ private:
         int obtuse_before;      // the obtuse triangles touching the region
     };
     int32_t try_corner_vertex(const Vec3 &at, const GammaCorner &corner);
+    int32_t try_corner_relocation(const Vec3 &at, const GammaCorner &corner, std::vector<uint8_t> &locked);
     bool corner_vertex_helps(int32_t d, const GammaCorner &corner) const;
     bool has_triangle(int32_t a, int32_t b, int32_t c) const;
     int obtuse_touching(const std::vector<int32_t> &vertices) const;
@@ -1314,12 +1316,12 @@ int64_t Optimiser::support_gamma_corners() {
         const Vec3 tp = tri_.direction(p) - geom::dot(xb, tri_.direction(p)) * xb;
         const Vec3 tq = tri_.direction(q) - geom::dot(xb, tri_.direction(q)) * xb;
         const Vec3 bisector = geom::normalized(geom::normalized(tp) + geom::normalized(tq));
-        int32_t d = try_corner_vertex(geom::normalized(centre + kPull * (xb - centre)), corner);
-        for (double spoke : kBisectorSpokes) {
-            if (d >= 0) break;
-            const Vec3 at = geom::normalized(xb + (spoke * static_cast<double>(h_at_[b])) * bisector);
-            d = try_corner_vertex(at, corner);
-        }
+        std::vector<Vec3> sites{geom::normalized(centre + kPull * (xb - centre))};
+        for (double spoke : kBisectorSpokes)
+            sites.push_back(geom::normalized(xb + (spoke * static_cast<double>(h_at_[b])) * bisector));
+        int32_t d = -1;
+        for (size_t i = 0; i < sites.size() && d < 0; ++i) d = try_corner_vertex(sites[i], corner);
+        for (size_t i = 0; i < sites.size() && d < 0; ++i) d = try_corner_relocation(sites[i], corner, locked);
         if (d < 0) {
             release();
             continue;
@@ -1364,6 +1366,44 @@ int32_t Optimiser::try_corner_vertex(const Vec3 &at, const GammaCorner &corner) 
     if (helps) return d;
     tri_.remove(d);
     return -1;
+}
+
+// A site nearer than collapse_ratio h to a vertex off Gamma has no room for
+// a vertex of its own (the most common reason a corner vertex is not kept):
+// that vertex, removed, gives it the room, the new one taking its place
+// (the neighbourhood then has as many vertices as before). Judged as
+// try_corner_vertex judges, over the corner's region and the removed
+// vertex's closed star, both claimed; the slot of the new vertex, or -1 with
+// the mesh as it was (the vertex restored).
+int32_t Optimiser::try_corner_relocation(const Vec3 &at, const GammaCorner &corner, std::vector<uint8_t> &locked) {
+    int32_t u = -1;
+    double nearest = o_.collapse_ratio * h_(at);
+    for (int32_t w : corner.region) {
+        if (on_segment_[w] >= 0 || w == corner.p || w == corner.q) continue;
+        const double distance = geom::norm(tri_.direction(w) - at);
+        if (distance < nearest) nearest = distance, u = w;
+    }
+    if (u < 0) return -1;
+    const std::vector<int32_t> star = closed_stars({u});
+    std::vector<int32_t> beyond;  // u's closed star outside the corner's region
+    std::set_difference(star.begin(), star.end(), corner.region.begin(), corner.region.end(), std::back_inserter(beyond));
+    for (int32_t w : beyond)
+        if (locked[w] || std::fabs(tri_.weight(w)) > kUnweighted) return -1;
+    GammaCorner wider = corner;
+    wider.region.clear();
+    std::set_union(corner.region.begin(), corner.region.end(), star.begin(), star.end(), std::back_inserter(wider.region));
+    wider.gamma_edges = gamma_edges_among(wider.region);
+    wider.obtuse_before = obtuse_touching(wider.region);
+    // (u is not a vertex of the corner's triangle: its slot stays the same.)
+    const int32_t near_u = tri_.remove(u);
+    const int32_t d = try_corner_vertex(at, wider);
+    if (d < 0) {
+        tri_.restore_removed(u, near_u);
+        return -1;
+    }
+    for (int32_t w : beyond) locked[w] = 1;
+    for (int32_t w : star) changed_at_[w] = clock_;
+    return d;
 }
 
 // support_gamma_corners' test of its new vertex d.
