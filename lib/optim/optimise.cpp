@@ -51,7 +51,6 @@ constexpr double kCornerEdge = 0.3;
 // (flag_near_gamma): a cell reaches about h from its generator, and a vertex
 // moves less than h in an outer iteration.
 constexpr double kNearGamma = 2.5;
-constexpr double kUnweighted = 1e-12;  // |w| (units of R^2) below which a vertex counts as unweighted
 constexpr int kCornerSteps = 3;
 // Where a corner vertex is tried when the circumcentre fails: these many h
 // from the corner along its bisector, in turn. On the coastline at 60 km:
@@ -1298,17 +1297,6 @@ int64_t Optimiser::support_gamma_corners() {
         auto release = [&] {  // nothing changed there: free again
             for (int32_t u : region) locked[u] = 0;
         };
-        // Unweighted points all lie on the hull: the new vertex and its
-        // steps then hide none, and taking it out again restores the mesh.
-        // (Weights appear only after the shape phase, unless optimised
-        // twice; a unit vector's rounding, |w| ~ 1e-16, hides a point only
-        // from neighbours within ~1e-8 of it, far below any edge here.)
-        bool unweighted = true;
-        for (int32_t u : region) unweighted = unweighted && std::fabs(tri_.weight(u)) <= kUnweighted;
-        if (!unweighted) {
-            release();
-            continue;
-        }
         const GammaCorner corner{t, b, p, q, region, gamma_edges_among(region), obtuse_touching(region)};
         const Vec3 xb = tri_.direction(b);
         const Vec3 centre = geom::normalized(geom::cross(tri_.direction(p) - xb, tri_.direction(q) - xb));
@@ -1355,16 +1343,15 @@ int32_t Optimiser::try_corner_vertex(const Vec3 &at, const GammaCorner &corner) 
     bool helps = buried.empty() && corner_vertex_helps(d, corner);
     for (int step = 0; step < kCornerSteps && !helps && buried.empty() && tri_.in_triangulation(d); ++step) {
         const Vec3 to = star_odt_point(d);
-        buried = tri_.move(d, to);  // (none: support_gamma_corners tries unweighted regions only)
-        if (!buried.empty()) break;
+        buried = tri_.move(d, to);
         h_at_[d] = static_cast<float>(h_(to));
-        helps = corner_vertex_helps(d, corner);
+        helps = buried.empty() && corner_vertex_helps(d, corner);
     }
-    if (!buried.empty())
-        fail(UM_ERR_INTERNAL, "a vertex at an obtuse corner on Gamma hid vertex slot ", buried.front(),
-             " among unweighted ones");
     if (helps) return d;
-    tri_.remove(d);
+    // Out again, and what it hid (among lightly weighted neighbours) back in.
+    const int32_t near = tri_.remove(d);
+    for (int32_t u : buried)
+        if (u != d) tri_.restore_hidden(u, near);
     return -1;
 }
 
@@ -1388,7 +1375,7 @@ int32_t Optimiser::try_corner_relocation(const Vec3 &at, const GammaCorner &corn
     std::vector<int32_t> beyond;  // u's closed star outside the corner's region
     std::set_difference(star.begin(), star.end(), corner.region.begin(), corner.region.end(), std::back_inserter(beyond));
     for (int32_t w : beyond)
-        if (locked[w] || std::fabs(tri_.weight(w)) > kUnweighted) return -1;
+        if (locked[w]) return -1;
     GammaCorner wider = corner;
     wider.region.clear();
     std::set_union(corner.region.begin(), corner.region.end(), star.begin(), star.end(), std::back_inserter(wider.region));

@@ -739,6 +739,11 @@ void Triangulation::restore_removed(int32_t v, int32_t hint) {
     }
 }
 
+void Triangulation::restore_hidden(int32_t v, int32_t hint) {
+    if (vertex_tri_[v] != kNone) fail(UM_ERR_INTERNAL, "restore_hidden: vertex slot ", v, " is not hidden");
+    reinsert(v, nullptr, hint);
+}
+
 // Moves v a little towards one of its link vertices, keeping its star facing
 // outwards; true when it moved.
 bool Triangulation::nudge_off_diagonals(int32_t v, const std::vector<int32_t> &link) {

@@ -181,6 +181,10 @@ public:
     // undoes remove(v), the triangles being the same regular ones (their
     // slots may differ). `hint`: a triangle near v.
     void restore_removed(int32_t v, int32_t hint = 0);
+    // Inserts a vertex hidden by an insertion or a move again at its stored
+    // point: with the vertex that hid it removed first, undoes the hiding
+    // (the same regular triangles, their slots may differ).
+    void restore_hidden(int32_t v, int32_t hint = 0);
     // Moves v to a new direction keeping its weight / sets its weight, then
     // restores regularity. Returns the vertices that became hidden (v itself
     // when its power cell became empty).

@@ -108,7 +108,7 @@ void coast_global_l_follows_gamma_where_not_filtered(void **) {
 // no more edges of Tri|Gamma to a vertex off Gamma than refined, but for
 // those of the vertices at obtuse corners (corner_vertices 1; with 2 they
 // too keep their cells clear). Measured at 120 km, edges to a vertex off
-// Gamma: refined 400; optimised 647 / 280 / 310 with corner_vertices 1 / 0
+// Gamma: refined 400; optimised 656 / 280 / 311 with corner_vertices 1 / 0
 // / 2 (1083 with 1 before the updates were held to Gamma; 556 with 1 while
 // a corner vertex had to leave fewer obtuse triangles, not only no more).
 void expect_gamma_still_followed(const mesh::RefinedMesh &refined, const mesh::RefinedMesh &m, int corner_vertices) {
@@ -170,8 +170,8 @@ void optimised_coastal_mesh_stays_regular(void **) {
         expect_gamma_still_followed(refined, m, corner_vertices);
         return m;
     };
-    // The vertices at obtuse corners on Gamma leave fewer obtuse triangles
-    // and no more off-centre ones.
+    // The vertices at obtuse corners on Gamma leave far fewer obtuse
+    // triangles (measured: 28 against 338) and no more off-centre ones.
     const mesh::RefinedMesh with = optimised(1), without = optimised(0), clear = optimised(2);
     assert_true(with.optimisation.corner_vertices > 0);
     assert_int_equal(without.optimisation.corner_vertices, 0);
@@ -180,7 +180,7 @@ void optimised_coastal_mesh_stays_regular(void **) {
     print_message("optimised at 120 km: %lld vertices at obtuse corners; obtuse %lld (without: %lld), off-centre %lld (%lld)\n",
                   (long long)with.optimisation.corner_vertices, (long long)q_with.obtuse, (long long)q_without.obtuse,
                   (long long)q_with.not_well_centred, (long long)q_without.not_well_centred);
-    if (!(q_with.obtuse < q_without.obtuse) || q_with.not_well_centred > q_without.not_well_centred)
+    if (!(5 * q_with.obtuse <= q_without.obtuse) || q_with.not_well_centred > q_without.not_well_centred)
         fail_msg("obtuse %lld with corner vertices, %lld without; off-centre %lld, %lld",
                  (long long)q_with.obtuse, (long long)q_without.obtuse, (long long)q_with.not_well_centred,
                  (long long)q_without.not_well_centred);

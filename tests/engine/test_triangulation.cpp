@@ -627,6 +627,46 @@ void a_point_tried_and_removed_leaves_the_triangulation(void **) {
     }
 }
 
+// A point that hid vertices, taken out again with them put back
+// (restore_hidden), and a vertex removed to make room for a point and put
+// back after it (restore_removed): the triangulation as it was. How the
+// optimisation undoes a vertex at an obtuse corner among weighted vertices,
+// and one that took the place of a vertex too near it (try_corner_vertex,
+// try_corner_relocation). Weighted random points, the point tried heavy
+// enough to hide its neighbours.
+void hidden_and_removed_vertices_put_back(void **) {
+    const std::vector<Vec3> pts = test::random_points(3000, 59);
+    std::vector<double> w(pts.size());
+    std::mt19937_64 rng(67);
+    std::uniform_real_distribution<double> u(-1e-3, 1e-3), share(0.0, 1.0);
+    for (auto &x : w) x = u(rng);
+    tri::Triangulation t = build(pts, &w);
+    const auto before = triangle_set(t);
+    std::vector<Vec3> where(static_cast<size_t>(t.vertex_slots()));
+    for (int32_t v = 0; v < t.vertex_slots(); ++v) where[v] = t.lifted(v);
+    int64_t hid = 0, replaced = 0;
+    for (int i = 0; i < 200; ++i) {
+        const int32_t f = static_cast<int32_t>(rng() % static_cast<uint64_t>(t.triangle_slots()));
+        if (t.is_free(f)) continue;
+        const int32_t a = t.vertex(f, 0);
+        const Vec3 at = geom::normalized(t.direction(a) + 0.3 * (t.direction(t.vertex(f, 1)) - t.direction(a)) +
+                                         0.3 * share(rng) * (t.direction(t.vertex(f, 2)) - t.direction(a)));
+        const bool make_room = i % 2 == 1;  // remove a first, as try_corner_relocation does
+        const int32_t near_a = make_room ? t.remove(a) : f;
+        std::vector<int32_t> buried;
+        const int32_t v = t.insert(at, make_room ? 0.0 : 0.02, 2000000 + i, &buried, near_a);
+        hid += static_cast<int64_t>(buried.size());
+        const int32_t near = t.remove(v);
+        for (int32_t b : buried) t.restore_hidden(b, near);
+        if (make_room) t.restore_removed(a, near), ++replaced;
+        expect_valid(t);
+    }
+    assert_true(hid > 100 && replaced > 50);
+    assert_true(triangle_set(t) == before);
+    for (size_t v = 0; v < where.size(); ++v)
+        assert_memory_equal(t.lifted(static_cast<int32_t>(v)).data(), where[v].data(), sizeof(Vec3));
+}
+
 // Removing vertices whose links lie along one great circle (a meridian
 // through the pole, a latitude-free grid of meridians): every hull ear of
 // such a link can be flat, and removal must still leave the exact regular
@@ -698,6 +738,7 @@ int main() {
         cmocka_unit_test(weighted_edge_orthocentre_is_on_the_bisector),
         cmocka_unit_test(insert_remove_move_and_reweight),
         cmocka_unit_test(a_point_tried_and_removed_leaves_the_triangulation),
+        cmocka_unit_test(hidden_and_removed_vertices_put_back),
         cmocka_unit_test(flips_keep_a_valid_sphere),
     };
     return cmocka_run_group_tests_name("triangulation", tests, nullptr, nullptr);
