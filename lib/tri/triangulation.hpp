@@ -189,6 +189,9 @@ public:
     // restores regularity. Returns the vertices that became hidden (v itself
     // when its power cell became empty).
     std::vector<int32_t> move(int32_t v, const Vec3 &direction);
+    // Moves v to a stored lifted point (direction and weight), bit for bit:
+    // how an undo puts a vertex back where it was. Returns as move() does.
+    std::vector<int32_t> place(int32_t v, const Vec3 &lifted) { return replace_point(v, lifted); }
     std::vector<int32_t> set_weight(int32_t v, double weight);
     // Flips edge k of t when the two triangles form a quad that is convex
     // seen from the centre; returns false (and changes nothing) otherwise.
