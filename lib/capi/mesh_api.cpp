@@ -40,7 +40,7 @@ std::string quality_json(const um_mesh *m) {
         ",\n  \"optimisation\": {\"outer_iterations\": ", o.outer_iterations, ", \"moves\": ", o.moves,
         ", \"weight_updates\": ", o.weight_updates, ", \"flips\": ", o.flips,
         ", \"collapses\": ", o.collapses, ", \"splits\": ", o.splits,
-        ", \"corner_vertices\": ", o.corner_vertices,
+        ", \"corner_vertices\": ", o.corner_vertices, ", \"gamma_vertices_removed\": ", o.gamma_vertices_removed,
         ", \"seconds_moves\": ", o.seconds_moves, ", \"seconds_weights\": ", o.seconds_weights,
         ", \"seconds_topology\": ", o.seconds_topology, "}");
     return um::quality::to_json(quality_of(m), "", extra);

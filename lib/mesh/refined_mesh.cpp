@@ -182,6 +182,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     refine::BoundaryOptions bo;
     bo.alpha = options.real(UM_OPT_REFINE_ALPHA);
     bo.beta = options.real(UM_OPT_REFINE_BETA);
+    m.boundary_alpha = bo.alpha, m.boundary_beta = bo.beta;
     std::vector<int64_t> part_of_arc;
     if (options.integer(UM_OPT_REFINE_TOPOLOGY_CHECK) != 0 && arcs.size() > 0) {
         part_of_arc.resize(arcs.size());
@@ -299,6 +300,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     o.split_ratio = options.real(UM_OPT_OPTIM_SPLIT_RATIO);
     o.corner_vertices = options.integer(UM_OPT_OPTIM_CORNER_VERTICES) != 0;
     o.corner_cells_clear = options.integer(UM_OPT_OPTIM_CORNER_VERTICES) == 2;
+    o.gamma_alpha = m.boundary_alpha, o.gamma_beta = m.boundary_beta;
     // The optimisation inserts a few per cent of new vertex slots (splits)
     // and, as it also removes about as many vertices (collapses), needs few
     // new triangle slots: their room first, while neither the undo nor the

@@ -34,6 +34,9 @@ struct RefinedMesh {
     std::vector<refine::RestrictedEdge> restricted;  // .arc is a Gamma segment index
     std::vector<refine::Side> vertex_side, triangle_side;
     int64_t filtered = 0;  // bad restricted edges left: features below the spacing
+    // The boundary refinement's bounds it was refined with (refine_alpha,
+    // refine_beta): the optimisation keeps the restricted edges it makes within them.
+    double boundary_alpha = 4.0 / 3.0, boundary_beta = 0.2;
     // Set by optimise_mesh: the quality of the mesh as refined, and what the
     // optimisation did.
     bool optimised = false;

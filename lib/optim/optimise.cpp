@@ -16,6 +16,7 @@
 #include "optim/local_quality.hpp"
 #include "optim/slide.hpp"
 #include "optim/star_graph.hpp"
+#include "refine/restricted.hpp"
 
 namespace um::optim {
 
@@ -45,8 +46,10 @@ constexpr double kShortestMove = 1e-4;
 // are often closer together than h where it bends. On the coastline case
 // at 60 km (before the bisector tries), 0.3 takes the obtuse triangles from
 // 668 to 342 (0.4: 359; the collapse ratio, 0.5: 435). Its ODT steps: 3 (6
-// mend 4 more).
-constexpr double kCornerEdge = 0.3;
+// mend 4 more). With the neighbours' steps (relax_link) 0.2 did better
+// (54 -> 50), and with the removals of vertices on Gamma 0.15, 0.2 and 0.25
+// all leave 43.
+constexpr double kCornerEdge = 0.25;
 // Vertices this many h from Gamma get the crossing test of their updates
 // (flag_near_gamma): a cell reaches about h from its generator, and a vertex
 // moves less than h in an outer iteration.
@@ -275,6 +278,8 @@ private:
     std::vector<int32_t> relax_link(int32_t d, const GammaCorner &corner, std::vector<MovedVertex> &moved);
     int32_t try_corner_relocation(const Vec3 &at, const GammaCorner &corner, std::vector<uint8_t> &locked);
     bool corner_vertex_helps(int32_t d, const GammaCorner &corner) const;
+    bool try_gamma_vertex_removal(int32_t v, const GammaCorner &corner);
+    bool chord_carries_gamma(int32_t a, int32_t c) const;
     bool has_triangle(int32_t a, int32_t b, int32_t c) const;
     int obtuse_touching(const std::vector<int32_t> &vertices) const;
     std::vector<std::pair<int32_t, int32_t>> gamma_edges_among(const std::vector<int32_t> &vertices) const;
@@ -1275,8 +1280,10 @@ bool Optimiser::leaves_short_edge(int32_t a, int32_t b) const {
 // 277 -> 124 obtuse, against "fewer": Mid-Atlantic 612 -> 318),
 // its edges are at least kCornerEdge h to Gamma's vertices and
 // collapse_ratio h to others, and every edge along Gamma there is still an
-// edge (try_corner_vertex, corner_vertex_helps). Serial, in slot order, one
-// change per neighbourhood.
+// edge (try_corner_vertex, corner_vertex_helps). Where none is kept, a
+// vertex of the triangle on Gamma may be taken out instead
+// (try_gamma_vertex_removal). Serial, in slot order, one change per
+// neighbourhood; returns the changes (counted in stats_ by kind).
 int64_t Optimiser::support_gamma_corners() {
     if (!gamma_) return 0;
     constexpr double kPull = 0.2;  // of the way from the circumcentre to the corner
@@ -1297,7 +1304,8 @@ int64_t Optimiser::support_gamma_corners() {
         if (k < 0) continue;
         const int32_t b = tri_.vertex(t, k), p = tri_.vertex(t, (k + 1) % 3), q = tri_.vertex(t, (k + 2) % 3);
         const int32_t y = tri_.vertex(tri_.neighbour(t, k), tri_.mirror_edge(t, k));
-        if (runs_along_gamma(p, q, b, y)) continue;
+        // (A vertex beyond an edge along Gamma would sit across it.)
+        const bool opposite_gamma = runs_along_gamma(p, q, b, y);
         // The region the new vertex may change, claimed: the closed stars of t's vertices.
         const std::vector<int32_t> region = closed_stars({b, p, q});
         if (!claim(region, locked)) continue;
@@ -1315,17 +1323,27 @@ int64_t Optimiser::support_gamma_corners() {
         for (double spoke : kBisectorSpokes)
             sites.push_back(geom::normalized(xb + (spoke * static_cast<double>(h_at_[b])) * bisector));
         int32_t d = -1;
+        if (opposite_gamma) sites.clear();
         for (size_t i = 0; i < sites.size() && d < 0; ++i) d = try_corner_vertex(sites[i], corner);
         for (size_t i = 0; i < sites.size() && d < 0; ++i) d = try_corner_relocation(sites[i], corner, locked);
         if (d < 0) {
-            release();
+            int32_t gone = -1;
+            for (int32_t v : {b, p, q})
+                if (gone < 0 && try_gamma_vertex_removal(v, corner)) gone = v;
+            if (gone < 0) {
+                release();
+                continue;
+            }
+            for (int32_t u : corner.region)
+                if (u != gone) changed_at_[u] = clock_;
+            ++stats_.gamma_vertices_removed, ++done;
             continue;
         }
         changed_at_[d] = clock_;
         for (int32_t s : tri_.star(d))
             for (int j = 0; j < 3; ++j) changed_at_[tri_.vertex(s, j)] = clock_;
         locked.resize(static_cast<size_t>(tri_.vertex_slots()), 1);
-        ++done;
+        ++stats_.corner_vertices, ++done;
     }
     return done;
 }
@@ -1473,6 +1491,76 @@ bool Optimiser::corner_vertex_helps(int32_t d, const GammaCorner &corner) const 
     std::vector<int32_t> around = corner.region;
     around.push_back(d);
     return obtuse_touching(around) <= corner.obtuse_before;
+}
+
+// A corner no vertex can support (its legs along Gamma are too short to
+// make room for one: Gamma wiggles below the spacing there, its vertices
+// 0.3-0.6 h apart) may lose one of its triangle's vertices on Gamma
+// instead: the chord between that vertex's two neighbours along Gamma then
+// carries Gamma, as the boundary refinement would have left it had the
+// chord met its bounds. Taken only when the chord does (chord_carries_gamma:
+// l < alpha h, eps < beta h), every other edge along Gamma there stays,
+// Gamma enters no more cells off it, no edge between v's neighbours is
+// longer than split_ratio h, and the triangles around have fewer obtuse
+// ones. Else v is put back
+// (restore_removed: the same regular triangles).
+bool Optimiser::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner) {
+    if (on_segment_[v] < 0 || !tri_.in_triangulation(v)) return false;
+    int32_t along[2], n_along = 0;  // v's neighbours along Gamma
+    for (const auto &[a, c] : corner.gamma_edges) {
+        if (a != v && c != v) continue;
+        if (n_along == 2) return false;  // a junction of Gamma: its vertex stays
+        along[n_along++] = a == v ? c : a;
+    }
+    if (n_along != 2) return false;
+    std::vector<int32_t> link;
+    tri_.for_each_in_star(v, [&](int32_t s) { link.push_back(tri_.vertex(s, (tri_.local_index(s, v) + 1) % 3)); });
+    auto at = [&](int32_t u) { return generator(u); };
+    const int crossed = stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
+    if (crossed < 0) return false;
+    const int32_t near = tri_.remove(v);
+    bool ok = chord_carries_gamma(along[0], along[1]);
+    for (const auto &[a, c] : corner.gamma_edges) ok = ok && (a == v || c == v || has_edge(a, c));
+    for (int32_t u : link) {
+        if (!ok) break;
+        tri_.for_each_in_star(u, [&](int32_t s) {
+            const int32_t w = tri_.vertex(s, (tri_.local_index(s, u) + 1) % 3);
+            const double h = 0.5 * (static_cast<double>(h_at_[u]) + static_cast<double>(h_at_[w]));
+            ok = ok && geom::norm(tri_.direction(u) - tri_.direction(w)) <= o_.split_ratio * h;
+        });
+    }
+    if (ok) {
+        const int now = stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
+        ok = now >= 0 && now <= crossed;
+    }
+    if (ok) {
+        std::vector<int32_t> around;
+        std::copy_if(corner.region.begin(), corner.region.end(), std::back_inserter(around),
+                     [&](int32_t u) { return u != v; });
+        ok = obtuse_touching(around) < corner.obtuse_before;
+    }
+    if (!ok) tri_.restore_removed(v, near);
+    return ok;
+}
+
+// Whether the edge (a, c), both on Gamma, is a restricted edge of their
+// part that meets the boundary refinement's bounds (paper section 5.1):
+// l < alpha h and eps < beta h, h at its midpoint.
+bool Optimiser::chord_carries_gamma(int32_t a, int32_t c) const {
+    bool carries = false;
+    tri_.for_each_in_star(a, [&](int32_t s) {
+        const int i = tri_.local_index(s, a);
+        if (tri_.vertex(s, (i + 1) % 3) != c) return;
+        const int k = (i + 2) % 3;  // the edge opposite the apex: (a, c)
+        const int32_t apex = tri_.vertex(s, k), across = tri_.vertex(tri_.neighbour(s, k), tri_.mirror_edge(s, k));
+        refine::RestrictedEdge e;
+        if (!runs_along_gamma(a, c, apex, across) || !refine::restricted_crossing(tri_, s, k, arcs_, &e)) return;
+        if (gamma_->segment_part(e.arc) != gamma_->segment_part(on_segment_[a])) return;
+        const Vec3 xa = tri_.direction(a), xc = tri_.direction(c), mid = geom::normalized(xa + xc);
+        const double h = h_(mid);
+        carries = geom::arc_length(xa, xc) < o_.gamma_alpha * h && geom::arc_length(mid, e.centre) < o_.gamma_beta * h;
+    });
+    return carries;
 }
 
 // The edges along Gamma (runs_along_gamma) between two of `vertices`
@@ -1785,7 +1873,6 @@ OptimiseStats Optimiser::run() {
         const int64_t valence =
             n + 1 < o_.outer_iterations ? improve_valence() + (n < 2 ? flip_for_valence() : 0) : 0;
         const int64_t corners = shape_phase && o_.corner_vertices ? support_gamma_corners() : 0;
-        stats_.corner_vertices += corners;
         stats_.flips += flips, stats_.collapses += collapsed, stats_.splits += split;
         const int64_t topology = flips + collapsed + split + valence + corners;
         if (topology > 0) {  // else the spacing (h_at_) and the graph are still those of the mesh
@@ -1807,7 +1894,7 @@ OptimiseStats Optimiser::run() {
         ctx_.log(UM_LOG_INFO,
                  concat("optimise: outer iteration ", n + 1, shape_phase ? " (shape)" : " (weights)",
                         ": ", changes, " updates, ", flips, " flips, ", collapsed + split + valence,
-                        " collapses/splits, ", corners, " vertices at obtuse corners on Gamma; Q^T min ", now.qt_min, " mean ", now.qt_mean, ", Q^P min ",
+                        " collapses/splits, ", corners, " vertices added or taken out at obtuse corners on Gamma; Q^T min ", now.qt_min, " mean ", now.qt_mean, ", Q^P min ",
                         now.qp_min, " mean ", now.qp_mean, "; ", stats_.seconds_moves, " s moves, ",
                         stats_.seconds_weights, " s weights, ", stats_.seconds_topology, " s topology"));
         last = now;

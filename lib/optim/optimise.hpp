@@ -43,12 +43,17 @@ struct OptimiseOptions {
     double split_ratio = 1.6;    // split edges longer than this times h
     bool corner_vertices = true; // vertices for obtuse corners on Gamma (support_gamma_corners)
     bool corner_cells_clear = false;  // ... only where the new cell stays clear of Gamma
+    // The boundary refinement's bounds (refine_alpha, refine_beta): where a
+    // vertex on Gamma at an obtuse corner is taken out, the restricted edge
+    // left in its place must meet them.
+    double gamma_alpha = 4.0 / 3.0, gamma_beta = 0.2;
 };
 
 struct OptimiseStats {
     int outer_iterations = 0;  // done (fewer than N when it stopped early)
     int64_t moves = 0, weight_updates = 0, flips = 0, collapses = 0, splits = 0;
     int64_t corner_vertices = 0;  // added at obtuse corners on Gamma (not among the splits)
+    int64_t gamma_vertices_removed = 0;  // taken out at obtuse corners on Gamma (not among the collapses)
     double seconds_moves = 0, seconds_weights = 0, seconds_topology = 0;
 };
 
