@@ -519,7 +519,11 @@ UM_API void um_mesh_destroy(um_mesh *m); /* NULL-safe */
  * (> UM_OPT_OPTIM_SPLIT_RATIO * h), and while the weights are held, a vertex
  * near the circumcentre of a triangle obtuse at a vertex on the features
  * where that lowers the obtuse triangles around (UM_OPT_OPTIM_CORNER_VERTICES;
- * with 2, only where the new cell stays clear of the features); an update of
+ * with 2, only where the new cell stays clear of the features), or where no
+ * such vertex fits, one of the triangle's vertices on the features taken out
+ * when the edge left between its neighbours along the feature still meets
+ * the boundary refinement's bounds (UM_OPT_REFINE_ALPHA and _BETA as the
+ * mesh was refined) and no more triangles around are obtuse; an update of
  * a vertex is taken only if it lets the features into no more cells of
  * vertices off them around it than before, and only if the worst
  * quality of its triangles improves (or stays, and their mean improves), a

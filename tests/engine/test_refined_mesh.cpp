@@ -172,7 +172,8 @@ void optimised_coastal_mesh_stays_regular(void **) {
     };
     // The vertices at obtuse corners on Gamma, and the vertices on Gamma
     // taken out where no corner vertex fits, leave far fewer obtuse
-    // triangles (measured: 11 against 338) and no more off-centre ones
+    // triangles (measured: 9 against 338, 0.0098 %; the bound is 0.02 %)
+    // and no more off-centre ones
     // (measured: 0 and 0; 1 against 0 before the removals - a 98 degree
     // triangle inland on a river that the mends left).
     const mesh::RefinedMesh with = optimised(1), without = optimised(0), clear = optimised(2);
@@ -187,7 +188,8 @@ void optimised_coastal_mesh_stays_regular(void **) {
                   (long long)with.optimisation.corner_vertices, (long long)with.optimisation.gamma_vertices_removed,
                   (long long)q_with.obtuse, (long long)q_without.obtuse,
                   (long long)q_with.not_well_centred, (long long)q_without.not_well_centred);
-    if (!(5 * q_with.obtuse <= q_without.obtuse) || q_with.not_well_centred > q_without.not_well_centred)
+    if (!(5 * q_with.obtuse <= q_without.obtuse) || 5000 * q_with.obtuse > q_with.triangles ||
+        q_with.not_well_centred > q_without.not_well_centred)
         fail_msg("obtuse %lld with corner vertices, %lld without; off-centre %lld, %lld",
                  (long long)q_with.obtuse, (long long)q_without.obtuse, (long long)q_with.not_well_centred,
                  (long long)q_without.not_well_centred);
