@@ -14,13 +14,14 @@
 #include "geom/arc_tree.hpp"
 #include "geom/predicates.hpp"
 #include "optim/local_quality.hpp"
+#include "optim/optimiser.hpp"
 #include "optim/slide.hpp"
 #include "optim/star_graph.hpp"
 #include "refine/restricted.hpp"
 
 namespace um::optim {
 
-namespace {
+namespace detail {
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) {
@@ -41,32 +42,10 @@ constexpr double kGainOverTolerance = 10;
 // Targets closer than this (in units of h) are not searched towards.
 constexpr double kShortestMove = 1e-4;
 
-// A vertex support_gamma_corners adds may be this close (in units of h) to
-// a vertex on Gamma, and collapse_ratio h to others: Gamma's own vertices
-// are often closer together than h where it bends. On the coastline case
-// at 60 km (before the bisector tries), 0.3 takes the obtuse triangles from
-// 668 to 342 (0.4: 359; the collapse ratio, 0.5: 435). Its ODT steps: 3 (6
-// mend 4 more). With the neighbours' steps (relax_link) and the removals
-// of vertices on Gamma (try_gamma_vertex_removal), 0.2 leaves 40 obtuse
-// triangles at 60 km, 11 at 120 km and 16 at 240 km (0.25: 40, 12, 22;
-// 0.3: 44, 18 and one off-centre, 18).
-constexpr double kCornerEdge = 0.2;
 // Vertices this many h from Gamma get the crossing test of their updates
 // (flag_near_gamma): a cell reaches about h from its generator, and a vertex
 // moves less than h in an outer iteration.
 constexpr double kNearGamma = 2.5;
-constexpr int kCornerSteps = 3;
-// Where a corner vertex is tried when the circumcentre fails: these many h
-// from the corner along its bisector, in turn. On the coastline at 60 km:
-// 0.6 alone leaves 304 obtuse triangles (0.45: 314, 0.75: 311), then 0.8 and
-// 0.45 276 (and 1.0 after those 272).
-constexpr double kBisectorSpokes[] = {0.6, 0.8, 0.45};
-// ... and across the corner's wedge (corner_sites).
-constexpr double kWedgeShares[] = {0.2, 0.35, 0.5, 0.65, 0.8};
-constexpr double kWedgeSpokes[] = {0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9};
-// A site too near a vertex off Gamma may take its place
-// (try_corner_relocation): the circumcentre's and the bisector's sites.
-constexpr size_t kRelocationSites = 1 + std::size(kBisectorSpokes);
 
 // Once an outer iteration of the shape phase moves fewer than kPolishAfter
 // vertices per vertex, the stars whose worst shape score is within
@@ -103,22 +82,6 @@ struct LocalQuality {
     int worst_k = 0;
 };
 
-// The generators of a star's link, gathered once per vertex update: a line
-// search scores the same star up to a dozen times, and reading the link
-// through the graph each time costs more than the scores themselves.
-struct Ring {
-    // A larger degree is never updated (improve_valence splits such
-    // vertices, except on Gamma).
-    static constexpr int kMax = 64;
-    int m = 0;
-    Generator g[kMax];
-    // The stored lifted points: g[k].lifted() is s x rounded from them, and
-    // the exact tests must see what the triangulation holds.
-    Vec3 q[kMax];
-    const Generator &at(int k) const { return g[k]; }
-    const Generator &after(int k) const { return g[k + 1 == m ? 0 : k + 1]; }
-};
-
 // Worst and mean score of the star of a vertex at `centre` with link
 // `ring`: the shape score for moves, the staggering score for weights.
 // Stops (mean unset) as soon as a triangle scores below `floor`: such a
@@ -148,222 +111,12 @@ bool better(const LocalQuality &now, const LocalQuality &before, double toleranc
     return now.worst >= before.worst && now.mean > before.mean + tolerance;
 }
 
-class Optimiser {
-public:
-    Optimiser(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
-              const features::Network *gamma, const refine::SpacingRadians &h,
-              const OptimiseOptions &o)
-        : ctx_(ctx), tri_(tri), on_segment_(on_segment), gamma_(gamma), h_(h), o_(o),
-          gain_(kGainOverTolerance * o.tolerance), arcs_(features::segment_arc_tree(gamma)) {}
-
-    OptimiseStats run();
-
-private:
-    // Per-slot state -------------------------------------------------------
-    // Grows the per-slot state to the slots and reads h at every vertex.
-    void load_spacing();
-    void grow_slots();
-
-    // Sweeps ---------------------------------------------------------------
-    enum class Sweep { moves, weights };
-    // Over every vertex, or only over those flagged in *only.
-    int64_t sweep(const StarGraph &g, Sweep kind, bool forward,
-                  const std::vector<uint8_t> *only = nullptr);
-    bool update_position(const StarGraph &g, int32_t v);
-    bool update_weight(const StarGraph &g, int32_t v);
-    bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
-    int64_t polish_poor_stars(const StarGraph &g);
-    // What a mend met and mended (slid: of those, with a vertex sliding
-    // along Gamma).
-    // What a mend keeps: no Q^P below qp; where vertices move, no Q^T below
-    // qt and no angle larger than the one of cosine largest_angle_cosine.
-    struct MendFloors {
-        double qp = 0, qt = 0, largest_angle_cosine = -1;
-    };
-    struct Mended {
-        int64_t met = 0, mended = 0, slid = 0, flipped = 0;
-        MendFloors floors;  // what it kept (from a summary, made only when it met any)
-    };
-    // The floors from a fresh summary: the mesh's least Q^P (or kMendQpFloor,
-    // when `qp_floor` and that is lower), least Q^T and largest angle.
-    MendFloors mend_floors(bool qp_floor);
-    // keep_obtuse: its moves may not add obtuse triangles (after the obtuse mend).
-    Mended mend_off_centre_triangles(bool keep_obtuse);
-    struct Candidate {  // a generator a vertex may take, and its segment of Gamma
-        Generator g;
-        int32_t segment;
-    };
-    std::vector<Candidate> mend_candidates(int32_t v, int steps, int slides, bool off_gamma_moves = false) const;
-    // The live triangles t with pred(t), found in parallel, in slot order
-    // (the mends then work through them serially).
-    template <class Pred>
-    std::vector<int32_t> live_triangles_where(Pred pred) const {
-        return ctx_.collect_in_order<int32_t>(tri_.triangle_slots(), 8192, [&](int64_t t, std::vector<int32_t> &out) {
-            if (!tri_.is_free(static_cast<int32_t>(t)) && pred(static_cast<int32_t>(t))) out.push_back(static_cast<int32_t>(t));
-        });
-    }
-    // What a joint search lowers: the triangles not holding their
-    // orthocentre (also without adding obtuse ones), or the obtuse ones
-    // (then without adding to the former).
-    enum class MendGoal { off_centre, off_centre_keeping_obtuse, obtuse };
-    // The off-centre and obtuse triangles around, counted before a flip
-    // that left the mesh as it is not regular (mend_by_flip): what a joint
-    // search after it must beat, instead of the counts as they are.
-    struct Baseline {
-        int off_centre, obtuse;
-        int gamma_crossings;  // stars_gamma_crossings of the quad before the flip
-    };
-    bool mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *candidates, const MendFloors &floors,
-                      bool moves, MendGoal goal = MendGoal::off_centre, const Baseline *baseline = nullptr);
-    bool mend_by_flip(int32_t &t, int k, const MendFloors &floors, MendGoal goal);
-    bool runs_along_gamma(int32_t b, int32_t c, int32_t a, int32_t d) const;
-    double position_along_part(int32_t v) const;
-    Mended mend_obtuse_triangles();
-    // False when v's degree is beyond Ring::kMax.
-    bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
-    // Gamma and the cells off it. The refinement leaves Gamma crossing the
-    // cells of the vertices placed on it (Tri|Gamma runs from one to the
-    // next); a move or weight that lets it into a cell off it adds edges to
-    // Tri|Gamma that branch off the feature's chain (the river and coast
-    // tags of the MPAS edges). Sweeps and mends therefore take no update
-    // that adds such a crossing around the vertex. near_gamma_ flags the
-    // vertices within kNearGamma h of an arc of Gamma (the others cannot
-    // reach it in one outer iteration); gamma_crossings counts the spokes of
-    // v's star, v at `at`, that do not join two vertices on Gamma and whose
-    // dual arc crosses Gamma.
-    void flag_near_gamma();
-    int gamma_crossings(int32_t v, const Ring &ring, const int32_t *link, const Generator &at) const;
-    bool crosses_gamma(const Vec3 &c0, const Vec3 &c1) const;
-    // gamma_crossings summed over the stars of v[0..n), the generators read
-    // through at(u); -1 when a star is beyond Ring::kMax or, with
-    // require_valid, not valid (star_is_valid) for its centre's generator.
-    template <class At>
-    int stars_gamma_crossings(const int32_t *v, int n, At &&at, bool require_valid) const {
-        int crossings = 0;
-        for (int i = 0; i < n; ++i) {
-            Ring ring;
-            int32_t link[Ring::kMax];
-            bool fits = true;
-            tri_.for_each_in_star(v[i], [&](int32_t u) {
-                if (ring.m == Ring::kMax) return void(fits = false);
-                const int32_t w = tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3);
-                link[ring.m] = w, ring.g[ring.m] = at(w), ring.q[ring.m] = at(w).lifted(), ++ring.m;
-            });
-            if (!fits || (require_valid && !star_is_valid(ring, at(v[i])))) return -1;
-            if (arcs_.size() > 0) crossings += gamma_crossings(v[i], ring, link, at(v[i]));
-        }
-        return crossings;
-    }
-    // The ODT target of a move of v (at `here`, link `ring` from the graph).
-    Vec3 odt_target(const StarGraph &g, int32_t v, const Generator &here, const Ring &ring) const;
-
-    // Topology -------------------------------------------------------------
-    int64_t restore_regularity(int32_t since);
-    void mark_changed_links(const std::vector<uint32_t> &before, const StarGraph &now);
-    int64_t improve_valence();
-    int64_t flip_for_valence();
-    bool relax_into_regularity(const int32_t (&quad)[4]);
-    Vec3 star_odt_point(int32_t v) const;
-    int32_t insert_between(int32_t a, int32_t b);
-    int64_t support_gamma_corners();
-    // An obtuse triangle with its corner on Gamma, and what a vertex put
-    // there to support the corner is judged against.
-    struct GammaCorner {
-        int32_t triangle;       // its slot (where the insertion starts)
-        int32_t b, p, q;        // the corner on Gamma and the triangle's other two vertices
-        std::vector<int32_t> region;  // the closed stars of b, p, q (sorted): what may change
-        std::vector<std::pair<int32_t, int32_t>> gamma_edges;  // the edges along Gamma there
-        int obtuse_before;      // the obtuse triangles touching the region
-    };
-    // A trial of a corner vertex: its slot when kept, and the obtuse
-    // triangles around it when it helps (else -1).
-    struct CornerTrial {
-        int32_t vertex = -1;
-        int obtuse = -1;
-    };
-    CornerTrial try_corner_vertex(const Vec3 &at, const GammaCorner &corner, bool keep = true);
-    std::vector<Vec3> corner_sites(const GammaCorner &corner) const;
-    struct MovedVertex {  // a vertex as it was before a trial moved it
-        int32_t v;
-        Vec3 lifted;
-        float h;
-    };
-    std::vector<int32_t> odt_step(int32_t v);
-    std::vector<int32_t> relax_link(int32_t d, const GammaCorner &corner, std::vector<MovedVertex> &moved);
-    int32_t try_corner_relocation(const Vec3 &at, const GammaCorner &corner, std::vector<uint8_t> &locked);
-    int corner_vertex_helps(int32_t d, const GammaCorner &corner) const;
-    bool try_gamma_vertex_removal(int32_t v, const GammaCorner &corner);
-    bool chord_carries_gamma(int32_t a, int32_t c) const;
-    bool has_triangle(int32_t a, int32_t b, int32_t c) const;
-    int obtuse_touching(const std::vector<int32_t> &vertices) const;
-    std::vector<std::pair<int32_t, int32_t>> gamma_edges_among(const std::vector<int32_t> &vertices) const;
-    bool has_edge(int32_t a, int32_t b) const;
-    bool leaves_long_edge(const Vec3 &x, double h_x, std::initializer_list<int32_t> ends) const;
-    bool leaves_short_edge(int32_t a, int32_t b) const;
-    void split_vertex(int32_t v, const std::vector<int32_t> &star);
-    struct EdgeRatio {
-        double ratio;
-        int32_t a, b;
-    };
-    std::vector<EdgeRatio> edge_ratios(double below, double above) const;
-    // Collapses the edges shorter than collapse_ratio h, then splits those
-    // longer than split_ratio h: one scan finds both kinds (the long ones are
-    // found again when a collapse changed the mesh).
-    std::pair<int64_t, int64_t> collapse_and_split();
-    int64_t collapse_short_edges(std::vector<EdgeRatio> edges);
-    int64_t split_long_edges(std::vector<EdgeRatio> edges);
-    // The given vertices and their neighbours (sorted, each once).
-    std::vector<int32_t> closed_stars(std::initializer_list<int32_t> vertices) const;
-    // Claims `vertices` for this pass's one change around them; false
-    // (nothing claimed) if any is taken.
-    static bool claim(const std::vector<int32_t> &vertices, std::vector<uint8_t> &locked);
-    bool lock_neighbourhood(std::initializer_list<int32_t> vertices, std::vector<uint8_t> &locked) const {
-        return claim(closed_stars(vertices), locked);
-    }
-
-    // Stopping ---------------------------------------------------------------
-    struct Summary {
-        double qt_min, qt_mean, qp_min, qp_mean;
-        double largest_angle_cosine;  // of the mesh's largest angle
-    };
-    // with_largest_angle: also the cosine of the largest angle (else 1).
-    Summary summarise(bool with_largest_angle = false) const;
-
-    Context &ctx_;
-    tri::Triangulation &tri_;
-    std::vector<int32_t> &on_segment_;
-    const features::Network *gamma_;
-    const refine::SpacingRadians &h_;
-    OptimiseOptions o_;
-    double gain_;  // the least gain in local quality an update must bring
-    geom::ArcTree arcs_;               // Gamma's arcs (empty without Gamma)
-    std::vector<uint8_t> near_gamma_;  // per slot, from flag_near_gamma
-
-    // The generator of vertex v, read from its lifted point q = s x: the
-    // triangulation holds the only copy (a second one would cost 32 bytes
-    // per cell), and the sweeps write it in place (Triangulation::set_lifted).
-    Generator generator(int32_t v) const {
-        const Vec3 &q = tri_.lifted(v);
-        const double s = geom::norm(q);
-        return {(1.0 / s) * q, s};
-    }
-    void set_generator(int32_t v, const Generator &g) { tri_.set_lifted(v, g.lifted()); }
-
-    // Spacing at each generator (radians), in single precision: it weighs
-    // the ODT target and scales steps, where 1e-7 is far below what matters.
-    std::vector<float> h_at_;
-    // Stamps of the sweep clock: when a vertex last changed (position,
-    // weight or link) and when an update of it last failed. A vertex whose
-    // closed star has not changed since its last failure is skipped.
-    std::vector<int32_t> changed_at_, move_failed_at_, weight_failed_at_;
-    bool weighing_ = false;  // the weight phase has begun (weight_failed_at_ exists)
-    int32_t clock_ = 1;
-    int32_t next_id_ = 0;
-    double poor_star_ = -kInfinity;  // stars scoring below get the compass search
-    OptimiseStats stats_;
-};
-
 // ----------------------------------------------------------- per-slot state
+
+Optimiser::Optimiser(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
+                     const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o)
+    : ctx_(ctx), tri_(tri), on_segment_(on_segment), gamma_(gamma), h_(h), o_(o),
+      gain_(kGainOverTolerance * o.tolerance), arcs_(features::segment_arc_tree(gamma)) {}
 
 void Optimiser::grow_slots() {
     const size_t n = static_cast<size_t>(tri_.vertex_slots());
@@ -503,9 +256,6 @@ int Optimiser::gamma_crossings(int32_t v, const Ring &ring, const int32_t *link,
     return count;
 }
 
-// The star stays a valid piece of triangulated sphere (every triangle
-// counter-clockwise, exactly) and every spoke's crossing with its dual edge
-// stays inside it.
 bool star_is_valid(const Ring &ring, const Generator &at) {
     const Vec3 q = at.lifted();  // what set_generator stores
     for (int k = 0; k < ring.m; ++k) {
@@ -1280,391 +1030,6 @@ bool Optimiser::leaves_short_edge(int32_t a, int32_t b) const {
     return short_edge;
 }
 
-// Obtuse corners on Gamma. A vertex on Gamma with a single spoke off it on
-// one side shares that side's half turn between two triangles, and a
-// triangle across a bend or a narrow inlet with all three vertices on Gamma
-// has the bend's angle: no move along Gamma mends either (they are most of
-// the obtuse triangles left on coastlines). Each such triangle gets a
-// vertex off Gamma near its circumcentre, pulled towards the obtuse corner
-// (so strictly inside the circumcircle: the triangle goes, the corner gains
-// a spoke and splits its angle), or along the corner's bisector or across
-// its wedge (corner_sites), kept only when the triangle is gone, the triangles around have
-// no more obtuse ones than before (an obtuse angle moved off Gamma's corner
-// is one the sweeps and mends can still reshape: coast + rivers 60 km,
-// 277 -> 124 obtuse, against "fewer": Mid-Atlantic 612 -> 318),
-// its edges are at least kCornerEdge h to Gamma's vertices and
-// collapse_ratio h to others, and every edge along Gamma there is still an
-// edge (try_corner_vertex, corner_vertex_helps). Where none is kept, a
-// vertex of the triangle on Gamma may be taken out instead
-// (try_gamma_vertex_removal). Serial, in slot order, one change per
-// neighbourhood; returns the changes (counted in stats_ by kind).
-int64_t Optimiser::support_gamma_corners() {
-    if (!gamma_) return 0;
-    auto gamma_corner = [&](int32_t t) {  // the obtuse corner's index, when on Gamma; else -1
-        Vec3 x[3];
-        for (int k = 0; k < 3; ++k) x[k] = tri_.direction(tri_.vertex(t, k));
-        double l[3];
-        for (int k = 0; k < 3; ++k) l[k] = geom::dot(x[(k + 1) % 3] - x[(k + 2) % 3], x[(k + 1) % 3] - x[(k + 2) % 3]);
-        const int k = l[0] >= l[1] && l[0] >= l[2] ? 0 : (l[1] >= l[2] ? 1 : 2);
-        return on_segment_[tri_.vertex(t, k)] >= 0 && largest_angle_cosine(x[0], x[1], x[2]) < 0 ? k : -1;
-    };
-    const std::vector<int32_t> found = live_triangles_where([&](int32_t t) { return gamma_corner(t) >= 0; });
-    std::vector<uint8_t> locked(static_cast<size_t>(tri_.vertex_slots()), 0);
-    int64_t done = 0;
-    for (int32_t t : found) {
-        if (tri_.is_free(t)) continue;
-        const int k = gamma_corner(t);
-        if (k < 0) continue;
-        const int32_t b = tri_.vertex(t, k), p = tri_.vertex(t, (k + 1) % 3), q = tri_.vertex(t, (k + 2) % 3);
-        const int32_t y = tri_.vertex(tri_.neighbour(t, k), tri_.mirror_edge(t, k));
-        // (A vertex beyond an edge along Gamma would sit across it.)
-        const bool opposite_gamma = runs_along_gamma(p, q, b, y);
-        // The region the new vertex may change, claimed: the closed stars of t's vertices.
-        const std::vector<int32_t> region = closed_stars({b, p, q});
-        if (!claim(region, locked)) continue;
-        auto release = [&] {  // nothing changed there: free again
-            for (int32_t u : region) locked[u] = 0;
-        };
-        const GammaCorner corner{t, b, p, q, region, gamma_edges_among(region), obtuse_touching(region)};
-        // The sites in two tiers: the circumcentre's and the bisector's, then
-        // (when none of those helps) the wedge's. In each, every site is
-        // tried and undone (up to one that leaves no obtuse triangle
-        // around), and those that helped are put in again, fewest obtuse
-        // triangles left first (then in site order), until one is kept (a
-        // trial done again after others may find other slots, and so come out
-        // otherwise). Against keeping the first site that helps, coast +
-        // rivers 60 km: 29 -> 23 obtuse, Mid-Atlantic 93 -> 82; against
-        // trying every site as one tier (24 and 79), half the trials.
-        const std::vector<Vec3> sites = opposite_gamma ? std::vector<Vec3>{} : corner_sites(corner);
-        const size_t first_sites = std::min(sites.size(), kRelocationSites);
-        int32_t d = -1;
-        auto keep_best_of = [&](size_t from, size_t to) {
-            std::vector<std::pair<int, size_t>> helping;  // (obtuse left, site)
-            for (size_t i = from; i < to; ++i) {
-                const CornerTrial trial = try_corner_vertex(sites[i], corner, false);
-                if (trial.obtuse >= 0) helping.push_back({trial.obtuse, i});
-                if (trial.obtuse == 0) break;
-            }
-            std::sort(helping.begin(), helping.end());
-            for (size_t i = 0; i < helping.size() && d < 0; ++i)
-                d = try_corner_vertex(sites[helping[i].second], corner).vertex;
-        };
-        keep_best_of(0, first_sites);
-        if (d < 0) keep_best_of(first_sites, sites.size());
-        for (size_t i = 0; i < first_sites && d < 0; ++i) d = try_corner_relocation(sites[i], corner, locked);
-        if (d < 0) {
-            int32_t gone = -1;
-            for (int32_t v : {b, p, q})
-                if (gone < 0 && try_gamma_vertex_removal(v, corner)) gone = v;
-            if (gone < 0) {
-                release();
-                continue;
-            }
-            for (int32_t u : corner.region)
-                if (u != gone) changed_at_[u] = clock_;
-            ++stats_.gamma_vertices_removed, ++done;
-            continue;
-        }
-        changed_at_[d] = clock_;
-        for (int32_t s : tri_.star(d))
-            for (int j = 0; j < 3; ++j) changed_at_[tri_.vertex(s, j)] = clock_;
-        locked.resize(static_cast<size_t>(tri_.vertex_slots()), 1);
-        ++stats_.corner_vertices, ++done;
-    }
-    return done;
-}
-
-// Where a corner vertex is tried: near the circumcentre of the corner's
-// triangle, along the corner's bisector (kBisectorSpokes), then across the
-// corner's wedge (kWedgeShares of the way from the leg to p to the leg to
-// q, kWedgeSpokes h from the corner). The wedge sites meet corners whose
-// legs are short or unequal: on the coastlines and rivers at 60 km they
-// take the obtuse triangles left from 40 to 23 (Mid-Atlantic: 115 to 82).
-std::vector<Vec3> Optimiser::corner_sites(const GammaCorner &corner) const {
-    constexpr double kPull = 0.2;  // of the way from the circumcentre to the corner
-    const Vec3 xb = tri_.direction(corner.b), xp = tri_.direction(corner.p), xq = tri_.direction(corner.q);
-    const Vec3 centre = geom::normalized(geom::cross(xp - xb, xq - xb));
-    const Vec3 to_p = geom::normalized(xp - geom::dot(xb, xp) * xb), to_q = geom::normalized(xq - geom::dot(xb, xq) * xb);
-    const double h = static_cast<double>(h_at_[corner.b]);
-    std::vector<Vec3> sites{geom::normalized(centre + kPull * (xb - centre))};
-    const Vec3 bisector = geom::normalized(to_p + to_q);
-    for (double spoke : kBisectorSpokes) sites.push_back(geom::normalized(xb + (spoke * h) * bisector));
-    for (double share : kWedgeShares) {
-        const Vec3 direction = geom::normalized((1 - share) * to_p + share * to_q);
-        for (double spoke : kWedgeSpokes) sites.push_back(geom::normalized(xb + (spoke * h) * direction));
-    }
-    return sites;
-}
-
-// Inserts a corner vertex at `at` (near the corner's triangle) and keeps it
-// if it helps where it is put or after one of its ODT steps, each followed
-// by one of its neighbours off Gamma (relax_link; the sweeps will move them,
-// and a vertex just past the chord it cut leaves the triangles beyond it
-// obtuse until they do). Without `keep` it is taken out again even then
-// (a trial, scored by the obtuse triangles it leaves around). Not kept,
-// the mesh is as it was (every point back bit for bit, what was hidden back
-// in).
-Optimiser::CornerTrial Optimiser::try_corner_vertex(const Vec3 &at, const GammaCorner &corner, bool keep) {
-    std::vector<int32_t> buried;
-    int32_t d = -1;
-    try {
-        d = tri_.insert(at, 0.0, next_id_++, &buried, corner.triangle);
-    } catch (const Error &e) {
-        // A vertex is already there (one kept at this corner before, not
-        // moved since): nothing to add, and the insertion left the mesh as it was.
-        if (e.status() == UM_ERR_DUPLICATE_POINTS) return {};
-        throw;
-    }
-    grow_slots();
-    h_at_[d] = static_cast<float>(h_(at));
-    std::vector<MovedVertex> moved;  // d's neighbours the steps moved, as they were before
-    CornerTrial trial;
-    if (buried.empty()) trial.obtuse = corner_vertex_helps(d, corner);
-    for (int step = 0; step < kCornerSteps && trial.obtuse < 0 && buried.empty() && tri_.in_triangulation(d); ++step) {
-        buried = odt_step(d);
-        if (buried.empty() && tri_.in_triangulation(d)) buried = relax_link(d, corner, moved);
-        if (buried.empty()) trial.obtuse = corner_vertex_helps(d, corner);
-    }
-    if (trial.obtuse >= 0 && keep) {
-        for (const MovedVertex &m : moved) changed_at_[m.v] = clock_;
-        trial.vertex = d;
-        return trial;
-    }
-    // Out again, its neighbours back where they were, and what was hidden
-    // (among lightly weighted vertices) back in.
-    std::vector<int32_t> hidden = buried;
-    const int32_t near = tri_.remove(d);
-    for (auto m = moved.rbegin(); m != moved.rend(); ++m) {
-        const std::vector<int32_t> hid = tri_.place(m->v, m->lifted);
-        hidden.insert(hidden.end(), hid.begin(), hid.end());
-        h_at_[m->v] = m->h;
-    }
-    for (int32_t u : hidden)
-        if (u != d && !tri_.in_triangulation(u) && !tri_.is_removed(u)) tri_.restore_hidden(u, near);
-    return trial;
-}
-
-// An ODT step of v to its star's ODT point; the vertices it hid.
-std::vector<int32_t> Optimiser::odt_step(int32_t v) {
-    const Vec3 to = star_odt_point(v);
-    std::vector<int32_t> buried = tri_.move(v, to);
-    h_at_[v] = static_cast<float>(h_(to));
-    return buried;
-}
-
-// An ODT step of each of new vertex d's neighbours off Gamma in the corner's
-// region, so that the neighbourhood makes room for d: alone, d keeps an
-// obtuse angle among neighbours placed for the mesh without it (coast +
-// rivers 60 km: 83 -> 54 obtuse; Mid-Atlantic: 239 -> 132). As in the
-// sweeps, a step that lets Gamma into more of the cells around is put back.
-// Each vertex's first position goes to `moved` (for the undo); returns the
-// vertices a step hid (then it stops).
-std::vector<int32_t> Optimiser::relax_link(int32_t d, const GammaCorner &corner, std::vector<MovedVertex> &moved) {
-    std::vector<int32_t> link;
-    tri_.for_each_in_star(d, [&](int32_t s) { link.push_back(tri_.vertex(s, (tri_.local_index(s, d) + 1) % 3)); });
-    auto crossings = [&](int32_t u) { return stars_gamma_crossings(&u, 1, [&](int32_t w) { return generator(w); }, false); };
-    std::vector<int32_t> buried;
-    for (int32_t u : link) {
-        if (on_segment_[u] >= 0 || !std::binary_search(corner.region.begin(), corner.region.end(), u)) continue;
-        const MovedVertex before{u, tri_.lifted(u), h_at_[u]};
-        if (std::none_of(moved.begin(), moved.end(), [&](const MovedVertex &m) { return m.v == u; }))
-            moved.push_back(before);
-        const int crossed = crossings(u);
-        buried = odt_step(u);
-        if (!buried.empty()) break;
-        const int now = crossings(u);
-        if (now < 0 || now > crossed) {
-            buried = tri_.place(u, before.lifted);
-            h_at_[u] = before.h;
-            if (!buried.empty()) break;
-        }
-    }
-    return buried;
-}
-
-// A site nearer than collapse_ratio h to a vertex off Gamma has no room for
-// a vertex of its own (the most common reason a corner vertex is not kept):
-// that vertex, removed, gives it the room, the new one taking its place
-// (the neighbourhood then has as many vertices as before). Judged as
-// try_corner_vertex judges, over the corner's region and the removed
-// vertex's closed star, both claimed; the slot of the new vertex, or -1 with
-// the mesh as it was (the vertex restored).
-int32_t Optimiser::try_corner_relocation(const Vec3 &at, const GammaCorner &corner, std::vector<uint8_t> &locked) {
-    int32_t u = -1;
-    double nearest = o_.collapse_ratio * h_(at);
-    for (int32_t w : corner.region) {
-        if (on_segment_[w] >= 0 || w == corner.p || w == corner.q) continue;
-        const double distance = geom::norm(tri_.direction(w) - at);
-        if (distance < nearest) nearest = distance, u = w;
-    }
-    if (u < 0) return -1;
-    const std::vector<int32_t> star = closed_stars({u});
-    std::vector<int32_t> beyond;  // u's closed star outside the corner's region
-    std::set_difference(star.begin(), star.end(), corner.region.begin(), corner.region.end(), std::back_inserter(beyond));
-    for (int32_t w : beyond)
-        if (locked[w]) return -1;
-    GammaCorner wider = corner;
-    wider.region.clear();
-    std::set_union(corner.region.begin(), corner.region.end(), star.begin(), star.end(), std::back_inserter(wider.region));
-    wider.gamma_edges = gamma_edges_among(wider.region);
-    wider.obtuse_before = obtuse_touching(wider.region);
-    // (u is not a vertex of the corner's triangle: its slot stays the same.)
-    const int32_t near_u = tri_.remove(u);
-    const int32_t d = try_corner_vertex(at, wider).vertex;
-    if (d < 0) {
-        tri_.restore_removed(u, near_u);
-        return -1;
-    }
-    for (int32_t w : beyond) locked[w] = 1;
-    for (int32_t w : star) changed_at_[w] = clock_;
-    return d;
-}
-
-// support_gamma_corners' test of its new vertex d.
-// The obtuse triangles around when it helps, else -1.
-int Optimiser::corner_vertex_helps(int32_t d, const GammaCorner &corner) const {
-    if (!tri_.in_triangulation(d)) return -1;
-    const Vec3 x = tri_.direction(d);
-    bool ok = true;
-    tri_.for_each_in_star(d, [&](int32_t s) {
-        const int32_t u = tri_.vertex(s, (tri_.local_index(s, d) + 1) % 3);
-        const double h = 0.5 * (static_cast<double>(h_at_[d]) + static_cast<double>(h_at_[u]));
-        const double floor = on_segment_[u] >= 0 ? kCornerEdge : o_.collapse_ratio;
-        ok = ok && std::binary_search(corner.region.begin(), corner.region.end(), u) &&
-             geom::norm(x - tri_.direction(u)) >= floor * h;
-    });
-    for (const auto &[a, c] : corner.gamma_edges) ok = ok && has_edge(a, c);
-    if (!ok || has_triangle(corner.b, corner.p, corner.q)) return -1;
-    // With corner_cells_clear, its cell stays clear of Gamma (gamma_crossings):
-    // at 60 km on the coastlines and rivers that keeps 380 edges to cells off
-    // Gamma out of Tri|Gamma, and 110 obtuse triangles in the mesh.
-    // (d is off Gamma: every spoke of its star counts.)
-    if (o_.corner_cells_clear && stars_gamma_crossings(&d, 1, [&](int32_t u) { return generator(u); }, false) != 0)
-        return -1;
-    std::vector<int32_t> around = corner.region;
-    around.push_back(d);
-    const int obtuse = obtuse_touching(around);
-    return obtuse <= corner.obtuse_before ? obtuse : -1;
-}
-
-// A corner no vertex can support (its legs along Gamma are too short to
-// make room for one: Gamma wiggles below the spacing there, its vertices
-// 0.3-0.6 h apart) may lose one of its triangle's vertices on Gamma
-// instead: the chord between that vertex's two neighbours along Gamma then
-// carries Gamma, as the boundary refinement would have left it had the
-// chord met its bounds. Taken only when the chord does (chord_carries_gamma:
-// l < alpha h, eps < beta h), every other edge along Gamma there stays,
-// Gamma enters no more cells off it, no edge between v's neighbours is
-// longer than split_ratio h, and the triangles around have no more obtuse
-// ones (the obtuse angle then sits off Gamma's corner, where the sweeps and
-// mends can reshape it: coast + rivers 60 km, 43 obtuse left with "fewer",
-// 40 with "no more"). Else v is put back
-// (restore_removed: the same regular triangles).
-bool Optimiser::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner) {
-    if (on_segment_[v] < 0 || !tri_.in_triangulation(v)) return false;
-    int32_t along[2], n_along = 0;  // v's neighbours along Gamma
-    for (const auto &[a, c] : corner.gamma_edges) {
-        if (a != v && c != v) continue;
-        if (n_along == 2) return false;  // a junction of Gamma: its vertex stays
-        along[n_along++] = a == v ? c : a;
-    }
-    if (n_along != 2) return false;
-    std::vector<int32_t> link;
-    tri_.for_each_in_star(v, [&](int32_t s) { link.push_back(tri_.vertex(s, (tri_.local_index(s, v) + 1) % 3)); });
-    auto at = [&](int32_t u) { return generator(u); };
-    const int crossed = stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
-    if (crossed < 0) return false;
-    const int32_t near = tri_.remove(v);
-    bool ok = chord_carries_gamma(along[0], along[1]);
-    for (const auto &[a, c] : corner.gamma_edges) ok = ok && (a == v || c == v || has_edge(a, c));
-    for (int32_t u : link) {
-        if (!ok) break;
-        tri_.for_each_in_star(u, [&](int32_t s) {
-            const int32_t w = tri_.vertex(s, (tri_.local_index(s, u) + 1) % 3);
-            const double h = 0.5 * (static_cast<double>(h_at_[u]) + static_cast<double>(h_at_[w]));
-            ok = ok && geom::norm(tri_.direction(u) - tri_.direction(w)) <= o_.split_ratio * h;
-        });
-    }
-    if (ok) {
-        const int now = stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
-        ok = now >= 0 && now <= crossed;
-    }
-    if (ok) {
-        std::vector<int32_t> around;
-        std::copy_if(corner.region.begin(), corner.region.end(), std::back_inserter(around),
-                     [&](int32_t u) { return u != v; });
-        ok = obtuse_touching(around) <= corner.obtuse_before;
-    }
-    if (!ok) tri_.restore_removed(v, near);
-    return ok;
-}
-
-// Whether the edge (a, c), both on Gamma, is a restricted edge of their
-// part that meets the boundary refinement's bounds (paper section 5.1):
-// l < alpha h and eps < beta h, h at its midpoint.
-bool Optimiser::chord_carries_gamma(int32_t a, int32_t c) const {
-    bool carries = false;
-    tri_.for_each_in_star(a, [&](int32_t s) {
-        const int i = tri_.local_index(s, a);
-        if (tri_.vertex(s, (i + 1) % 3) != c) return;
-        const int k = (i + 2) % 3;  // the edge opposite the apex: (a, c)
-        const int32_t apex = tri_.vertex(s, k), across = tri_.vertex(tri_.neighbour(s, k), tri_.mirror_edge(s, k));
-        refine::RestrictedEdge e;
-        if (!runs_along_gamma(a, c, apex, across) || !refine::restricted_crossing(tri_, s, k, arcs_, &e)) return;
-        if (gamma_->segment_part(e.arc) != gamma_->segment_part(on_segment_[a])) return;
-        const Vec3 xa = tri_.direction(a), xc = tri_.direction(c), mid = geom::normalized(xa + xc);
-        const double h = h_(mid);
-        carries = geom::arc_length(xa, xc) < o_.gamma_alpha * h && geom::arc_length(mid, e.centre) < o_.gamma_beta * h;
-    });
-    return carries;
-}
-
-// The edges along Gamma (runs_along_gamma) between two of `vertices`
-// (sorted), each once.
-std::vector<std::pair<int32_t, int32_t>> Optimiser::gamma_edges_among(const std::vector<int32_t> &vertices) const {
-    std::vector<std::pair<int32_t, int32_t>> edges;
-    for (int32_t v : vertices) {
-        if (on_segment_[v] < 0) continue;
-        tri_.for_each_in_star(v, [&](int32_t s) {
-            const int i = tri_.local_index(s, v);
-            const int32_t c = tri_.vertex(s, (i + 1) % 3);  // the edge (v, c) once, from v's side
-            if (on_segment_[c] < 0 || v > c) return;
-            const int32_t apex = tri_.vertex(s, (i + 2) % 3);
-            const int e = (i + 2) % 3;  // the edge opposite apex: (v, c)
-            const int32_t across = tri_.vertex(tri_.neighbour(s, e), tri_.mirror_edge(s, e));
-            if (runs_along_gamma(v, c, apex, across)) edges.push_back({v, c});
-        });
-    }
-    return edges;
-}
-
-bool Optimiser::has_triangle(int32_t a, int32_t b, int32_t c) const {
-    bool found = false;
-    tri_.for_each_in_star(a, [&](int32_t s) {
-        const int i = tri_.local_index(s, a);
-        const int32_t u = tri_.vertex(s, (i + 1) % 3), w = tri_.vertex(s, (i + 2) % 3);
-        found = found || (u == b && w == c) || (u == c && w == b);
-    });
-    return found;
-}
-
-bool Optimiser::has_edge(int32_t a, int32_t b) const {
-    bool found = false;
-    tri_.for_each_in_star(a, [&](int32_t s) {
-        found = found || tri_.vertex(s, 0) == b || tri_.vertex(s, 1) == b || tri_.vertex(s, 2) == b;
-    });
-    return found;
-}
-
-// The obtuse triangles with a vertex among `vertices` (each counted once).
-int Optimiser::obtuse_touching(const std::vector<int32_t> &vertices) const {
-    int obtuse = 0;
-    for (int32_t s : tri_.triangles_around(vertices))
-        obtuse += largest_angle_cosine(tri_.direction(tri_.vertex(s, 0)), tri_.direction(tri_.vertex(s, 1)),
-                                       tri_.direction(tri_.vertex(s, 2))) < 0;
-    return obtuse;
-}
-
 // A new vertex at the midpoint of (a, b), with the mean of their weights;
 // its slot, or -1 if it came out hidden (it is then removed again).
 int32_t Optimiser::insert_between(int32_t a, int32_t b) {
@@ -2000,12 +1365,12 @@ OptimiseStats Optimiser::run() {
     return stats_;
 }
 
-}  // namespace
+}  // namespace detail
 
 OptimiseStats optimise(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
                        const features::Network *gamma, const refine::SpacingRadians &h,
                        const OptimiseOptions &options) {
-    Optimiser o(ctx, tri, on_segment, gamma, h, options);
+    detail::Optimiser o(ctx, tri, on_segment, gamma, h, options);
     return o.run();
 }
 

@@ -1,0 +1,427 @@
+// Obtuse corners on Gamma (the shape phase's support_gamma_corners): a
+// vertex off Gamma where one fits, else a vertex on Gamma taken out.
+#include <algorithm>
+#include <cstddef>
+#include <iterator>
+#include <vector>
+
+#include "core/error.hpp"
+#include "geom/sphere.hpp"
+#include "optim/optimiser.hpp"
+#include "refine/restricted.hpp"
+
+namespace um::optim::detail {
+
+namespace {
+
+// A vertex support_gamma_corners adds may be this close (in units of h) to
+// a vertex on Gamma, and collapse_ratio h to others: Gamma's own vertices
+// are often closer together than h where it bends. On the coastline case
+// at 60 km (before the bisector tries), 0.3 takes the obtuse triangles from
+// 668 to 342 (0.4: 359; the collapse ratio, 0.5: 435). Its ODT steps: 3 (6
+// mend 4 more). With the neighbours' steps (relax_link) and the removals
+// of vertices on Gamma (try_gamma_vertex_removal), 0.2 leaves 40 obtuse
+// triangles at 60 km, 11 at 120 km and 16 at 240 km (0.25: 40, 12, 22;
+// 0.3: 44, 18 and one off-centre, 18).
+constexpr double kCornerEdge = 0.2;
+constexpr int kCornerSteps = 3;
+// Where a corner vertex is tried when the circumcentre fails: these many h
+// from the corner along its bisector, in turn. On the coastline at 60 km:
+// 0.6 alone leaves 304 obtuse triangles (0.45: 314, 0.75: 311), then 0.8 and
+// 0.45 276 (and 1.0 after those 272).
+constexpr double kBisectorSpokes[] = {0.6, 0.8, 0.45};
+// ... and across the corner's wedge (corner_sites).
+constexpr double kWedgeShares[] = {0.2, 0.35, 0.5, 0.65, 0.8};
+constexpr double kWedgeSpokes[] = {0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9};
+// A site too near a vertex off Gamma may take its place
+// (try_corner_relocation): the circumcentre's and the bisector's sites.
+constexpr size_t kRelocationSites = 1 + std::size(kBisectorSpokes);
+
+}  // namespace
+
+// Obtuse corners on Gamma. A vertex on Gamma with a single spoke off it on
+// one side shares that side's half turn between two triangles, and a
+// triangle across a bend or a narrow inlet with all three vertices on Gamma
+// has the bend's angle: no move along Gamma mends either (they are most of
+// the obtuse triangles left on coastlines). Each such triangle gets a
+// vertex off Gamma near its circumcentre, pulled towards the obtuse corner
+// (so strictly inside the circumcircle: the triangle goes, the corner gains
+// a spoke and splits its angle), or along the corner's bisector or across
+// its wedge (corner_sites), kept only when the triangle is gone, the triangles around have
+// no more obtuse ones than before (an obtuse angle moved off Gamma's corner
+// is one the sweeps and mends can still reshape: coast + rivers 60 km,
+// 277 -> 124 obtuse, against "fewer": Mid-Atlantic 612 -> 318),
+// its edges are at least kCornerEdge h to Gamma's vertices and
+// collapse_ratio h to others, and every edge along Gamma there is still an
+// edge (try_corner_vertex, corner_vertex_helps). Where none is kept, a
+// vertex of the triangle on Gamma may be taken out instead
+// (try_gamma_vertex_removal). Serial, in slot order, one change per
+// neighbourhood; returns the changes (counted in stats_ by kind).
+int64_t Optimiser::support_gamma_corners() {
+    if (!gamma_) return 0;
+    auto gamma_corner = [&](int32_t t) {  // the obtuse corner's index, when on Gamma; else -1
+        Vec3 x[3];
+        for (int k = 0; k < 3; ++k) x[k] = tri_.direction(tri_.vertex(t, k));
+        double l[3];
+        for (int k = 0; k < 3; ++k) l[k] = geom::dot(x[(k + 1) % 3] - x[(k + 2) % 3], x[(k + 1) % 3] - x[(k + 2) % 3]);
+        const int k = l[0] >= l[1] && l[0] >= l[2] ? 0 : (l[1] >= l[2] ? 1 : 2);
+        return on_segment_[tri_.vertex(t, k)] >= 0 && largest_angle_cosine(x[0], x[1], x[2]) < 0 ? k : -1;
+    };
+    const std::vector<int32_t> found = live_triangles_where([&](int32_t t) { return gamma_corner(t) >= 0; });
+    std::vector<uint8_t> locked(static_cast<size_t>(tri_.vertex_slots()), 0);
+    int64_t done = 0;
+    for (int32_t t : found) {
+        if (tri_.is_free(t)) continue;
+        const int k = gamma_corner(t);
+        if (k < 0) continue;
+        const int32_t b = tri_.vertex(t, k), p = tri_.vertex(t, (k + 1) % 3), q = tri_.vertex(t, (k + 2) % 3);
+        const int32_t y = tri_.vertex(tri_.neighbour(t, k), tri_.mirror_edge(t, k));
+        // (A vertex beyond an edge along Gamma would sit across it.)
+        const bool opposite_gamma = runs_along_gamma(p, q, b, y);
+        // The region the new vertex may change, claimed: the closed stars of t's vertices.
+        const std::vector<int32_t> region = closed_stars({b, p, q});
+        if (!claim(region, locked)) continue;
+        auto release = [&] {  // nothing changed there: free again
+            for (int32_t u : region) locked[u] = 0;
+        };
+        const GammaCorner corner{t, b, p, q, region, gamma_edges_among(region), obtuse_touching(region)};
+        // The sites in two tiers: the circumcentre's and the bisector's, then
+        // (when none of those helps) the wedge's. In each, every site is
+        // tried and undone (up to one that leaves no obtuse triangle
+        // around), and those that helped are put in again, fewest obtuse
+        // triangles left first (then in site order), until one is kept (a
+        // trial done again after others may find other slots, and so come out
+        // otherwise). Against keeping the first site that helps, coast +
+        // rivers 60 km: 29 -> 23 obtuse, Mid-Atlantic 93 -> 82; against
+        // trying every site as one tier (24 and 79), half the trials.
+        const std::vector<Vec3> sites = opposite_gamma ? std::vector<Vec3>{} : corner_sites(corner);
+        const size_t first_sites = std::min(sites.size(), kRelocationSites);
+        int32_t d = -1;
+        auto keep_best_of = [&](size_t from, size_t to) {
+            std::vector<std::pair<int, size_t>> helping;  // (obtuse left, site)
+            for (size_t i = from; i < to; ++i) {
+                const CornerTrial trial = try_corner_vertex(sites[i], corner, false);
+                if (trial.obtuse >= 0) helping.push_back({trial.obtuse, i});
+                if (trial.obtuse == 0) break;
+            }
+            std::sort(helping.begin(), helping.end());
+            for (size_t i = 0; i < helping.size() && d < 0; ++i)
+                d = try_corner_vertex(sites[helping[i].second], corner).vertex;
+        };
+        keep_best_of(0, first_sites);
+        if (d < 0) keep_best_of(first_sites, sites.size());
+        for (size_t i = 0; i < first_sites && d < 0; ++i) d = try_corner_relocation(sites[i], corner, locked);
+        if (d < 0) {
+            int32_t gone = -1;
+            for (int32_t v : {b, p, q})
+                if (gone < 0 && try_gamma_vertex_removal(v, corner)) gone = v;
+            if (gone < 0) {
+                release();
+                continue;
+            }
+            for (int32_t u : corner.region)
+                if (u != gone) changed_at_[u] = clock_;
+            ++stats_.gamma_vertices_removed, ++done;
+            continue;
+        }
+        changed_at_[d] = clock_;
+        for (int32_t s : tri_.star(d))
+            for (int j = 0; j < 3; ++j) changed_at_[tri_.vertex(s, j)] = clock_;
+        locked.resize(static_cast<size_t>(tri_.vertex_slots()), 1);
+        ++stats_.corner_vertices, ++done;
+    }
+    return done;
+}
+
+// Where a corner vertex is tried: near the circumcentre of the corner's
+// triangle, along the corner's bisector (kBisectorSpokes), then across the
+// corner's wedge (kWedgeShares of the way from the leg to p to the leg to
+// q, kWedgeSpokes h from the corner). The wedge sites meet corners whose
+// legs are short or unequal: on the coastlines and rivers at 60 km they
+// take the obtuse triangles left from 40 to 23 (Mid-Atlantic: 115 to 82).
+std::vector<Vec3> Optimiser::corner_sites(const GammaCorner &corner) const {
+    constexpr double kPull = 0.2;  // of the way from the circumcentre to the corner
+    const Vec3 xb = tri_.direction(corner.b), xp = tri_.direction(corner.p), xq = tri_.direction(corner.q);
+    const Vec3 centre = geom::normalized(geom::cross(xp - xb, xq - xb));
+    const Vec3 to_p = geom::normalized(xp - geom::dot(xb, xp) * xb), to_q = geom::normalized(xq - geom::dot(xb, xq) * xb);
+    const double h = static_cast<double>(h_at_[corner.b]);
+    std::vector<Vec3> sites{geom::normalized(centre + kPull * (xb - centre))};
+    const Vec3 bisector = geom::normalized(to_p + to_q);
+    for (double spoke : kBisectorSpokes) sites.push_back(geom::normalized(xb + (spoke * h) * bisector));
+    for (double share : kWedgeShares) {
+        const Vec3 direction = geom::normalized((1 - share) * to_p + share * to_q);
+        for (double spoke : kWedgeSpokes) sites.push_back(geom::normalized(xb + (spoke * h) * direction));
+    }
+    return sites;
+}
+
+// Inserts a corner vertex at `at` (near the corner's triangle) and keeps it
+// if it helps where it is put or after one of its ODT steps, each followed
+// by one of its neighbours off Gamma (relax_link; the sweeps will move them,
+// and a vertex just past the chord it cut leaves the triangles beyond it
+// obtuse until they do). Without `keep` it is taken out again even then
+// (a trial, scored by the obtuse triangles it leaves around). Not kept,
+// the mesh is as it was (every point back bit for bit, what was hidden back
+// in).
+Optimiser::CornerTrial Optimiser::try_corner_vertex(const Vec3 &at, const GammaCorner &corner, bool keep) {
+    std::vector<int32_t> buried;
+    int32_t d = -1;
+    try {
+        d = tri_.insert(at, 0.0, next_id_++, &buried, corner.triangle);
+    } catch (const Error &e) {
+        // A vertex is already there (one kept at this corner before, not
+        // moved since): nothing to add, and the insertion left the mesh as it was.
+        if (e.status() == UM_ERR_DUPLICATE_POINTS) return {};
+        throw;
+    }
+    grow_slots();
+    h_at_[d] = static_cast<float>(h_(at));
+    std::vector<MovedVertex> moved;  // d's neighbours the steps moved, as they were before
+    CornerTrial trial;
+    if (buried.empty()) trial.obtuse = corner_vertex_helps(d, corner);
+    for (int step = 0; step < kCornerSteps && trial.obtuse < 0 && buried.empty() && tri_.in_triangulation(d); ++step) {
+        buried = odt_step(d);
+        if (buried.empty() && tri_.in_triangulation(d)) buried = relax_link(d, corner, moved);
+        if (buried.empty()) trial.obtuse = corner_vertex_helps(d, corner);
+    }
+    if (trial.obtuse >= 0 && keep) {
+        for (const MovedVertex &m : moved) changed_at_[m.v] = clock_;
+        trial.vertex = d;
+        return trial;
+    }
+    // Out again, its neighbours back where they were, and what was hidden
+    // (among lightly weighted vertices) back in.
+    std::vector<int32_t> hidden = buried;
+    const int32_t near = tri_.remove(d);
+    for (auto m = moved.rbegin(); m != moved.rend(); ++m) {
+        const std::vector<int32_t> hid = tri_.place(m->v, m->lifted);
+        hidden.insert(hidden.end(), hid.begin(), hid.end());
+        h_at_[m->v] = m->h;
+    }
+    for (int32_t u : hidden)
+        if (u != d && !tri_.in_triangulation(u) && !tri_.is_removed(u)) tri_.restore_hidden(u, near);
+    return trial;
+}
+
+// An ODT step of v to its star's ODT point; the vertices it hid.
+std::vector<int32_t> Optimiser::odt_step(int32_t v) {
+    const Vec3 to = star_odt_point(v);
+    std::vector<int32_t> buried = tri_.move(v, to);
+    h_at_[v] = static_cast<float>(h_(to));
+    return buried;
+}
+
+// An ODT step of each of new vertex d's neighbours off Gamma in the corner's
+// region, so that the neighbourhood makes room for d: alone, d keeps an
+// obtuse angle among neighbours placed for the mesh without it (coast +
+// rivers 60 km: 83 -> 54 obtuse; Mid-Atlantic: 239 -> 132). As in the
+// sweeps, a step that lets Gamma into more of the cells around is put back.
+// Each vertex's first position goes to `moved` (for the undo); returns the
+// vertices a step hid (then it stops).
+std::vector<int32_t> Optimiser::relax_link(int32_t d, const GammaCorner &corner, std::vector<MovedVertex> &moved) {
+    std::vector<int32_t> link;
+    tri_.for_each_in_star(d, [&](int32_t s) { link.push_back(tri_.vertex(s, (tri_.local_index(s, d) + 1) % 3)); });
+    auto crossings = [&](int32_t u) { return stars_gamma_crossings(&u, 1, [&](int32_t w) { return generator(w); }, false); };
+    std::vector<int32_t> buried;
+    for (int32_t u : link) {
+        if (on_segment_[u] >= 0 || !std::binary_search(corner.region.begin(), corner.region.end(), u)) continue;
+        const MovedVertex before{u, tri_.lifted(u), h_at_[u]};
+        if (std::none_of(moved.begin(), moved.end(), [&](const MovedVertex &m) { return m.v == u; }))
+            moved.push_back(before);
+        const int crossed = crossings(u);
+        buried = odt_step(u);
+        if (!buried.empty()) break;
+        const int now = crossings(u);
+        if (now < 0 || now > crossed) {
+            buried = tri_.place(u, before.lifted);
+            h_at_[u] = before.h;
+            if (!buried.empty()) break;
+        }
+    }
+    return buried;
+}
+
+// A site nearer than collapse_ratio h to a vertex off Gamma has no room for
+// a vertex of its own (the most common reason a corner vertex is not kept):
+// that vertex, removed, gives it the room, the new one taking its place
+// (the neighbourhood then has as many vertices as before). Judged as
+// try_corner_vertex judges, over the corner's region and the removed
+// vertex's closed star, both claimed; the slot of the new vertex, or -1 with
+// the mesh as it was (the vertex restored).
+int32_t Optimiser::try_corner_relocation(const Vec3 &at, const GammaCorner &corner, std::vector<uint8_t> &locked) {
+    int32_t u = -1;
+    double nearest = o_.collapse_ratio * h_(at);
+    for (int32_t w : corner.region) {
+        if (on_segment_[w] >= 0 || w == corner.p || w == corner.q) continue;
+        const double distance = geom::norm(tri_.direction(w) - at);
+        if (distance < nearest) nearest = distance, u = w;
+    }
+    if (u < 0) return -1;
+    const std::vector<int32_t> star = closed_stars({u});
+    std::vector<int32_t> beyond;  // u's closed star outside the corner's region
+    std::set_difference(star.begin(), star.end(), corner.region.begin(), corner.region.end(), std::back_inserter(beyond));
+    for (int32_t w : beyond)
+        if (locked[w]) return -1;
+    GammaCorner wider = corner;
+    wider.region.clear();
+    std::set_union(corner.region.begin(), corner.region.end(), star.begin(), star.end(), std::back_inserter(wider.region));
+    wider.gamma_edges = gamma_edges_among(wider.region);
+    wider.obtuse_before = obtuse_touching(wider.region);
+    // (u is not a vertex of the corner's triangle: its slot stays the same.)
+    const int32_t near_u = tri_.remove(u);
+    const int32_t d = try_corner_vertex(at, wider).vertex;
+    if (d < 0) {
+        tri_.restore_removed(u, near_u);
+        return -1;
+    }
+    for (int32_t w : beyond) locked[w] = 1;
+    for (int32_t w : star) changed_at_[w] = clock_;
+    return d;
+}
+
+// support_gamma_corners' test of its new vertex d.
+// The obtuse triangles around when it helps, else -1.
+int Optimiser::corner_vertex_helps(int32_t d, const GammaCorner &corner) const {
+    if (!tri_.in_triangulation(d)) return -1;
+    const Vec3 x = tri_.direction(d);
+    bool ok = true;
+    tri_.for_each_in_star(d, [&](int32_t s) {
+        const int32_t u = tri_.vertex(s, (tri_.local_index(s, d) + 1) % 3);
+        const double h = 0.5 * (static_cast<double>(h_at_[d]) + static_cast<double>(h_at_[u]));
+        const double floor = on_segment_[u] >= 0 ? kCornerEdge : o_.collapse_ratio;
+        ok = ok && std::binary_search(corner.region.begin(), corner.region.end(), u) &&
+             geom::norm(x - tri_.direction(u)) >= floor * h;
+    });
+    for (const auto &[a, c] : corner.gamma_edges) ok = ok && has_edge(a, c);
+    if (!ok || has_triangle(corner.b, corner.p, corner.q)) return -1;
+    // With corner_cells_clear, its cell stays clear of Gamma (gamma_crossings):
+    // at 60 km on the coastlines and rivers that keeps 380 edges to cells off
+    // Gamma out of Tri|Gamma, and 110 obtuse triangles in the mesh.
+    // (d is off Gamma: every spoke of its star counts.)
+    if (o_.corner_cells_clear && stars_gamma_crossings(&d, 1, [&](int32_t u) { return generator(u); }, false) != 0)
+        return -1;
+    std::vector<int32_t> around = corner.region;
+    around.push_back(d);
+    const int obtuse = obtuse_touching(around);
+    return obtuse <= corner.obtuse_before ? obtuse : -1;
+}
+
+// A corner no vertex can support (its legs along Gamma are too short to
+// make room for one: Gamma wiggles below the spacing there, its vertices
+// 0.3-0.6 h apart) may lose one of its triangle's vertices on Gamma
+// instead: the chord between that vertex's two neighbours along Gamma then
+// carries Gamma, as the boundary refinement would have left it had the
+// chord met its bounds. Taken only when the chord does (chord_carries_gamma:
+// l < alpha h, eps < beta h), every other edge along Gamma there stays,
+// Gamma enters no more cells off it, no edge between v's neighbours is
+// longer than split_ratio h, and the triangles around have no more obtuse
+// ones (the obtuse angle then sits off Gamma's corner, where the sweeps and
+// mends can reshape it: coast + rivers 60 km, 43 obtuse left with "fewer",
+// 40 with "no more"). Else v is put back
+// (restore_removed: the same regular triangles).
+bool Optimiser::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner) {
+    if (on_segment_[v] < 0 || !tri_.in_triangulation(v)) return false;
+    int32_t along[2], n_along = 0;  // v's neighbours along Gamma
+    for (const auto &[a, c] : corner.gamma_edges) {
+        if (a != v && c != v) continue;
+        if (n_along == 2) return false;  // a junction of Gamma: its vertex stays
+        along[n_along++] = a == v ? c : a;
+    }
+    if (n_along != 2) return false;
+    std::vector<int32_t> link;
+    tri_.for_each_in_star(v, [&](int32_t s) { link.push_back(tri_.vertex(s, (tri_.local_index(s, v) + 1) % 3)); });
+    auto at = [&](int32_t u) { return generator(u); };
+    const int crossed = stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
+    if (crossed < 0) return false;
+    const int32_t near = tri_.remove(v);
+    bool ok = chord_carries_gamma(along[0], along[1]);
+    for (const auto &[a, c] : corner.gamma_edges) ok = ok && (a == v || c == v || has_edge(a, c));
+    for (int32_t u : link) {
+        if (!ok) break;
+        tri_.for_each_in_star(u, [&](int32_t s) {
+            const int32_t w = tri_.vertex(s, (tri_.local_index(s, u) + 1) % 3);
+            const double h = 0.5 * (static_cast<double>(h_at_[u]) + static_cast<double>(h_at_[w]));
+            ok = ok && geom::norm(tri_.direction(u) - tri_.direction(w)) <= o_.split_ratio * h;
+        });
+    }
+    if (ok) {
+        const int now = stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
+        ok = now >= 0 && now <= crossed;
+    }
+    if (ok) {
+        std::vector<int32_t> around;
+        std::copy_if(corner.region.begin(), corner.region.end(), std::back_inserter(around),
+                     [&](int32_t u) { return u != v; });
+        ok = obtuse_touching(around) <= corner.obtuse_before;
+    }
+    if (!ok) tri_.restore_removed(v, near);
+    return ok;
+}
+
+// Whether the edge (a, c), both on Gamma, is a restricted edge of their
+// part that meets the boundary refinement's bounds (paper section 5.1):
+// l < alpha h and eps < beta h, h at its midpoint.
+bool Optimiser::chord_carries_gamma(int32_t a, int32_t c) const {
+    bool carries = false;
+    tri_.for_each_in_star(a, [&](int32_t s) {
+        const int i = tri_.local_index(s, a);
+        if (tri_.vertex(s, (i + 1) % 3) != c) return;
+        const int k = (i + 2) % 3;  // the edge opposite the apex: (a, c)
+        const int32_t apex = tri_.vertex(s, k), across = tri_.vertex(tri_.neighbour(s, k), tri_.mirror_edge(s, k));
+        refine::RestrictedEdge e;
+        if (!runs_along_gamma(a, c, apex, across) || !refine::restricted_crossing(tri_, s, k, arcs_, &e)) return;
+        if (gamma_->segment_part(e.arc) != gamma_->segment_part(on_segment_[a])) return;
+        const Vec3 xa = tri_.direction(a), xc = tri_.direction(c), mid = geom::normalized(xa + xc);
+        const double h = h_(mid);
+        carries = geom::arc_length(xa, xc) < o_.gamma_alpha * h && geom::arc_length(mid, e.centre) < o_.gamma_beta * h;
+    });
+    return carries;
+}
+
+// The edges along Gamma (runs_along_gamma) between two of `vertices`
+// (sorted), each once.
+std::vector<std::pair<int32_t, int32_t>> Optimiser::gamma_edges_among(const std::vector<int32_t> &vertices) const {
+    std::vector<std::pair<int32_t, int32_t>> edges;
+    for (int32_t v : vertices) {
+        if (on_segment_[v] < 0) continue;
+        tri_.for_each_in_star(v, [&](int32_t s) {
+            const int i = tri_.local_index(s, v);
+            const int32_t c = tri_.vertex(s, (i + 1) % 3);  // the edge (v, c) once, from v's side
+            if (on_segment_[c] < 0 || v > c) return;
+            const int32_t apex = tri_.vertex(s, (i + 2) % 3);
+            const int e = (i + 2) % 3;  // the edge opposite apex: (v, c)
+            const int32_t across = tri_.vertex(tri_.neighbour(s, e), tri_.mirror_edge(s, e));
+            if (runs_along_gamma(v, c, apex, across)) edges.push_back({v, c});
+        });
+    }
+    return edges;
+}
+
+bool Optimiser::has_triangle(int32_t a, int32_t b, int32_t c) const {
+    bool found = false;
+    tri_.for_each_in_star(a, [&](int32_t s) {
+        const int i = tri_.local_index(s, a);
+        const int32_t u = tri_.vertex(s, (i + 1) % 3), w = tri_.vertex(s, (i + 2) % 3);
+        found = found || (u == b && w == c) || (u == c && w == b);
+    });
+    return found;
+}
+
+bool Optimiser::has_edge(int32_t a, int32_t b) const {
+    bool found = false;
+    tri_.for_each_in_star(a, [&](int32_t s) {
+        found = found || tri_.vertex(s, 0) == b || tri_.vertex(s, 1) == b || tri_.vertex(s, 2) == b;
+    });
+    return found;
+}
+
+// The obtuse triangles with a vertex among `vertices` (each counted once).
+int Optimiser::obtuse_touching(const std::vector<int32_t> &vertices) const {
+    int obtuse = 0;
+    for (int32_t s : tri_.triangles_around(vertices))
+        obtuse += largest_angle_cosine(tri_.direction(tri_.vertex(s, 0)), tri_.direction(tri_.vertex(s, 1)),
+                                       tri_.direction(tri_.vertex(s, 2))) < 0;
+    return obtuse;
+}
+
+}  // namespace um::optim::detail
