@@ -47,8 +47,8 @@ constexpr size_t kRelocationSites = 1 + std::size(kBisectorSpokes);
 // vertex off Gamma near its circumcentre, pulled towards the obtuse corner
 // (so strictly inside the circumcircle: the triangle goes, the corner gains
 // a spoke and splits its angle), or along the corner's bisector or across
-// its wedge (corner_sites), kept only when the triangle is gone, the triangles around have
-// no more obtuse ones than before (an obtuse angle moved off Gamma's corner
+// its wedge (corner_sites), kept only when the triangle is gone, the
+// triangles around have no more obtuse ones than before (an obtuse angle moved off Gamma's corner
 // is one the sweeps and mends can still reshape: coast + rivers 60 km,
 // 277 -> 124 obtuse, against "fewer": Mid-Atlantic 612 -> 318),
 // its edges are at least kCornerEdge h to Gamma's vertices and
@@ -56,7 +56,8 @@ constexpr size_t kRelocationSites = 1 + std::size(kBisectorSpokes);
 // edge (try_corner_vertex, corner_vertex_helps). Where none is kept, a
 // vertex of the triangle on Gamma may be taken out instead
 // (try_gamma_vertex_removal). Serial, in slot order, one change per
-// neighbourhood; returns the changes (counted in stats_ by kind).
+// neighbourhood (support_gamma_corner); returns the changes (counted in
+// stats_ by kind).
 int64_t Optimiser::support_gamma_corners() {
     if (!gamma_) return 0;
     auto gamma_corner = [&](int32_t t) {  // the obtuse corner's index, when on Gamma; else -1
@@ -76,7 +77,6 @@ int64_t Optimiser::support_gamma_corners() {
         if (k < 0) continue;
         const int32_t b = tri_.vertex(t, k), p = tri_.vertex(t, (k + 1) % 3), q = tri_.vertex(t, (k + 2) % 3);
         const int32_t y = tri_.vertex(tri_.neighbour(t, k), tri_.mirror_edge(t, k));
-        // (A vertex beyond an edge along Gamma would sit across it.)
         const bool opposite_gamma = runs_along_gamma(p, q, b, y);
         // The region the new vertex may change, claimed: the closed stars of t's vertices.
         const std::vector<int32_t> region = closed_stars({b, p, q});
@@ -85,52 +85,64 @@ int64_t Optimiser::support_gamma_corners() {
             for (int32_t u : region) locked[u] = 0;
         };
         const GammaCorner corner{t, b, p, q, region, gamma_edges_among(region), obtuse_touching(region)};
-        // The sites in two tiers: the circumcentre's and the bisector's, then
-        // (when none of those helps) the wedge's. In each, every site is
-        // tried and undone (up to one that leaves no obtuse triangle
-        // around), and those that helped are put in again, fewest obtuse
-        // triangles left first (then in site order), until one is kept (a
-        // trial done again after others may find other slots, and so come out
-        // otherwise). Against keeping the first site that helps, coast +
-        // rivers 60 km: 29 -> 23 obtuse, Mid-Atlantic 93 -> 82; against
-        // trying every site as one tier (24 and 79), half the trials.
-        const std::vector<Vec3> sites = opposite_gamma ? std::vector<Vec3>{} : corner_sites(corner);
-        const size_t first_sites = std::min(sites.size(), kRelocationSites);
-        int32_t d = -1;
-        auto keep_best_of = [&](size_t from, size_t to) {
-            std::vector<std::pair<int, size_t>> helping;  // (obtuse left, site)
-            for (size_t i = from; i < to; ++i) {
-                const CornerTrial trial = try_corner_vertex(sites[i], corner, false);
-                if (trial.obtuse >= 0) helping.push_back({trial.obtuse, i});
-                if (trial.obtuse == 0) break;
-            }
-            std::sort(helping.begin(), helping.end());
-            for (size_t i = 0; i < helping.size() && d < 0; ++i)
-                d = try_corner_vertex(sites[helping[i].second], corner).vertex;
-        };
-        keep_best_of(0, first_sites);
-        if (d < 0) keep_best_of(first_sites, sites.size());
-        for (size_t i = 0; i < first_sites && d < 0; ++i) d = try_corner_relocation(sites[i], corner, locked);
-        if (d < 0) {
-            int32_t gone = -1;
-            for (int32_t v : {b, p, q})
-                if (gone < 0 && try_gamma_vertex_removal(v, corner)) gone = v;
-            if (gone < 0) {
-                release();
-                continue;
-            }
-            for (int32_t u : corner.region)
-                if (u != gone) changed_at_[u] = clock_;
-            ++stats_.gamma_vertices_removed, ++done;
-            continue;
+        switch (support_gamma_corner(corner, opposite_gamma, locked)) {
+            case CornerChange::none: release(); break;
+            case CornerChange::vertex_added: ++stats_.corner_vertices, ++done; break;
+            case CornerChange::vertex_removed: ++stats_.gamma_vertices_removed, ++done; break;
         }
+    }
+    return done;
+}
+
+// One corner: a corner vertex at the best of its sites, else one taking the
+// place of a vertex off Gamma too near a site, else a vertex of the corner's
+// triangle on Gamma taken out. What changed is marked for the sweeps.
+Optimiser::CornerChange Optimiser::support_gamma_corner(const GammaCorner &corner, bool opposite_gamma,
+                                                        std::vector<uint8_t> &locked) {
+    // (A vertex beyond an edge along Gamma would sit across it: no sites.)
+    const std::vector<Vec3> sites = opposite_gamma ? std::vector<Vec3>{} : corner_sites(corner);
+    const size_t first_sites = std::min(sites.size(), kRelocationSites);
+    int32_t d = keep_best_corner_vertex(sites, 0, first_sites, corner);
+    if (d < 0) d = keep_best_corner_vertex(sites, first_sites, sites.size(), corner);
+    for (size_t i = 0; i < first_sites && d < 0; ++i) d = try_corner_relocation(sites[i], corner, locked);
+    if (d >= 0) {
         changed_at_[d] = clock_;
         for (int32_t s : tri_.star(d))
             for (int j = 0; j < 3; ++j) changed_at_[tri_.vertex(s, j)] = clock_;
         locked.resize(static_cast<size_t>(tri_.vertex_slots()), 1);
-        ++stats_.corner_vertices, ++done;
+        return CornerChange::vertex_added;
     }
-    return done;
+    for (int32_t v : {corner.b, corner.p, corner.q}) {
+        if (!try_gamma_vertex_removal(v, corner)) continue;
+        for (int32_t u : corner.region)
+            if (u != v) changed_at_[u] = clock_;
+        return CornerChange::vertex_removed;
+    }
+    return CornerChange::none;
+}
+
+// The sites [from, to) are one tier: every one is tried and undone (up to
+// one that leaves no obtuse triangle around), and those that helped are put
+// in again, fewest obtuse triangles left first (then in site order), until
+// one is kept (a trial done again after others may find other slots, and so
+// come out otherwise); its slot, or -1. Tiers against keeping the first
+// site that helps, coast + rivers 60 km: 29 -> 23 obtuse, Mid-Atlantic
+// 93 -> 82; against trying every site as one tier (24 and 79), half the
+// trials.
+int32_t Optimiser::keep_best_corner_vertex(const std::vector<Vec3> &sites, size_t from, size_t to,
+                                           const GammaCorner &corner) {
+    std::vector<std::pair<int, size_t>> helping;  // (obtuse left, site)
+    for (size_t i = from; i < to; ++i) {
+        const CornerTrial trial = try_corner_vertex(sites[i], corner, false);
+        if (trial.obtuse >= 0) helping.push_back({trial.obtuse, i});
+        if (trial.obtuse == 0) break;
+    }
+    std::sort(helping.begin(), helping.end());
+    for (const auto &[obtuse, i] : helping) {
+        const int32_t d = try_corner_vertex(sites[i], corner).vertex;
+        if (d >= 0) return d;
+    }
+    return -1;
 }
 
 // Where a corner vertex is tried: near the circumcentre of the corner's

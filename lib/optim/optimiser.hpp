@@ -174,6 +174,9 @@ private:
         int obtuse = -1;
     };
     CornerTrial try_corner_vertex(const Vec3 &at, const GammaCorner &corner, bool keep = true);
+    enum class CornerChange { none, vertex_added, vertex_removed };
+    CornerChange support_gamma_corner(const GammaCorner &corner, bool opposite_gamma, std::vector<uint8_t> &locked);
+    int32_t keep_best_corner_vertex(const std::vector<Vec3> &sites, size_t from, size_t to, const GammaCorner &corner);
     std::vector<Vec3> corner_sites(const GammaCorner &corner) const;
     struct MovedVertex {  // a vertex as it was before a trial moved it
         int32_t v;
