@@ -108,9 +108,12 @@ void coast_global_l_follows_gamma_where_not_filtered(void **) {
 // no more edges of Tri|Gamma to a vertex off Gamma than refined, but for
 // those of the vertices at obtuse corners (corner_vertices 1; with 2 they
 // too keep their cells clear). Measured at 120 km, edges to a vertex off
-// Gamma: refined 400; optimised 617 / 280 / 314 with corner_vertices 1 / 0
-// / 2 (1083 with 1 before the updates were held to Gamma; 556 with 1 while
-// a corner vertex had to leave fewer obtuse triangles, not only no more).
+// Gamma: refined 400; optimised 655 / 280 / 308 with corner_vertices 1 / 0
+// / 2 (617 / 280 / 314 before the wedge sites and the removals of Gamma
+// vertices; 1083 with 1 before the updates were held to Gamma; 556 with 1
+// while a corner vertex had to leave fewer obtuse triangles, not only no
+// more). Edges farther than beta h from Gamma: refined 1284, optimised
+// 1167 / 1238 / 1168.
 void expect_gamma_still_followed(const mesh::RefinedMesh &refined, const mesh::RefinedMesh &m, int corner_vertices) {
     auto census = [](const mesh::RefinedMesh &r) {
         struct {
