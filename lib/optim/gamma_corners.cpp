@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "geom/sphere.hpp"
 #include "optim/optimiser.hpp"
+#include "refine/boundary.hpp"
 #include "refine/restricted.hpp"
 
 namespace um::optim::detail {
@@ -234,8 +235,7 @@ std::vector<int32_t> Optimiser::odt_step(int32_t v) {
 // Each vertex's first position goes to `moved` (for the undo); returns the
 // vertices a step hid (then it stops).
 std::vector<int32_t> Optimiser::relax_link(int32_t d, const GammaCorner &corner, std::vector<MovedVertex> &moved) {
-    std::vector<int32_t> link;
-    tri_.for_each_in_star(d, [&](int32_t s) { link.push_back(tri_.vertex(s, (tri_.local_index(s, d) + 1) % 3)); });
+    const std::vector<int32_t> link = tri_.link(d);
     auto crossings = [&](int32_t u) { return stars_gamma_crossings(&u, 1, [&](int32_t w) { return generator(w); }, false); };
     std::vector<int32_t> buried;
     for (int32_t u : link) {
@@ -328,8 +328,9 @@ int Optimiser::corner_vertex_helps(int32_t d, const GammaCorner &corner) const {
 // carries Gamma, as the boundary refinement would have left it had the
 // chord met its bounds. Taken only when the chord does (chord_carries_gamma:
 // l < alpha h, eps < beta h), every other edge along Gamma there stays,
-// Gamma enters no more cells off it, no edge between v's neighbours is
-// longer than split_ratio h, and the triangles around have no more obtuse
+// Gamma enters no more cells off it, no edge at v's neighbours (the hole's
+// new ones among them) is longer than split_ratio h, and the triangles
+// around have no more obtuse
 // ones (the obtuse angle then sits off Gamma's corner, where the sweeps and
 // mends can reshape it: coast + rivers 60 km, 43 obtuse left with "fewer",
 // 40 with "no more"). Else v is put back
@@ -343,8 +344,7 @@ bool Optimiser::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner) {
         along[n_along++] = a == v ? c : a;
     }
     if (n_along != 2) return false;
-    std::vector<int32_t> link;
-    tri_.for_each_in_star(v, [&](int32_t s) { link.push_back(tri_.vertex(s, (tri_.local_index(s, v) + 1) % 3)); });
+    const std::vector<int32_t> link = tri_.link(v);
     auto at = [&](int32_t u) { return generator(u); };
     const int crossed = stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
     if (crossed < 0) return false;
@@ -386,9 +386,8 @@ bool Optimiser::chord_carries_gamma(int32_t a, int32_t c) const {
         refine::RestrictedEdge e;
         if (!runs_along_gamma(a, c, apex, across) || !refine::restricted_crossing(tri_, s, k, arcs_, &e)) return;
         if (gamma_->segment_part(e.arc) != gamma_->segment_part(on_segment_[a])) return;
-        const Vec3 xa = tri_.direction(a), xc = tri_.direction(c), mid = geom::normalized(xa + xc);
-        const double h = h_(mid);
-        carries = geom::arc_length(xa, xc) < o_.gamma_alpha * h && geom::arc_length(mid, e.centre) < o_.gamma_beta * h;
+        const refine::EdgeMeasure m = refine::measure(tri_, e, h_);  // the boundary refinement's own measure
+        carries = m.length < o_.gamma_alpha * m.h && m.eps < o_.gamma_beta * m.h;
     });
     return carries;
 }

@@ -377,8 +377,7 @@ private:
         // where the front did not expect it) would over-refine: take it back,
         // and re-measure the re-triangulated hole (not queued again).
         if (!territory_ && nearest_neighbour(tri_, v) < options_.filter * h_(p)) {
-            std::vector<int32_t> link;
-            tri_.for_each_in_star(v, [&](int32_t t) { link.push_back(tri_.vertex(t, (tri_.local_index(t, v) + 1) % 3)); });
+            const std::vector<int32_t> link = tri_.link(v);
             tri_.remove(v);
             for (int32_t u : link) tri_.for_each_in_star(u, [&](int32_t t) { classify(t); });
             give_up(c);

@@ -869,6 +869,12 @@ std::vector<int32_t> Triangulation::star(int32_t v) const {
     return out;
 }
 
+std::vector<int32_t> Triangulation::link(int32_t v) const {
+    std::vector<int32_t> out;
+    for_each_in_star(v, [&](int32_t t) { out.push_back(tris_[t].v[next(local_index(t, v))]); });
+    return out;
+}
+
 Vec3 Triangulation::orthocentre(int32_t t) const {
     const Vec3 &a = q_[tris_[t].v[0]], &b = q_[tris_[t].v[1]], &c = q_[tris_[t].v[2]];
     return geom::normalized(geom::cross(b - a, c - a));

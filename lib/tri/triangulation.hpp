@@ -107,6 +107,8 @@ public:
     std::vector<int32_t> hidden_ids() const;
     // Triangles around v, counter-clockwise seen from outside.
     std::vector<int32_t> star(int32_t v) const;
+    // v's neighbours in the same order: the vertex after v in each triangle of its star.
+    std::vector<int32_t> link(int32_t v) const;
     // The corner (0, 1, 2) of triangle t at vertex v, a vertex of t.
     int local_index(int32_t t, int32_t v) const {
         const int32_t *tv = tris_[t].v;
