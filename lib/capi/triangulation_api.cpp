@@ -71,12 +71,13 @@ void check_xyz(const double *xyz, int64_t n) {
     }
 }
 
-template <class DirectionFn>
-um_status create(um_context *ctx, int64_t n, DirectionFn direction, const double *weights,
-                 um_triangulation **out) {
+template <class DirectionFn, class KeyDirectionFn>
+um_status create(um_context *ctx, int64_t n, DirectionFn direction, KeyDirectionFn key_direction,
+                 const double *weights, um_triangulation **out) {
     auto handle = std::make_unique<um_triangulation>();
     handle->context = ctx->state;
-    handle->tri.build(*ctx->state, n, direction, weights);
+    handle->tri.prepare(*ctx->state, n, direction, weights, key_direction);
+    handle->tri.finish_build(*ctx->state);
     um::capi::register_handle(handle.get(), HandleKind::triangulation);
     *out = handle.release();
     return UM_OK;
@@ -122,7 +123,8 @@ UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const doubl
     // The unit vectors are freed before the triangulation's own storage grows.
     auto handle = std::make_unique<um_triangulation>();
     handle->context = ctx->state;
-    handle->tri.prepare(*ctx->state, n, [&](int64_t i) { return xyz[i]; }, weights);
+    auto direction = [&](int64_t i) { return xyz[i]; };
+    handle->tri.prepare(*ctx->state, n, direction, weights, direction);
     std::vector<Vec3>().swap(xyz);
     handle->tri.finish_build(*ctx->state);
     um::capi::register_handle(handle.get(), HandleKind::triangulation);
@@ -141,10 +143,9 @@ UM_API um_status um_triangulation_create_xyz(um_context *ctx, int64_t n, const d
     require_pointer(xyz, "xyz");
     check_xyz(xyz, n);
     check_weights(weights, n);
-    auto direction = [xyz](int64_t i) {
-        return um::geom::normalized({xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
-    };
-    return create(ctx, n, direction, weights, out);
+    auto raw = [xyz](int64_t i) { return Vec3{xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}; };
+    auto direction = [raw](int64_t i) { return um::geom::normalized(raw(i)); };
+    return create(ctx, n, direction, raw, weights, out);
     UM_API_END(context_state_or_null(ctx))
 }
 

@@ -125,20 +125,27 @@ uint64_t hilbert_key(const geom::Vec3 &p) {
     return (static_cast<uint64_t>(face) << (2 * kBitsPerAxis)) | hilbert_2d(cell(u), cell(v));
 }
 
-uint64_t brio_round_key(int64_t index, int64_t n) {
+int brio_rounds(int64_t n) {
     // Round r (0 = first) holds about n / 2^(R - r + 1) points; the last round
     // holds half of them. R keeps the first round at a few hundred points.
     int rounds = 0;
     while ((n >> rounds) > 512 && rounds < 31) ++rounds;  // fits 5 bits
-    uint64_t h = splitmix64(static_cast<uint64_t>(index));
-    int level = 0;
-    while (level < rounds && (h & 1)) h >>= 1, ++level;  // P(level >= k) = 2^-k
-    uint64_t round = static_cast<uint64_t>(rounds - level);
+    return rounds;
+}
+
+uint64_t brio_round_key(int64_t index, int rounds) {
+    // The level is the number of trailing one bits of a hash, capped at
+    // `rounds`: P(level >= k) = 2^-k. (Counted without a loop: its exits
+    // are coin tosses for the branch predictor.)
+    const uint64_t h = splitmix64(static_cast<uint64_t>(index));
+    const int ones = ~h == 0 ? 64 : __builtin_ctzll(~h);
+    const int level = ones < rounds ? ones : rounds;
+    const uint64_t round = static_cast<uint64_t>(rounds - level);
     return round << kHilbertBits;
 }
 
 int brio_round(int64_t index, int64_t n) {
-    return static_cast<int>(brio_round_key(index, n) >> kHilbertBits);
+    return static_cast<int>(brio_round_key(index, brio_rounds(n)) >> kHilbertBits);
 }
 
 std::vector<int32_t> brio_order_from_keys(Context &ctx, std::vector<uint64_t> &keys,

@@ -18,8 +18,8 @@ namespace um::tri {
 uint64_t hilbert_key(const geom::Vec3 &direction);
 
 // The insertion order of n points: a permutation of 0..n-1. direction(i)
-// gives point i's direction. Runs in the context's arena; the result is the
-// same for any number of threads.
+// gives point i's direction (of any length). Runs in the context's arena;
+// the result is the same for any number of threads.
 // With sorted_keys, also the Hilbert index of every point in that order.
 template <class DirectionFn>
 std::vector<int32_t> brio_order(Context &ctx, int64_t n, DirectionFn direction,
@@ -29,7 +29,10 @@ std::vector<int32_t> brio_order(Context &ctx, int64_t n, DirectionFn direction,
 // above a 31-bit Hilbert index (36 bits); n < 2^28.
 std::vector<int32_t> brio_order_from_keys(Context &ctx, std::vector<uint64_t> &keys,
                                           std::vector<uint32_t> *sorted_keys);
-uint64_t brio_round_key(int64_t index, int64_t n);
+// The number of rounds after the first for n points, and the round of point
+// `index` above its Hilbert index.
+int brio_rounds(int64_t n);
+uint64_t brio_round_key(int64_t index, int rounds);
 // The round (0 = first) brio_order puts point `index` of n in.
 int brio_round(int64_t index, int64_t n);
 
@@ -37,9 +40,10 @@ template <class DirectionFn>
 std::vector<int32_t> brio_order(Context &ctx, int64_t n, DirectionFn direction,
                                 std::vector<uint32_t> *sorted_keys) {
     std::vector<uint64_t> keys(static_cast<size_t>(n));
+    const int rounds = brio_rounds(n);
     ctx.parallel_for(n, 4096, [&](int64_t begin, int64_t end) {
         for (int64_t i = begin; i < end; ++i)
-            keys[i] = brio_round_key(i, n) | hilbert_key(direction(i));
+            keys[i] = brio_round_key(i, rounds) | hilbert_key(direction(i));
     });
     return brio_order_from_keys(ctx, keys, sorted_keys);
 }

@@ -22,8 +22,10 @@ constexpr int kVirtual = 6;
 // coordinates), tiny enough that real points around the whole sphere always
 // bury them.
 constexpr double kVirtualScale = 0x1p-30;
-inline int next(int k) { return k == 2 ? 0 : k + 1; }
-inline int prev(int k) { return k == 0 ? 2 : k - 1; }
+// Bit tables, not conditionals: the compiler turns those into branches,
+// and in the walk and the cavity search they are mispredicted often.
+inline int next(int k) { return (0x09 >> (2 * k)) & 3; }  // 0 -> 1, 1 -> 2, 2 -> 0
+inline int prev(int k) { return (0x12 >> (2 * k)) & 3; }  // 0 -> 2, 1 -> 0, 2 -> 1
 }  // namespace
 
 // ----------------------------------------------------------------- building
@@ -102,7 +104,7 @@ void Triangulation::insert_all(Context &ctx) {
                  "the points do not surround the centre of the sphere (they lie in one "
                  "hemisphere or on one great circle, or too few are visible): a spherical "
                  "triangulation needs points all around the sphere");
-    compact_after_build();
+    compact_after_build(ctx);
 }
 
 // Points stored so far that share a direction, reported as the two smallest
@@ -324,15 +326,50 @@ void Triangulation::restore(Snapshot &&s) {
     }
 }
 
+namespace {
+// values.erase(begin, begin + by) for a long array, in parallel: chunks of
+// the destination each move their own stretch down, after the `by` values
+// each needs from the next chunk's stretch were set aside.
+template <class Values>
+void drop_front(Context &ctx, Values &values, size_t by) {
+    constexpr size_t kChunks = 64;
+    const size_t n = values.size() - by;
+    if (n < kChunks * 1024) {
+        values.erase(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(by));
+        return;
+    }
+    auto end_of = [&](size_t c) { return n * (c + 1) / kChunks; };
+    std::vector<typename Values::value_type> side(kChunks * by);
+    for (size_t c = 0; c < kChunks; ++c)
+        std::copy_n(values.begin() + static_cast<std::ptrdiff_t>(end_of(c)), by, side.begin() + static_cast<std::ptrdiff_t>(c * by));
+    ctx.parallel_for(kChunks, 1, [&](int64_t c0, int64_t c1) {
+        for (size_t c = static_cast<size_t>(c0); c < static_cast<size_t>(c1); ++c) {
+            const size_t b = n * c / kChunks, e = end_of(c);
+            auto at = [&](size_t i) { return values.begin() + static_cast<std::ptrdiff_t>(i); };
+            std::copy(at(b + by), at(e), at(b));
+            std::copy_n(side.begin() + static_cast<std::ptrdiff_t>(c * by), by, at(e - by));
+        }
+    });
+    values.resize(n);
+}
+}  // namespace
+
 // Drops the virtual octahedron and the free triangle slots.
-void Triangulation::compact_after_build() {
-    // No shrink_to_fit: it would copy every triangle at the moment memory
-    // peaks; the spare capacity was reserved but never touched.
-    compact_triangles(kVirtual);
-    q_.erase(q_.begin(), q_.begin() + kVirtual);
-    id_.erase(id_.begin(), id_.begin() + kVirtual);
-    vertex_tri_.erase(vertex_tri_.begin(), vertex_tri_.begin() + kVirtual);
-    std::vector<uint8_t>(mark_.size(), 0).swap(mark_);
+void Triangulation::compact_after_build(Context &ctx) {
+    if (!free_.empty()) {
+        compact_triangles(kVirtual);
+    } else {
+        // The usual case: every fan took its cavity's slots and fresh ones,
+        // so no slot is free and only the vertex numbers move (the marks
+        // are all back to 0).
+        ctx.parallel_for(triangle_slots(), 16384, [&](int64_t b, int64_t e) {
+            for (int64_t t = b; t < e; ++t)
+                for (int32_t &u : tris_[t].v) u -= kVirtual;
+        });
+    }
+    drop_front(ctx, q_, kVirtual);
+    drop_front(ctx, id_, kVirtual);
+    drop_front(ctx, vertex_tri_, kVirtual);
 }
 
 // ---------------------------------------------------------------- insertion
@@ -487,37 +524,43 @@ int32_t Triangulation::find_visible_start(int32_t v, int32_t t, const int zero_e
 // horizon is a simple cycle, but stitching needs no order: each new
 // triangle finds the next around v through its vertex (vertex_tri_).
 bool Triangulation::fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyRange *owner) {
+    // Raw pointers: the marks are bytes, which may alias anything, so with
+    // the vectors the compiler would reload every data pointer after each
+    // mark it writes.
+    const Tri *const tris = tris_.data();
+    uint8_t *const mark = mark_.data();
+    const Vec3 *const q = q_.data();
+    const double *const p = q[v].data();
     s.cavity.clear();
-    s.touched.clear();
     s.horizon.clear();
     s.cavity.push_back(start);
-    mark_[start] = 1;
+    mark[start] = 1;
     for (size_t i = 0; i < s.cavity.size(); ++i) {
-        const int32_t c = s.cavity[i];
+        const Tri c = tris[s.cavity[i]];
         for (int k = 0; k < 3; ++k) {
-            const int32_t u = tris_[c].n[k];
-            uint8_t m = mark_[u];
+            const int32_t u = c.n[k];
+            uint8_t m = mark[u];
+            if (m == 1) continue;
+            // The edge runs a -> b in c and b -> a in u: in u it is the edge
+            // after a's corner, and u is (apex, b, a) counter-clockwise.
+            const int32_t a = c.v[next(k)], b = c.v[prev(k)];
+            const int32_t *uv = tris[u].v;
+            const int j = (uv[0] == a) | (uv[1] == a) << 1;  // 1, 2, or 0 when uv[2] == a
             if (m == 0) {
-                if (visible(u, v)) {
+                const int32_t apex = uv[j];
+                const int sign = geom::orient3d(q[apex].data(), q[b].data(), q[a].data(), p);
+                if (sign != 0 ? sign > 0 : visible_on_tie(u, v)) {
                     if (owner && !owns(*owner, u)) {
                         clear_cavity_marks(s);
                         return false;
                     }
-                    mark_[u] = 1;
+                    mark[u] = 1;
                     s.cavity.push_back(u);
                     continue;
                 }
-                mark_[u] = m = 2;
-                s.touched.push_back(u);
+                mark[u] = 2;  // (and listed with its horizon edge below)
             }
-            if (m == 2) {
-                // The edge runs a -> b in c and b -> a in u: in u it is the
-                // edge after a's corner.
-                const int32_t a = tris_[c].v[next(k)], b = tris_[c].v[prev(k)];
-                const int32_t *uv = tris_[u].v;
-                const int j = uv[0] == a ? 1 : (uv[1] == a ? 2 : 0);
-                s.horizon.push_back({a, b, u, j});
-            }
+            s.horizon.push_back({a, b, u, j});
         }
     }
     return true;
@@ -525,7 +568,7 @@ bool Triangulation::fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyR
 
 void Triangulation::clear_cavity_marks(const Scratch &s) {
     for (int32_t t : s.cavity) mark_[t] = 0;
-    for (int32_t t : s.touched) mark_[t] = 0;
+    for (const HorizonEdge &h : s.horizon) mark_[h.outside] = 0;
 }
 
 int32_t Triangulation::new_triangle_slot(SlotPool &pool) {
@@ -549,36 +592,41 @@ void Triangulation::stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool) 
     const size_t k = s.cavity.size(), m = s.horizon.size();
     const bool buries = k + 2 != m;
     s.cavity_vertices.clear();
-    for (int32_t t : s.cavity) {
-        mark_[t] = 0;
-        if (buries)
+    if (buries)
+        for (int32_t t : s.cavity)
             for (int c = 0; c < 3; ++c) {
-                int32_t u = tris_[t].v[c];
+                const int32_t u = tris_[t].v[c];
                 if (vertex_tri_[u] >= 0) s.cavity_vertices.push_back(u);
                 vertex_tri_[u] = kNone;
             }
-    }
-    for (int32_t t : s.touched) mark_[t] = 0;
-    // The fan takes the cavity's slots first (in cavity order), then the pool's.
+    // The fan takes the cavity's slots first (in cavity order), then the
+    // pool's; the slots first, since the serial path's pool may grow tris_.
     s.new_tris.resize(m);
-    for (size_t i = 0; i < m && i < k; ++i) s.new_tris[i] = s.cavity[i];
     for (size_t i = m; i < k; ++i) free_triangle_slot(s.cavity[i], pool);
-    for (size_t i = k; i < m; ++i) s.new_tris[i] = new_triangle_slot(pool);
+    for (size_t i = 0; i < m; ++i) s.new_tris[i] = i < k ? s.cavity[i] : new_triangle_slot(pool);
+    // Raw pointers (the marks are bytes, which alias everything). The marks
+    // go back to 0: the cavity's, and those of the triangles outside it,
+    // which are the horizon edges' outer triangles.
+    Tri *const tris = tris_.data();
+    uint8_t *const mark = mark_.data();
+    int32_t *const vertex_tri = vertex_tri_.data();
+    for (int32_t t : s.cavity) mark[t] = 0;
     for (size_t i = 0; i < m; ++i) {
         const HorizonEdge &h = s.horizon[i];
-        Tri &t = tris_[s.new_tris[i]];
-        t.v[0] = v, t.v[1] = h.a, t.v[2] = h.b;
-        t.n[0] = h.outside;
-        tris_[h.outside].n[h.outside_edge] = s.new_tris[i];
-        vertex_tri_[h.a] = s.new_tris[i];
+        const int32_t t = s.new_tris[i];
+        mark[h.outside] = 0;
+        tris[t].v[0] = v, tris[t].v[1] = h.a, tris[t].v[2] = h.b;
+        tris[t].n[0] = h.outside;
+        tris[h.outside].n[h.outside_edge] = t;
+        vertex_tri[h.a] = t;
     }
     // Around v: the fan triangle after (v, a, b) is the one that starts at b.
     for (size_t i = 0; i < m; ++i) {
-        const int32_t t = s.new_tris[i], after = vertex_tri_[s.horizon[i].b];
-        tris_[t].n[1] = after;
-        tris_[after].n[2] = t;
+        const int32_t t = s.new_tris[i], after = vertex_tri[s.horizon[i].b];
+        tris[t].n[1] = after;
+        tris[after].n[2] = t;
     }
-    vertex_tri_[v] = s.new_tris[0];
+    vertex_tri[v] = s.new_tris[0];
 }
 
 // ------------------------------------------------------------------ updates

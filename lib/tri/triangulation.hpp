@@ -49,8 +49,11 @@ public:
     // The first rounds are inserted one by one in that order, the big ones
     // by 16 regions in parallel (parallel_insertion.cpp); nothing depends on
     // the thread count, so neither do the triangles nor their numbering.
-    template <class DirectionFn>
-    void prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights);
+    // key_direction(i) is direction(i) times any positive factor (the
+    // input before normalising, say): the Hilbert keys need no more.
+    template <class DirectionFn, class KeyDirectionFn>
+    void prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights,
+                 KeyDirectionFn key_direction);
     void finish_build(Context &ctx) { insert_all(ctx); }
 
     // Counts -------------------------------------------------------------
@@ -270,7 +273,7 @@ private:
     // The lists of one insertion: one set for the serial path, one per
     // region of a parallel round.
     struct Scratch {
-        std::vector<int32_t> cavity, touched, new_tris;
+        std::vector<int32_t> cavity, new_tris;
         std::vector<int32_t> cavity_vertices;  // filled only when an insertion buries vertices
         std::vector<HorizonEdge> horizon;
     };
@@ -300,9 +303,12 @@ private:
     int32_t walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero, uint32_t &counter,
                  int64_t max_steps, const KeyRange *owner, int32_t *last_owned) const;
     bool owns(const KeyRange &range, int32_t t) const {
+        // One unsigned comparison a vertex, and no early exit: this runs at
+        // every step of a region's walks, where the branches would cost more.
         const int32_t *tv = tris_[t].v;
-        auto in = [&](int32_t v) { return key_[v] >= range.lo && key_[v] < range.hi; };
-        return in(tv[0]) && in(tv[1]) && in(tv[2]);
+        const uint32_t span = range.hi - range.lo;
+        auto in = [&](int32_t v) { return key_[v] - range.lo < span; };
+        return in(tv[0]) & in(tv[1]) & in(tv[2]);
     }
     // Parallel insertion of one BRIO round, region by region
     // (parallel_insertion.cpp); returns how many of its points were deferred.
@@ -350,7 +356,7 @@ private:
     int32_t reinsert(int32_t v, std::vector<int32_t> *buried, int32_t hint = 0);
     std::vector<int32_t> replace_point(int32_t v, const Vec3 &lifted);
     void compact_triangles(int32_t vertex_shift);
-    void compact_after_build();
+    void compact_after_build(Context &ctx);
     [[noreturn]] void fail_on_duplicates() const;
 
     std::vector<Vec3> q_;             // lifted point per vertex slot
@@ -393,10 +399,11 @@ private:
     mutable uint32_t walk_ = 0;
 };
 
-template <class DirectionFn>
-void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights) {
+template <class DirectionFn, class KeyDirectionFn>
+void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights,
+                            KeyDirectionFn key_direction) {
     std::vector<uint32_t> keys;
-    std::vector<int32_t> order = brio_order(ctx, n, direction, &keys);
+    std::vector<int32_t> order = brio_order(ctx, n, key_direction, &keys);
     constexpr int kVirtual = 6;
     key_.assign(kVirtual, ~uint32_t(0));  // the virtual vertices: owned by no region
     key_.insert(key_.end(), keys.begin(), keys.end());
@@ -416,7 +423,7 @@ void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, cons
 
 template <class DirectionFn>
 void Triangulation::build(Context &ctx, int64_t n, DirectionFn direction, const double *weights) {
-    prepare(ctx, n, direction, weights);
+    prepare(ctx, n, direction, weights, direction);
     finish_build(ctx);
 }
 
