@@ -435,47 +435,27 @@ int32_t Triangulation::locate(const Vec3 &p, int32_t t, int zero_edges[3],
 int32_t Triangulation::walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero,
                             uint32_t &counter, int64_t max_steps, const KeyRange *owner,
                             int32_t *last_owned) const {
-    const Tri *const tris = tris_.data();
-    const Vec3 *const q = q_.data();
-    // Edge k of tr has p strictly outside when orient_origin < 0.
-    auto side = [&](const Tri &tr, int k) {
-        return orient_origin(q[tr.v[next(k)]].data(), q[tr.v[prev(k)]].data(), p.data());
-    };
+    int32_t from = kNone;  // the edge just crossed is known to have p inside
     // The first edge tested rotates with `counter` (one step per triangle),
     // which keeps the walk from cycling.
     int k0 = static_cast<int>(counter % 3);
-    int32_t entry_vertex = kNone;  // the vertex the crossed edge started at
     for (int64_t step = 0; step < max_steps; ++step) {
-        const Tri &tr = tris[t];
+        const Tri &tr = tris_[t];
         n_zero = 0;
         int32_t to = kNone;
-        if (entry_vertex == kNone) {  // the first triangle: all three edges
-            for (int j = 0; j < 3 && to == kNone; ++j) {
-                const int k = k0 + j < 3 ? k0 + j : k0 + j - 3;
-                const int sk = side(tr, k);
-                if (sk < 0) to = k;
-                else if (sk == 0) zero_edges[n_zero++] = k;
+        for (int j = 0; j < 3; ++j) {
+            const int k = k0 + j < 3 ? k0 + j : k0 + j - 3;
+            if (tr.n[k] == from) continue;
+            const int s = orient_origin(q_[tr.v[next(k)]].data(), q_[tr.v[prev(k)]].data(), p.data());
+            if (s < 0) {
+                to = tr.n[k];
+                break;
             }
-        } else {
-            // The edge just crossed (from a to b in the triangle before, the
-            // one after a's corner here) had p strictly outside there, so it
-            // has p inside here: only the other two are tested, in the
-            // rotating order. (entry - k0) mod 3 says where the crossed edge
-            // falls in that order; the two others follow without branches.
-            const int entry = (tr.v[0] == entry_vertex) | (tr.v[1] == entry_vertex) << 1;
-            const int d = (entry - k0 + 3) % 3;
-            const int first = (k0 + (d == 0)) % 3, second = (k0 + 1 + (d <= 1)) % 3;
-            const int s1 = side(tr, first);
-            if (s1 < 0) {
-                to = first;
-            } else {
-                if (s1 == 0) zero_edges[n_zero++] = first;
-                const int s2 = side(tr, second);
-                if (s2 < 0) to = second;
-                else if (s2 == 0) zero_edges[n_zero++] = second;
-            }
+            if (s == 0) zero_edges[n_zero++] = k;
         }
         k0 = k0 == 2 ? 0 : k0 + 1;
+        // (The edge just crossed cannot hold p: it had p strictly outside
+        // in the triangle before, and the exact sign is antisymmetric.)
         if (to == kNone) {
             counter += static_cast<uint32_t>(step + 1);
             return t;
@@ -489,8 +469,8 @@ int32_t Triangulation::walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_
             }
             *last_owned = t;
         }
-        entry_vertex = tr.v[next(to)];
-        t = tr.n[to];
+        from = t;
+        t = to;
     }
     counter += static_cast<uint32_t>(max_steps);
     return kNone;
