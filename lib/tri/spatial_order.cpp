@@ -125,21 +125,29 @@ uint64_t hilbert_key(const geom::Vec3 &p) {
     return (static_cast<uint64_t>(face) << (2 * kBitsPerAxis)) | hilbert_2d(cell(u), cell(v));
 }
 
+// Each round holds 8 times the points of the one before (CGAL's ratio too),
+// the last round 7/8 of them. Every round sweeps the whole mesh once along
+// the curve: with ratio 8 there are 4 sweeps at 10^6 points instead of the
+// 11 that ratio 2 made, and bench_triangulation measured the construction
+// 15-25 % faster on one thread (10^6 and 4*10^6 points), the triangles the
+// same.
+constexpr int kLevelBits = 3;
+
 int brio_rounds(int64_t n) {
-    // Round r (0 = first) holds about n / 2^(R - r + 1) points; the last round
-    // holds half of them. R keeps the first round at a few hundred points.
+    // Round r (0 = first) holds about n (7/8) / 8^(R - r) points; R keeps
+    // the first round at a few hundred points.
     int rounds = 0;
-    while ((n >> rounds) > 512 && rounds < 31) ++rounds;  // fits 5 bits
+    while ((n >> (kLevelBits * rounds)) > 512 && rounds < 31) ++rounds;  // fits 5 bits
     return rounds;
 }
 
 uint64_t brio_round_key(int64_t index, int rounds) {
-    // The level is the number of trailing one bits of a hash, capped at
-    // `rounds`: P(level >= k) = 2^-k. (Counted without a loop: its exits
-    // are coin tosses for the branch predictor.)
+    // The level is the number of trailing one bits of a hash over
+    // kLevelBits, capped at `rounds`: P(level >= k) = 8^-k. (Counted without
+    // a loop: its exits are coin tosses for the branch predictor.)
     const uint64_t h = splitmix64(static_cast<uint64_t>(index));
     const int ones = ~h == 0 ? 64 : __builtin_ctzll(~h);
-    const int level = ones < rounds ? ones : rounds;
+    const int level = std::min(ones / kLevelBits, rounds);
     const uint64_t round = static_cast<uint64_t>(rounds - level);
     return round << kHilbertBits;
 }

@@ -203,7 +203,11 @@ void check_edges(const MpasMesh &m, const Units &u) {
     // carry rounding of about 1e-16 / length, large on the near-degenerate
     // short dual edges of symmetric meshes.
     expect_below(length, 1e-10, "dcEdge / dvEdge against arcs");
-    expect_below(orth, 1e-13, "vertices on the great circle perpendicular to the primal arc at xEdge");
+    // Rounding only, but of orthocentres whose value depends in the last
+    // bits on which vertex of their triangle comes first, which the
+    // insertion order decides: 1.03e-13 was seen on the heavily weighted
+    // mesh below after the BRIO rounds changed, against 1e-13 before.
+    expect_below(orth, 2e-13, "vertices on the great circle perpendicular to the primal arc at xEdge");
     expect_below(on_arcs, 1e-14, "xEdge on the primal great circle");
     expect_below(angle, 1e-12, "angleEdge");
 }
