@@ -108,11 +108,12 @@ uint64_t hilbert_key(const geom::Vec3 &p) {
     // face of a random point is a coin toss for the branch predictor.
     const double coord[3] = {p.x, p.y, p.z};
     const double ax = std::fabs(p.x), ay = std::fabs(p.y), az = std::fabs(p.z);
-    const bool x_largest = ax >= ay && ax >= az, y_largest = ay >= az;
-    const int i = x_largest ? 0 : (y_largest ? 1 : 2);
-    const double m = x_largest ? ax : (y_largest ? ay : az);
-    const int face = coord[i] > 0 ? i : i + 3;
-    const double u = coord[i == 2 ? 0 : i + 1], v = coord[i == 0 ? 2 : i - 1];
+    const int x_largest = (ax >= ay) & (ax >= az), y_largest = (ay >= az) & !x_largest;
+    const int i = 2 - 2 * x_largest - y_largest;
+    const double m = std::max(ax, std::max(ay, az));
+    const int face = i + 3 * (coord[i] <= 0);
+    // The axes after and before i, cyclically (bit tables, as above).
+    const double u = coord[(0x09 >> (2 * i)) & 3], v = coord[(0x12 >> (2 * i)) & 3];
     if (m == 0) return 0;
     // t in [-1, 1] -> cell in [0, 2^bits - 1].
     constexpr double half_cells = 0.5 * double(1u << kBitsPerAxis);

@@ -59,6 +59,7 @@ void Triangulation::insert_all(Context &ctx) {
     // A triangulated sphere of V vertices has 2V - 4 triangles.
     size_t max_triangles = 2 * q_.size();
     tris_.reserve(max_triangles);
+    advise_huge_pages(tris_.data(), tris_.capacity() * sizeof(Tri));
     mark_.reserve(max_triangles);
     init_virtual_octahedron();
 

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/context.hpp"
+#include "core/huge_pages.hpp"
 #include "geom/predicates.hpp"
 #include "geom/sphere.hpp"
 #include "tri/spatial_order.hpp"
@@ -408,6 +409,10 @@ void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, cons
     key_.assign(kVirtual, ~uint32_t(0));  // the virtual vertices: owned by no region
     key_.insert(key_.end(), keys.begin(), keys.end());
     std::vector<uint32_t>().swap(keys);
+    // Advised before the first touch, which is what places the pages.
+    q_.clear();
+    q_.reserve(static_cast<size_t>(n) + kVirtual);
+    advise_huge_pages(q_.data(), q_.capacity() * sizeof(Vec3));
     q_.assign(static_cast<size_t>(n) + kVirtual, Vec3{});
     id_.assign(q_.size(), kNone);
     vertex_tri_.assign(q_.size(), kNone);
