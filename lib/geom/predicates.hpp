@@ -59,6 +59,30 @@ inline int orient3d(const double *a, const double *b, const double *c, const dou
     return orient3d_exact(a, b, c, d);
 }
 
+// orient3d with a static filter first: `bound` must bound the rounding error
+// of the determinant for every input it is used with; orient3d_static_bound()
+// gives one for points with coordinates of at most `largest` in magnitude.
+// Decided by that one comparison in most calls, else by orient3d.
+inline int orient3d_static(const double *a, const double *b, const double *c, const double *d,
+                           double bound) {
+    const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+    const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+    const double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+    const double det = ux * (vy * wz - vz * wy) + uy * (vz * wx - vx * wz) + uz * (vx * wy - vy * wx);
+    if (det > bound) return 1;
+    if (det < -bound) return -1;
+    return orient3d(a, b, c, d);
+}
+
+// The error bound of orient3d for coordinates of magnitude <= largest: the
+// differences are at most 2 largest (1 + u), and each of the permanent's six
+// products has one x, one y and one z of them, so the permanent is at most
+// 6 (2 largest)^3 (1 + u)^3; the factor 1.001 covers that (1 + u)^3 and the
+// rounding of this product itself.
+inline double orient3d_static_bound(double largest) {
+    return detail::kOrient3dBound * 48.0 * largest * largest * largest * 1.001;
+}
+
 // orient3d with the symbolic-perturbation tie rule above: never 0. The ids
 // are read only on an exact tie.
 template <class IdFn>

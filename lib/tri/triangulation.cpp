@@ -55,6 +55,12 @@ void Triangulation::init_virtual_octahedron() {
 }
 
 void Triangulation::insert_all(Context &ctx) {
+    // The static bound holds for prepare()'s points only: off when done,
+    // however it ends.
+    struct BoundOff {
+        double &bound;
+        ~BoundOff() { bound = kNoBound; }
+    } bound_off{build_bound_};
     const int64_t n_real = static_cast<int64_t>(q_.size()) - kVirtual;
     // A triangulated sphere of V vertices has 2V - 4 triangles.
     size_t max_triangles = 2 * q_.size();
@@ -531,7 +537,6 @@ bool Triangulation::fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyR
     const Tri *const tris = tris_.data();
     uint8_t *const mark = mark_.data();
     const Vec3 *const q = q_.data();
-    const double *const p = q[v].data();
     s.cavity.clear();
     s.horizon.clear();
     s.cavity.push_back(start);
@@ -550,8 +555,7 @@ bool Triangulation::fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyR
             const int j = (uv[0] == a) | (uv[1] == a) << 1;  // 1, 2, or 0 when uv[2] == a
             if (m == 0) {
                 const int32_t apex = uv[j];
-                const int sign = geom::orient3d(q[apex].data(), q[b].data(), q[a].data(), p);
-                if (sign != 0 ? sign > 0 : visible_on_tie(u, v)) {
+                if (visible(u, q[apex].data(), q[b].data(), q[a].data(), v)) {
                     if (owner && !owns(*owner, u)) {
                         clear_cavity_marks(s);
                         return false;

@@ -16,6 +16,7 @@
 // circle) and construction fails.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -338,8 +339,12 @@ private:
     // Inline: the insertion's innermost test (about ten per point).
     bool visible(int32_t t, int32_t v) const {
         const int32_t *tv = tris_[t].v;
-        const int s = geom::orient3d(q_[tv[0]].data(), q_[tv[1]].data(), q_[tv[2]].data(),
-                                     q_[v].data());
+        return visible(t, q_[tv[0]].data(), q_[tv[1]].data(), q_[tv[2]].data(), v);
+    }
+    // The same for t = (a, b, c) in that order (or a cyclic turn of it).
+    bool visible(int32_t t, const double *a, const double *b, const double *c, int32_t v) const {
+        const int s = build_bound_ < kNoBound ? geom::orient3d_static(a, b, c, q_[v].data(), build_bound_)
+                                             : geom::orient3d(a, b, c, q_[v].data());
         return s != 0 ? s > 0 : visible_on_tie(t, v);
     }
     // The exact tie's symbolic perturbation (predicates.hpp).
@@ -375,6 +380,11 @@ private:
     Scratch scratch_;                 // the serial path's
     std::vector<uint32_t> key_;       // Hilbert key per vertex slot, while building
     mutable uint32_t walk_counter_ = 0;  // rotates the walk's first edge
+    // While build() inserts: orient3d's static error bound for its points
+    // (geom::orient3d_static_bound), which decides most visibility tests
+    // with one comparison; kNoBound otherwise (weights may change later).
+    static constexpr double kNoBound = 1e300;
+    double build_bound_ = kNoBound;
 };
 
 class Triangulation::Territory {
@@ -416,6 +426,10 @@ void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, cons
     q_.assign(static_cast<size_t>(n) + kVirtual, Vec3{});
     id_.assign(q_.size(), kNone);
     vertex_tri_.assign(q_.size(), kNone);
+    double largest = 1.0;  // the longest lifted point (the virtual ones are tiny)
+    if (weights)
+        for (int64_t i = 0; i < n; ++i) largest = std::max(largest, lifted_scale(weights[i]));
+    build_bound_ = geom::orient3d_static_bound(largest);
     ctx.parallel_for(n, 8192, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             int32_t src = order[i];

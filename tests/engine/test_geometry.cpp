@@ -60,6 +60,45 @@ void filter_agrees_with_exact(void **) {
     (void)decided_by_exact;
 }
 
+// The static filter (a bound from the largest coordinate) agrees with the
+// exact sign on nearly coplanar points, with coordinates up to 1 and up to
+// 3 (lifted points of weights up to 4/3), and on four points of a small
+// circle of the unit sphere, nudged by a few units in the last place.
+void static_filter_agrees_with_exact(void **) {
+    std::mt19937_64 rng(2);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (double largest : {1.0, 3.0}) {
+        const double bound = geom::orient3d_static_bound(largest);
+        for (int i = 0; i < 100000; ++i) {
+            double p[4][3];
+            const double nx = u(rng) / 3, ny = u(rng) / 3, off = u(rng) / 3;
+            for (auto &q : p) {
+                q[0] = largest * u(rng), q[1] = largest * u(rng);
+                q[2] = largest * (off + nx * q[0] / largest + ny * q[1] / largest);
+            }
+            assert_int_equal(geom::orient3d_static(p[0], p[1], p[2], p[3], bound),
+                             geom::orient3d_exact(p[0], p[1], p[2], p[3]));
+            // Off the plane by 10^-16 .. 10^-2: mostly decided by the bound.
+            p[3][2] += largest * std::pow(10.0, -16 + 14 * (u(rng) + 1) / 2) * (u(rng) > 0 ? 1 : -1);
+            assert_int_equal(geom::orient3d_static(p[0], p[1], p[2], p[3], bound),
+                             geom::orient3d_exact(p[0], p[1], p[2], p[3]));
+        }
+    }
+    const double bound = geom::orient3d_static_bound(1.0);
+    for (int i = 0; i < 100000; ++i) {
+        const double z = u(rng), r = std::sqrt(1 - z * z), t0 = 3 * u(rng);
+        double p[4][3];
+        for (int k = 0; k < 4; ++k) {
+            const double t = t0 + 1e-3 * k * (1 + u(rng));
+            p[k][0] = r * std::cos(t) * (1 + 4e-16 * u(rng));
+            p[k][1] = r * std::sin(t);
+            p[k][2] = z;
+        }
+        assert_int_equal(geom::orient3d_static(p[0], p[1], p[2], p[3], bound),
+                         geom::orient3d_exact(p[0], p[1], p[2], p[3]));
+    }
+}
+
 void orient_origin_is_exact(void **) {
     const double a[3] = {1, 0, 0}, b[3] = {0, 1, 0};
     double c[3] = {0.5, 0.5, 0};
@@ -169,6 +208,7 @@ void brio_order_is_a_permutation_and_deterministic(void **) {
 int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(orient3d_signs_on_exact_configurations),
+        cmocka_unit_test(static_filter_agrees_with_exact),
         cmocka_unit_test(filter_agrees_with_exact),
         cmocka_unit_test(orient_origin_is_exact),
         cmocka_unit_test(perturbed_orientation_breaks_ties_consistently),
