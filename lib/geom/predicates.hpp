@@ -118,4 +118,20 @@ inline int orient_origin(const double *a, const double *b, const double *c) {
     return orient_origin_exact(a, b, c);
 }
 
+// orient_origin with a static filter first, as orient3d_static; the bound
+// from orient_origin_static_bound(largest coordinate magnitude).
+inline int orient_origin_static(const double *a, const double *b, const double *c, double bound) {
+    const double det = c[0] * (a[1] * b[2] - a[2] * b[1]) + c[1] * (a[2] * b[0] - a[0] * b[2]) +
+                       c[2] * (a[0] * b[1] - a[1] * b[0]);
+    if (det > bound) return 1;
+    if (det < -bound) return -1;
+    return orient_origin(a, b, c);
+}
+
+// Its permanent has six products of one x, one y and one z coordinate:
+// at most 6 largest^3; 1.001 covers the rounding of this product.
+inline double orient_origin_static_bound(double largest) {
+    return detail::kOrientOriginBound * 6.0 * largest * largest * largest * 1.001;
+}
+
 }  // namespace um::geom

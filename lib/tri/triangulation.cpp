@@ -57,10 +57,10 @@ void Triangulation::init_virtual_octahedron() {
 void Triangulation::insert_all(Context &ctx) {
     // The static bound holds for prepare()'s points only: off when done,
     // however it ends.
-    struct BoundOff {
-        double &bound;
-        ~BoundOff() { bound = kNoBound; }
-    } bound_off{build_bound_};
+    struct BoundsOff {
+        Triangulation &t;
+        ~BoundsOff() { t.build_bound_ = t.walk_bound_ = kNoBound; }
+    } bounds_off{*this};
     const int64_t n_real = static_cast<int64_t>(q_.size()) - kVirtual;
     // A triangulated sphere of V vertices has 2V - 4 triangles.
     size_t max_triangles = 2 * q_.size();
@@ -453,7 +453,9 @@ int32_t Triangulation::walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_
         for (int j = 0; j < 3; ++j) {
             const int k = k0 + j < 3 ? k0 + j : k0 + j - 3;
             if (tr.n[k] == from) continue;
-            const int s = orient_origin(q_[tr.v[next(k)]].data(), q_[tr.v[prev(k)]].data(), p.data());
+            const double *a = q_[tr.v[next(k)]].data(), *b = q_[tr.v[prev(k)]].data();
+            const int s = walk_bound_ < kNoBound ? geom::orient_origin_static(a, b, p.data(), walk_bound_)
+                                                 : orient_origin(a, b, p.data());
             if (s < 0) {
                 to = tr.n[k];
                 break;

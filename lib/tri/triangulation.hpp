@@ -383,8 +383,9 @@ private:
     // While build() inserts: orient3d's static error bound for its points
     // (geom::orient3d_static_bound), which decides most visibility tests
     // with one comparison; kNoBound otherwise (weights may change later).
+    // walk_bound_: orient_origin's (the walk's test), likewise.
     static constexpr double kNoBound = 1e300;
-    double build_bound_ = kNoBound;
+    double build_bound_ = kNoBound, walk_bound_ = kNoBound;
 };
 
 class Triangulation::Territory {
@@ -430,6 +431,7 @@ void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, cons
     if (weights)
         for (int64_t i = 0; i < n; ++i) largest = std::max(largest, lifted_scale(weights[i]));
     build_bound_ = geom::orient3d_static_bound(largest);
+    walk_bound_ = geom::orient_origin_static_bound(largest);
     ctx.parallel_for(n, 8192, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             int32_t src = order[i];

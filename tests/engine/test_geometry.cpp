@@ -99,6 +99,25 @@ void static_filter_agrees_with_exact(void **) {
     }
 }
 
+// orient_origin_static agrees with the exact sign for points on and near
+// the great circle of two others (unit vectors and lifted ones up to 3).
+void static_origin_filter_agrees_with_exact(void **) {
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (double largest : {1.0, 3.0}) {
+        const double bound = geom::orient_origin_static_bound(largest);
+        for (int i = 0; i < 100000; ++i) {
+            geom::Vec3 a = geom::normalized({u(rng), u(rng), u(rng)});
+            geom::Vec3 b = geom::normalized({u(rng), u(rng), u(rng)});
+            const double s = std::pow(10.0, -17 + 15 * (u(rng) + 1) / 2) * u(rng);
+            geom::Vec3 c = geom::normalized(u(rng) * a + u(rng) * b + s * geom::cross(a, b));
+            a = largest * a, c = (largest * (u(rng) + 1) / 2) * c;
+            assert_int_equal(geom::orient_origin_static(a.data(), b.data(), c.data(), bound),
+                             geom::orient_origin_exact(a.data(), b.data(), c.data()));
+        }
+    }
+}
+
 void orient_origin_is_exact(void **) {
     const double a[3] = {1, 0, 0}, b[3] = {0, 1, 0};
     double c[3] = {0.5, 0.5, 0};
@@ -209,6 +228,7 @@ int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(orient3d_signs_on_exact_configurations),
         cmocka_unit_test(static_filter_agrees_with_exact),
+        cmocka_unit_test(static_origin_filter_agrees_with_exact),
         cmocka_unit_test(filter_agrees_with_exact),
         cmocka_unit_test(orient_origin_is_exact),
         cmocka_unit_test(perturbed_orientation_breaks_ties_consistently),
