@@ -60,62 +60,62 @@ void filter_agrees_with_exact(void **) {
     (void)decided_by_exact;
 }
 
-// The static filter (a bound from the largest coordinate) agrees with the
-// exact sign on nearly coplanar points, with coordinates up to 1 and up to
-// 3 (lifted points of weights up to 4/3), and on four points of a small
-// circle of the unit sphere, nudged by a few units in the last place.
-void static_filter_agrees_with_exact(void **) {
-    std::mt19937_64 rng(2);
+// Calls check(draw, largest, bound) 100000 times for each largest coordinate
+// magnitude, 1 (unit vectors) and 3 (lifted points of weights up to 4/3),
+// with bound = bound_of(largest); draw() is uniform in [-1, 1].
+template <class BoundFn, class CheckFn>
+void for_static_bounds(uint64_t seed, BoundFn bound_of, CheckFn check) {
+    std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-1, 1);
-    for (double largest : {1.0, 3.0}) {
-        const double bound = geom::orient3d_static_bound(largest);
-        for (int i = 0; i < 100000; ++i) {
-            double p[4][3];
-            const double nx = u(rng) / 3, ny = u(rng) / 3, off = u(rng) / 3;
-            for (auto &q : p) {
-                q[0] = largest * u(rng), q[1] = largest * u(rng);
-                q[2] = largest * (off + nx * q[0] / largest + ny * q[1] / largest);
-            }
-            assert_int_equal(geom::orient3d_static(p[0], p[1], p[2], p[3], bound),
-                             geom::orient3d_exact(p[0], p[1], p[2], p[3]));
-            // Off the plane by 10^-16 .. 10^-2: mostly decided by the bound.
-            p[3][2] += largest * std::pow(10.0, -16 + 14 * (u(rng) + 1) / 2) * (u(rng) > 0 ? 1 : -1);
-            assert_int_equal(geom::orient3d_static(p[0], p[1], p[2], p[3], bound),
-                             geom::orient3d_exact(p[0], p[1], p[2], p[3]));
-        }
-    }
-    const double bound = geom::orient3d_static_bound(1.0);
-    for (int i = 0; i < 100000; ++i) {
-        const double z = u(rng), r = std::sqrt(1 - z * z), t0 = 3 * u(rng);
-        double p[4][3];
-        for (int k = 0; k < 4; ++k) {
-            const double t = t0 + 1e-3 * k * (1 + u(rng));
-            p[k][0] = r * std::cos(t) * (1 + 4e-16 * u(rng));
-            p[k][1] = r * std::sin(t);
-            p[k][2] = z;
-        }
+    auto draw = [&] { return u(rng); };
+    for (double largest : {1.0, 3.0})
+        for (int i = 0; i < 100000; ++i) check(draw, largest, bound_of(largest));
+}
+
+// orient3d_static agrees with the exact sign on nearly coplanar points, on
+// points off such planes by 1e-16 .. 1e-2 (mostly decided by the bound), and
+// on four points of a small circle of the unit sphere, nudged by a few units
+// in the last place.
+void static_filter_agrees_with_exact(void **) {
+    auto agrees = [](const double p[4][3], double bound) {
         assert_int_equal(geom::orient3d_static(p[0], p[1], p[2], p[3], bound),
                          geom::orient3d_exact(p[0], p[1], p[2], p[3]));
-    }
+    };
+    for_static_bounds(2, geom::orient3d_static_bound, [&](auto &draw, double largest, double bound) {
+        double p[4][3];
+        const double nx = draw() / 3, ny = draw() / 3, off = draw() / 3;
+        for (auto &q : p) {
+            q[0] = largest * draw(), q[1] = largest * draw();
+            q[2] = largest * off + nx * q[0] + ny * q[1];
+        }
+        agrees(p, bound);
+        p[3][2] += largest * std::pow(10.0, -16 + 7 * (draw() + 1)) * (draw() > 0 ? 1 : -1);
+        agrees(p, bound);
+    });
+    for_static_bounds(4, geom::orient3d_static_bound, [&](auto &draw, double largest, double bound) {
+        if (largest != 1.0) return;
+        const double z = draw(), r = std::sqrt(1 - z * z), t0 = 3 * draw();
+        double p[4][3];
+        for (int k = 0; k < 4; ++k) {
+            const double t = t0 + 1e-3 * k * (1 + draw());
+            p[k][0] = r * std::cos(t) * (1 + 4e-16 * draw()), p[k][1] = r * std::sin(t), p[k][2] = z;
+        }
+        agrees(p, bound);
+    });
 }
 
 // orient_origin_static agrees with the exact sign for points on and near
-// the great circle of two others (unit vectors and lifted ones up to 3).
+// the great circle of two others.
 void static_origin_filter_agrees_with_exact(void **) {
-    std::mt19937_64 rng(3);
-    std::uniform_real_distribution<double> u(-1, 1);
-    for (double largest : {1.0, 3.0}) {
-        const double bound = geom::orient_origin_static_bound(largest);
-        for (int i = 0; i < 100000; ++i) {
-            geom::Vec3 a = geom::normalized({u(rng), u(rng), u(rng)});
-            geom::Vec3 b = geom::normalized({u(rng), u(rng), u(rng)});
-            const double s = std::pow(10.0, -17 + 15 * (u(rng) + 1) / 2) * u(rng);
-            geom::Vec3 c = geom::normalized(u(rng) * a + u(rng) * b + s * geom::cross(a, b));
-            a = largest * a, c = (largest * (u(rng) + 1) / 2) * c;
-            assert_int_equal(geom::orient_origin_static(a.data(), b.data(), c.data(), bound),
-                             geom::orient_origin_exact(a.data(), b.data(), c.data()));
-        }
-    }
+    for_static_bounds(3, geom::orient_origin_static_bound, [](auto &draw, double largest, double bound) {
+        const geom::Vec3 a = largest * geom::normalized({draw(), draw(), draw()});
+        const geom::Vec3 b = geom::normalized({draw(), draw(), draw()});
+        const double off = std::pow(10.0, -17 + 7.5 * (draw() + 1)) * draw();
+        const geom::Vec3 c = ((draw() + 1) / 2 * largest) *
+                             geom::normalized(draw() * a + draw() * b + off * geom::cross(a, b));
+        assert_int_equal(geom::orient_origin_static(a.data(), b.data(), c.data(), bound),
+                         geom::orient_origin_exact(a.data(), b.data(), c.data()));
+    });
 }
 
 void orient_origin_is_exact(void **) {
