@@ -49,8 +49,9 @@ public:
     // `direction` in between: prepare() copies the points in insertion order
     // (BRIO rounds along a Hilbert curve), finish_build() triangulates them.
     // The first rounds are inserted one by one in that order, the big ones
-    // by 16 regions in parallel (parallel_insertion.cpp); nothing depends on
-    // the thread count, so neither do the triangles nor their numbering.
+    // by up to 16 regions in parallel (parallel_insertion.cpp); nothing
+    // depends on the thread count, so neither do the triangles nor their
+    // numbering.
     // key_direction(i) is direction(i) times any positive factor (the
     // input before normalising, say): the Hilbert keys need no more.
     template <class DirectionFn, class KeyDirectionFn>
