@@ -1,12 +1,12 @@
 // Parallel construction: each large BRIO round of build() is inserted by
 // regions at once (Triangulation::insert_round_in_parallel).
 //
-// The round's points, sorted along the Hilbert curve, are cut into a number
-// of runs set by the round's size (2 to 16); a run and the stretch of the curve it spans make a region,
-// which owns every vertex whose Hilbert key falls in that stretch (a vertex
-// of an earlier round, or one of its own points). Each region inserts its
-// points in order, as the serial path does, but only where it owns every
-// vertex of the triangles it changes or walks out of:
+// The round's points, sorted along the Hilbert curve, are cut into 2 to 16
+// runs (by the round's size); a run and the stretch of the curve it spans
+// make a region, which owns every vertex whose Hilbert key falls in that
+// stretch (a vertex of an earlier round, or one of its own points). Each
+// region inserts its points in order, as the serial path does, but only
+// where it owns every vertex of the triangles it changes or walks out of:
 //  - an insertion changes its cavity's triangles (all three vertices owned)
 //    and the triangles across the horizon (the two of the shared edge), so
 //    every triangle a region changes has at least two of its vertices;

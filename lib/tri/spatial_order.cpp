@@ -138,7 +138,8 @@ int brio_rounds(int64_t n) {
     // Round r (0 = first) holds about n (7/8) / 8^(R - r) points; R keeps
     // the first round at a few hundred points.
     int rounds = 0;
-    while ((n >> (kLevelBits * rounds)) > 512 && rounds < 31) ++rounds;  // fits 5 bits
+    // (At most 21 rounds: the shift stays below 64, the round fits 5 bits.)
+    while (rounds < 21 && (n >> (kLevelBits * rounds)) > 512) ++rounds;
     return rounds;
 }
 
