@@ -300,8 +300,7 @@ int Optimiser::corner_vertex_helps(int32_t d, const GammaCorner &corner) const {
     if (!tri_.in_triangulation(d)) return -1;
     const Vec3 x = tri_.direction(d);
     bool ok = true;
-    tri_.for_each_in_star(d, [&](int32_t s) {
-        const int32_t u = tri_.vertex(s, (tri_.local_index(s, d) + 1) % 3);
+    tri_.for_each_neighbour(d, [&](int32_t u) {
         const double h = 0.5 * (static_cast<double>(h_at_[d]) + static_cast<double>(h_at_[u]));
         const double floor = on_segment_[u] >= 0 ? kCornerEdge : o_.collapse_ratio;
         ok = ok && std::binary_search(corner.region.begin(), corner.region.end(), u) &&
@@ -353,8 +352,7 @@ bool Optimiser::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner) {
     for (const auto &[a, c] : corner.gamma_edges) ok = ok && (a == v || c == v || has_edge(a, c));
     for (int32_t u : link) {
         if (!ok) break;
-        tri_.for_each_in_star(u, [&](int32_t s) {
-            const int32_t w = tri_.vertex(s, (tri_.local_index(s, u) + 1) % 3);
+        tri_.for_each_neighbour(u, [&](int32_t w) {
             const double h = 0.5 * (static_cast<double>(h_at_[u]) + static_cast<double>(h_at_[w]));
             ok = ok && geom::norm(tri_.direction(u) - tri_.direction(w)) <= o_.split_ratio * h;
         });
@@ -423,9 +421,7 @@ bool Optimiser::has_triangle(int32_t a, int32_t b, int32_t c) const {
 
 bool Optimiser::has_edge(int32_t a, int32_t b) const {
     bool found = false;
-    tri_.for_each_in_star(a, [&](int32_t s) {
-        found = found || tri_.vertex(s, 0) == b || tri_.vertex(s, 1) == b || tri_.vertex(s, 2) == b;
-    });
+    tri_.for_each_neighbour(a, [&](int32_t w) { found = found || w == b; });
     return found;
 }
 

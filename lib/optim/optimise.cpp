@@ -704,8 +704,8 @@ std::vector<Optimiser::Candidate> Optimiser::mend_candidates(int32_t v, int step
     double spoke2 = 0;  // the weight steps' unit; only with steps
     if (steps > 0) {
         int spokes = 0;
-        tri_.for_each_in_star(v, [&](int32_t u) {
-            const Vec3 d = here.x - tri_.direction(tri_.vertex(u, (tri_.local_index(u, v) + 1) % 3));
+        tri_.for_each_neighbour(v, [&](int32_t w) {
+            const Vec3 d = here.x - tri_.direction(w);
             spoke2 += geom::dot(d, d), ++spokes;
         });
         spoke2 /= spokes;

@@ -136,9 +136,8 @@ private:
             Ring ring;
             int32_t link[Ring::kMax];
             bool fits = true;
-            tri_.for_each_in_star(v[i], [&](int32_t u) {
+            tri_.for_each_neighbour(v[i], [&](int32_t w) {
                 if (ring.m == Ring::kMax) return void(fits = false);
-                const int32_t w = tri_.vertex(u, (tri_.local_index(u, v[i]) + 1) % 3);
                 link[ring.m] = w, ring.g[ring.m] = at(w), ring.q[ring.m] = at(w).lifted(), ++ring.m;
             });
             if (!fits || (require_valid && !star_is_valid(ring, at(v[i])))) return -1;

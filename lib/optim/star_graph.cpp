@@ -25,11 +25,7 @@ StarGraph::StarGraph(Context &ctx, const tri::Triangulation &tri) {
         for (int64_t v = b; v < e; ++v) {
             if (!tri.in_triangulation(static_cast<int32_t>(v))) continue;
             int32_t *out = link_.data() + offset_[v];
-            tri.for_each_in_star(static_cast<int32_t>(v), [&](int32_t t) {
-                int k = 0;
-                while (tri.vertex(t, k) != v) ++k;
-                *out++ = tri.vertex(t, (k + 1) % 3);
-            });
+            tri.for_each_neighbour(static_cast<int32_t>(v), [&](int32_t w) { *out++ = w; });
         }
     });
     colour();

@@ -187,10 +187,7 @@ private:
 
     void gather_link(int32_t v) {
         link_.clear();
-        tri_.for_each_in_star(v, [&](int32_t t) {
-            const int i = tri_.local_index(t, v);
-            link_.push_back(tri_.vertex(t, i == 2 ? 0 : i + 1));
-        });
+        tri_.for_each_neighbour(v, [&](int32_t w) { link_.push_back(w); });
     }
 
     uint8_t status(double r) const {

@@ -122,8 +122,8 @@ Encroach encroached_edge(const tri::Triangulation &tri, const tri::Triangulation
 double nearest_neighbour(const tri::Triangulation &tri, int32_t v) {
     double d2 = 1e300;
     const Vec3 x = tri.direction(v);
-    tri.for_each_in_star(v, [&](int32_t t) {  // each neighbour once: the one after v
-        const Vec3 d = x - tri.direction(tri.vertex(t, (tri.local_index(t, v) + 1) % 3));
+    tri.for_each_neighbour(v, [&](int32_t w) {
+        const Vec3 d = x - tri.direction(w);
         d2 = std::min(d2, geom::dot(d, d));
     });
     return 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(d2)));

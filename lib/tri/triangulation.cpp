@@ -927,7 +927,7 @@ std::vector<int32_t> Triangulation::star(int32_t v) const {
 
 std::vector<int32_t> Triangulation::link(int32_t v) const {
     std::vector<int32_t> out;
-    for_each_in_star(v, [&](int32_t t) { out.push_back(tris_[t].v[next(local_index(t, v))]); });
+    for_each_neighbour(v, [&](int32_t w) { out.push_back(w); });
     return out;
 }
 

@@ -145,6 +145,15 @@ public:
             t = tris_[t].n[k == 2 ? 0 : k + 1];
         } while (t != t0);
     }
+    // Calls fn(w) for v's neighbours in the order link() gives (the vertex
+    // after v in each triangle of its star), without building the list.
+    template <class Fn>
+    void for_each_neighbour(int32_t v, Fn &&fn) const {
+        for_each_in_star(v, [&](int32_t t) {
+            const int32_t *tv = tris_[t].v;
+            fn(tv[tv[0] == v ? 1 : (tv[1] == v ? 2 : 0)]);
+        });
+    }
 
     // Geometry -----------------------------------------------------------
     const Vec3 &lifted(int32_t v) const { return q_[v]; }
