@@ -71,12 +71,12 @@ void check_xyz(const double *xyz, int64_t n) {
     }
 }
 
-template <class DirectionFn, class KeyDirectionFn>
+template <class DirectionFn, class KeyDirectionFn, class PrefetchFn>
 um_status create(um_context *ctx, int64_t n, DirectionFn direction, KeyDirectionFn key_direction,
-                 const double *weights, um_triangulation **out) {
+                 PrefetchFn prefetch, const double *weights, um_triangulation **out) {
     auto handle = std::make_unique<um_triangulation>();
     handle->context = ctx->state;
-    handle->tri.prepare(*ctx->state, n, direction, weights, key_direction);
+    handle->tri.prepare(*ctx->state, n, direction, weights, key_direction, prefetch);
     handle->tri.finish_build(*ctx->state);
     um::capi::register_handle(handle.get(), HandleKind::triangulation);
     *out = handle.release();
@@ -124,7 +124,8 @@ UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const doubl
     auto handle = std::make_unique<um_triangulation>();
     handle->context = ctx->state;
     auto direction = [&](int64_t i) { return xyz[i]; };
-    handle->tri.prepare(*ctx->state, n, direction, weights, direction);
+    auto prefetch = [&](int64_t i) { __builtin_prefetch(xyz.data() + i); };
+    handle->tri.prepare(*ctx->state, n, direction, weights, direction, prefetch);
     std::vector<Vec3>().swap(xyz);
     handle->tri.finish_build(*ctx->state);
     um::capi::register_handle(handle.get(), HandleKind::triangulation);
@@ -145,7 +146,8 @@ UM_API um_status um_triangulation_create_xyz(um_context *ctx, int64_t n, const d
     check_weights(weights, n);
     auto raw = [xyz](int64_t i) { return Vec3{xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}; };
     auto direction = [raw](int64_t i) { return um::geom::normalized(raw(i)); };
-    return create(ctx, n, direction, raw, weights, out);
+    auto prefetch = [xyz](int64_t i) { __builtin_prefetch(xyz + 3 * i); };
+    return create(ctx, n, direction, raw, prefetch, weights, out);
     UM_API_END(context_state_or_null(ctx))
 }
 

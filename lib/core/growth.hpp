@@ -12,8 +12,8 @@
 
 namespace um {
 
-template <class T>
-void reserve_for(std::vector<T> &values, size_t needed) {
+template <class T, class Allocator>
+void reserve_for(std::vector<T, Allocator> &values, size_t needed) {
     if (needed <= values.capacity()) return;
     values.reserve(std::max(needed, values.capacity() + values.capacity() / 8 + 16));
 }

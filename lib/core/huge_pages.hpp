@@ -16,9 +16,13 @@
 
 namespace um {
 
+constexpr size_t kHugePageBytes = size_t(2) << 20;
+// Below this, a buffer's whole huge pages are too few to matter.
+constexpr size_t kHugePageMinBytes = size_t(4) << 20;
+
 // Asks for huge pages over the whole 2 MiB pages inside [data, data + bytes),
-// for buffers of 16 MiB or more. Advice only: no effect where the system
-// has no transparent huge pages, and nothing to undo.
+// for buffers of kHugePageMinBytes or more. Advice only: no effect where
+// the system has no transparent huge pages, and nothing to undo.
 void advise_huge_pages(const void *data, size_t bytes) noexcept;
 
 }  // namespace um

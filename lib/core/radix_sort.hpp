@@ -4,14 +4,14 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
 
+#include "core/buffer.hpp"
 #include "core/context.hpp"
 
 namespace um {
 
 // Sorts keys by bits [low_bit, high_bit) (0 <= low_bit < high_bit <= 64);
 // equal digits keep their order. Uses a second buffer of keys.size() words.
-void radix_sort(Context &ctx, std::vector<uint64_t> &keys, int low_bit, int high_bit);
+void radix_sort(Context &ctx, Buffer<uint64_t> &keys, int low_bit, int high_bit);
 
 }  // namespace um

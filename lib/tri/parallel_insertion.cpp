@@ -105,9 +105,11 @@ std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx, int32_t prev
     // point, a contiguous range per region, so that triangles near each
     // other stay near each other in memory, as on the serial path.
     const int32_t base = static_cast<int32_t>(tris_.size());
-    tris_.resize(tris_.size() + 2 * static_cast<size_t>(end - begin),
-                 {{kNone, kNone, kNone}, {kNone, kNone, kNone}});
-    mark_.resize(tris_.size(), 0);
+    // The slots are not written here but by the regions that use them
+    // (stitch_new_triangles), in parallel, which is where their pages are
+    // first touched; the ones left over are freed below.
+    tris_.resize(tris_.size() + 2 * static_cast<size_t>(end - begin));
+    mark_.resize(tris_.size());
     const int n_regions = regions_for(end - begin);
     uint32_t bounds[kMaxRegions + 1];
     bounds[0] = 0;
@@ -135,7 +137,11 @@ std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx, int32_t prev
     std::vector<int32_t> deferred;
     for (Region &g : regions) {
         free_.insert(free_.end(), g.reuse.begin(), g.reuse.end());
-        for (int32_t t = g.pool.fresh; t < g.pool.fresh_end; ++t) free_.push_back(t);
+        for (int32_t t = g.pool.fresh; t < g.pool.fresh_end; ++t) {
+            tris_[t] = {{kNone, kNone, kNone}, {kNone, kNone, kNone}};
+            mark_[t] = 0;
+            free_.push_back(t);
+        }
         deferred.insert(deferred.end(), g.deferred.begin(), g.deferred.end());
     }
     return deferred;

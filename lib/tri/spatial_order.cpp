@@ -12,6 +12,7 @@ namespace {
 
 constexpr int kBitsPerAxis = 14;
 constexpr int kHilbertBits = 3 + 2 * kBitsPerAxis;  // face + 2 axes
+static_assert(kHilbertBits == kHilbertIndexBits, "the header's count");
 
 // Hilbert curve of order 14 by a state machine: state = orientation of the
 // current sub-square; each level reads one bit of x and y, emits two bits of
@@ -158,30 +159,14 @@ int brio_round(int64_t index, int64_t n) {
     return static_cast<int>(brio_round_key(index, brio_rounds(n)) >> kHilbertBits);
 }
 
-std::vector<int32_t> brio_order_from_keys(Context &ctx, std::vector<uint64_t> &keys,
-                                          std::vector<uint32_t> *sorted_keys) {
+void brio_sort(Context &ctx, Buffer<uint64_t> &keys) {
     // Pack (key, index) into one word: the key (round + Hilbert, 36 bits)
-    // above a 28-bit index. An LSD radix sort on the key bits is stable, so
+    // above the index. An LSD radix sort on the key bits is stable, so
     // equal keys keep index order: the result is fully determined by the keys.
-    constexpr int kIndexBits = 28;
-    const size_t n = keys.size();
-    ctx.parallel_for(static_cast<int64_t>(n), 16384, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) keys[i] = (keys[i] << kIndexBits) | uint64_t(i);
+    ctx.parallel_for(static_cast<int64_t>(keys.size()), 16384, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) keys[i] = (keys[i] << kBrioIndexBits) | uint64_t(i);
     });
-    radix_sort(ctx, keys, kIndexBits, 64);
-    std::vector<int32_t> order(n);
-    const uint64_t index_mask = (uint64_t(1) << kIndexBits) - 1;
-    if (sorted_keys) sorted_keys->resize(n);
-    const uint64_t hilbert_mask = (uint64_t(1) << kHilbertBits) - 1;
-    ctx.parallel_for(static_cast<int64_t>(n), 16384, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) {
-            order[i] = static_cast<int32_t>(keys[i] & index_mask);
-            if (sorted_keys)
-                (*sorted_keys)[i] = static_cast<uint32_t>((keys[i] >> kIndexBits) & hilbert_mask);
-        }
-    });
-    std::vector<uint64_t>().swap(keys);
-    return order;
+    radix_sort(ctx, keys, kBrioIndexBits, 64);
 }
 
 }  // namespace um::tri

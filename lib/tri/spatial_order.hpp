@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/buffer.hpp"
 #include "core/context.hpp"
 #include "geom/sphere.hpp"
 
@@ -17,18 +18,36 @@ namespace um::tri {
 // direction (need not be unit length).
 uint64_t hilbert_key(const geom::Vec3 &direction);
 
-// The insertion order of n points: a permutation of 0..n-1. direction(i)
-// gives point i's direction (of any length). Runs in the context's arena;
-// the result is the same for any number of threads.
-// With sorted_keys, also the Hilbert index of every point in that order.
+// The insertion order of n points as sorted words, one per point: its
+// round and Hilbert index (brio_hilbert) above its index (brio_point),
+// ascending. direction(i) gives point i's direction (of any length). Runs
+// in the context's arena; the result is the same for any number of threads.
+// (Words, not a permutation and a list of keys: the construction reads
+// both from the one array, and at 10^6 points each array it does not
+// allocate saves it some 1,000 page faults.)
 template <class DirectionFn>
-std::vector<int32_t> brio_order(Context &ctx, int64_t n, DirectionFn direction,
-                                std::vector<uint32_t> *sorted_keys = nullptr);
+Buffer<uint64_t> brio_words(Context &ctx, int64_t n, DirectionFn direction);
+constexpr int kBrioIndexBits = 28;  // n < 2^28
+inline int32_t brio_point(uint64_t word) {
+    return static_cast<int32_t>(word & ((uint64_t(1) << kBrioIndexBits) - 1));
+}
+constexpr int kHilbertIndexBits = 31;  // hilbert_key's
+inline uint32_t brio_hilbert(uint64_t word) {
+    return static_cast<uint32_t>((word >> kBrioIndexBits) & ((uint64_t(1) << kHilbertIndexBits) - 1));
+}
+
+// The insertion order of n points: a permutation of 0..n-1.
+template <class DirectionFn>
+std::vector<int32_t> brio_order(Context &ctx, int64_t n, DirectionFn direction) {
+    const Buffer<uint64_t> words = brio_words(ctx, n, direction);
+    std::vector<int32_t> order(static_cast<size_t>(n));
+    for (int64_t i = 0; i < n; ++i) order[i] = brio_point(words[i]);
+    return order;
+}
 
 // Implementation detail shared with the template: keys are a 5-bit round
-// above a 31-bit Hilbert index (36 bits); n < 2^28.
-std::vector<int32_t> brio_order_from_keys(Context &ctx, std::vector<uint64_t> &keys,
-                                          std::vector<uint32_t> *sorted_keys);
+// above a 31-bit Hilbert index (36 bits); sorts the words made from them.
+void brio_sort(Context &ctx, Buffer<uint64_t> &keys);
 // The number of rounds after the first for n points, and the round of point
 // `index` above its Hilbert index.
 int brio_rounds(int64_t n);
@@ -37,15 +56,15 @@ uint64_t brio_round_key(int64_t index, int rounds);
 int brio_round(int64_t index, int64_t n);
 
 template <class DirectionFn>
-std::vector<int32_t> brio_order(Context &ctx, int64_t n, DirectionFn direction,
-                                std::vector<uint32_t> *sorted_keys) {
-    std::vector<uint64_t> keys(static_cast<size_t>(n));
+Buffer<uint64_t> brio_words(Context &ctx, int64_t n, DirectionFn direction) {
+    Buffer<uint64_t> keys(static_cast<size_t>(n));
     const int rounds = brio_rounds(n);
     ctx.parallel_for(n, 4096, [&](int64_t begin, int64_t end) {
         for (int64_t i = begin; i < end; ++i)
             keys[i] = brio_round_key(i, rounds) | hilbert_key(direction(i));
     });
-    return brio_order_from_keys(ctx, keys, sorted_keys);
+    brio_sort(ctx, keys);
+    return keys;
 }
 
 }  // namespace um::tri

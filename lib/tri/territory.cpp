@@ -66,7 +66,7 @@ std::vector<Triangulation::Territory> Triangulation::open_territories(
         q_.resize(static_cast<size_t>(first_slot)), id_.resize(static_cast<size_t>(first_slot));
         vertex_tri_.resize(static_cast<size_t>(first_slot));
         tris_.resize(triangles_before), mark_.resize(triangles_before);
-        std::vector<uint32_t>().swap(key_);
+        decltype(key_)().swap(key_);
     };
     // Exactly (a vector's doubling would hold twice the room for a moment,
     // and keep it).
@@ -227,7 +227,7 @@ Triangulation::TerritoryClose Triangulation::close_territories(Context &ctx,
         std::vector<int32_t>().swap(g.given_);
         g.pool_.fresh = g.pool_.fresh_end;
     }
-    std::vector<uint32_t>().swap(key_);
+    decltype(key_)().swap(key_);
     territories.clear();
     return out;
 }

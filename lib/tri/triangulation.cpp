@@ -101,7 +101,7 @@ void Triangulation::insert_all(Context &ctx) {
         prev_begin = begin;
         begin = end;
     }
-    std::vector<uint32_t>().swap(key_);
+    decltype(key_)().swap(key_);
     // bench_triangulation reads this line (the share deferred by the regions).
     ctx.log(UM_LOG_DEBUG, concat("triangulate: ", n_real, " points, ", in_parallel,
                                  " in parallel rounds, ", deferred, " of them deferred"));
@@ -189,7 +189,7 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
     // Hilbert key above the slot: unique, so the order is the same for any
     // sort; slots outside the triangulation get a key past every curve index.
     constexpr uint64_t kPastCurve = uint64_t(1) << 31;
-    std::vector<uint64_t> keys(static_cast<size_t>(n));
+    Buffer<uint64_t> keys(static_cast<size_t>(n));
     ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
         for (int64_t v = b; v < e; ++v) {
             const uint64_t key = vertex_tri_[v] >= 0 ? hilbert_key(q_[v]) : kPastCurve;
@@ -202,7 +202,7 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
         old_of_new[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
         new_of_old[old_of_new[i]] = i;
     }
-    std::vector<uint64_t>().swap(keys);
+    Buffer<uint64_t>().swap(keys);
     // In place, cycle by cycle: this runs after the optimisation too, with
     // its undo alive, and copies of the largest arrays would set the peak.
     std::vector<bool> placed;
@@ -293,10 +293,10 @@ void Triangulation::restore(Snapshot &&s) {
     // around each vertex (about 32 bytes per vertex of scratch): the triangle
     // across edge (a, b) of t is the other one around a that has b.
     q_.swap(s.q), id_.swap(s.id), vertex_tri_.swap(s.vertex_tri), free_.swap(s.free);
-    std::vector<Vec3>().swap(s.q);
-    std::vector<int32_t>().swap(s.id), std::vector<int32_t>().swap(s.vertex_tri), std::vector<int32_t>().swap(s.free);
-    std::vector<Tri>().swap(tris_);
-    std::vector<uint8_t>().swap(mark_);
+    decltype(s.q)().swap(s.q);
+    decltype(s.id)().swap(s.id), std::vector<int32_t>().swap(s.vertex_tri), std::vector<int32_t>().swap(s.free);
+    decltype(tris_)().swap(tris_);
+    decltype(mark_)().swap(mark_);
     try {
         const size_t nv = q_.size(), nt = s.triangles.size();
         std::vector<int64_t> first(nv + 1, 0);  // 3 per triangle: past int32 above ~357 M vertices
@@ -622,7 +622,7 @@ void Triangulation::stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool) 
     for (size_t i = 0; i < m; ++i) {
         const HorizonEdge &h = s.horizon[i];
         const int32_t t = s.new_tris[i];
-        mark[h.outside] = 0;
+        mark[h.outside] = 0, mark[t] = 0;  // (a fresh slot's mark is unwritten)
         tris[t].v[0] = v, tris[t].v[1] = h.a, tris[t].v[2] = h.b;
         tris[t].n[0] = h.outside;
         tris[h.outside].n[h.outside_edge] = t;

@@ -23,6 +23,7 @@
 
 #include "core/context.hpp"
 #include "core/huge_pages.hpp"
+#include "core/uninit_vector.hpp"
 #include "geom/predicates.hpp"
 #include "geom/sphere.hpp"
 #include "tri/spatial_order.hpp"
@@ -54,9 +55,11 @@ public:
     // numbering.
     // key_direction(i) is direction(i) times any positive factor (the
     // input before normalising, say): the Hilbert keys need no more.
-    template <class DirectionFn, class KeyDirectionFn>
+    // prefetch(i), when given, asks the cache for what direction(i) will
+    // read (the points are gathered in insertion order, at random).
+    template <class DirectionFn, class KeyDirectionFn, class PrefetchFn = void (*)(int64_t)>
     void prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights,
-                 KeyDirectionFn key_direction);
+                 KeyDirectionFn key_direction, PrefetchFn prefetch = [](int64_t) {});
     void finish_build(Context &ctx) { insert_all(ctx); }
 
     // Counts -------------------------------------------------------------
@@ -90,8 +93,9 @@ public:
     // restore() runs out of memory, it leaves the triangulation empty (and
     // throws): consistent, if not what it was.
     struct Snapshot {
-        std::vector<Vec3> q;
-        std::vector<int32_t> id, vertex_tri, free;
+        UninitVector<Vec3> q;
+        UninitVector<int32_t> id;
+        std::vector<int32_t> vertex_tri, free;
         std::vector<std::array<int32_t, 3>> triangles;  // kNone for a free slot
     };
     Snapshot snapshot() const;
@@ -375,20 +379,21 @@ private:
     void compact_after_build(Context &ctx);
     [[noreturn]] void fail_on_duplicates() const;
 
-    std::vector<Vec3> q_;             // lifted point per vertex slot
-    std::vector<int32_t> id_;         // input index; < 0 for the virtual octahedron
+    // (UninitVector: the construction writes each element once, in parallel.)
+    UninitVector<Vec3> q_;            // lifted point per vertex slot
+    UninitVector<int32_t> id_;        // input index; < 0 for the virtual octahedron
     std::vector<int32_t> vertex_tri_; // a triangle incident to the vertex; kNone hidden, kRemoved
     // One record per triangle so that a visit touches one cache line.
     struct Tri {
         int32_t v[3];  // vertices; v[0] == kNone for a free slot
         int32_t n[3];  // neighbours across the edges opposite v[k]
     };
-    std::vector<Tri> tris_;
-    std::vector<uint8_t> mark_;       // per-triangle scratch of the insertion
+    UninitVector<Tri> tris_;
+    UninitVector<uint8_t> mark_;      // per-triangle scratch of the insertion
     std::vector<int32_t> free_;       // free triangle slots
 
     Scratch scratch_;                 // the serial path's
-    std::vector<uint32_t> key_;       // Hilbert key per vertex slot, while building
+    UninitVector<uint32_t> key_;      // Hilbert key per vertex slot, while building
     mutable uint32_t walk_counter_ = 0;  // rotates the walk's first edge
     // While build() inserts: orient3d's static error bound for its points
     // (geom::orient3d_static_bound), which decides most visibility tests
@@ -421,33 +426,40 @@ private:
     mutable uint32_t walk_ = 0;
 };
 
-template <class DirectionFn, class KeyDirectionFn>
+template <class DirectionFn, class KeyDirectionFn, class PrefetchFn>
 void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights,
-                            KeyDirectionFn key_direction) {
-    std::vector<uint32_t> keys;
-    std::vector<int32_t> order = brio_order(ctx, n, key_direction, &keys);
+                            KeyDirectionFn key_direction, PrefetchFn prefetch) {
+    const Buffer<uint64_t> order = brio_words(ctx, n, key_direction);
     constexpr int kVirtual = 6;
-    key_.assign(kVirtual, ~uint32_t(0));  // the virtual vertices: owned by no region
-    key_.insert(key_.end(), keys.begin(), keys.end());
-    std::vector<uint32_t>().swap(keys);
-    // Advised before the first touch, which is what places the pages.
-    q_.clear();
-    q_.reserve(static_cast<size_t>(n) + kVirtual);
-    advise_huge_pages(q_.data(), q_.capacity() * sizeof(Vec3));
-    q_.assign(static_cast<size_t>(n) + kVirtual, Vec3{});
-    id_.assign(q_.size(), kNone);
-    vertex_tri_.assign(q_.size(), kNone);
+    const size_t slots = static_cast<size_t>(n) + kVirtual;
+    // Sized without being written (the gather below writes each element
+    // first, in parallel), and advised before that first touch, which is
+    // what places the pages.
+    auto size_for_gather = [slots](auto &values) {
+        values.clear();
+        values.reserve(slots);
+        advise_huge_pages(values.data(), values.capacity() * sizeof(values[0]));
+        values.resize(slots);
+    };
+    size_for_gather(q_), size_for_gather(id_), size_for_gather(key_);
+    std::fill_n(key_.begin(), kVirtual, ~uint32_t(0));  // the virtual vertices: owned by no region
+    vertex_tri_.assign(slots, kNone);
     double largest = 1.0;  // the longest lifted point (the virtual ones are tiny)
     if (weights)
         for (int64_t i = 0; i < n; ++i) largest = std::max(largest, lifted_scale(weights[i]));
     build_bound_ = geom::orient3d_static_bound(largest);
     walk_bound_ = geom::orient_origin_static_bound(largest);
+    // A gather from the input in a random order: each read misses the
+    // cache and the TLB, so the point a few places ahead is asked for early.
+    constexpr int64_t kAhead = 16;
     ctx.parallel_for(n, 8192, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
-            int32_t src = order[i];
+            if (i + kAhead < e) prefetch(brio_point(order[i + kAhead]));
+            const int32_t src = brio_point(order[i]);
             double s = weights ? lifted_scale(weights[src]) : 1.0;
             q_[kVirtual + i] = s * direction(src);
             id_[kVirtual + i] = src;
+            key_[kVirtual + i] = brio_hilbert(order[i]);
         }
     });
 }
