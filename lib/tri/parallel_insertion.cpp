@@ -16,12 +16,18 @@
 //    other region changes it: no locks, no data races, and what a region
 //    does is decided by its own points alone;
 //  - a point whose walk or cavity reaches a vertex the region does not own
-//    is deferred, and the deferred points are inserted one by one after all
-//    regions finished, region by region.
+//    is deferred.
+// The deferred points lie along the regions' borders. A second pass inserts
+// them by bands of latitude (about the z axis), which own vertices by the
+// same rule with other keys: the borders of bands cross the regions'
+// borders instead of running along them, so most deferred points are well
+// inside a band. What is left is inserted one by one after all bands
+// finished, band by band.
 // Nothing depends on the thread count or on timing, so the triangulation is
 // bit-identical for any number of threads. The triangle marks of fill_cavity
 // are shared, but a region only marks triangles with two of its vertices.
 #include <algorithm>
+#include <cmath>
 
 #include "tri/spatial_order.hpp"
 #include "tri/triangulation.hpp"
@@ -44,29 +50,50 @@ int regions_for(int32_t points) {
     while (regions < kMaxRegions && points / (2 * regions) >= kMinRegionPoints) regions *= 2;
     return regions;
 }
+// Bands for the deferred points: likewise set by their number alone. Each
+// band border defers points again: of the 52,600 the regions deferred at
+// 10^6 points, 4 bands left 2,600 to the serial pass, 8 left 6,200 and 16
+// left 11,000.
+constexpr int kMaxBands = 4;
+constexpr size_t kMinBandPoints = 1024;
 // A region's walk from its last point is short (consecutive points are
 // neighbours); a long one means an odd input: the serial path takes it.
 constexpr int64_t kRegionWalkSteps = 4096;
+
+// Bands are of latitude about a tilted axis. Not about z: the regions'
+// borders follow the Hilbert curve's first cuts, which on four cube faces
+// run along the equator, and so did most deferred points (a band border
+// there deferred them again).
+constexpr double kBandAxis[3] = {0.2672612419124244, 0.5345224838248488, 0.8017837257372732};  // (1, 2, 3) / sqrt(14)
 }  // namespace
 
 struct Triangulation::Region {
     KeyRange keys;
     int32_t begin = 0, end = 0;       // its points: vertex slots, sorted by key
     int32_t hint = kNone;             // a triangle it owns near its last point
-    int32_t prev_begin = 0, prev_end = 0;  // the previous round's slots, to find starts among
+    // Where to look for a start near a point: runs of slots sorted by
+    // Hilbert key (rounds), tried in order.
+    struct Slots {
+        int32_t begin, end;
+    };
+    Slots starts[2] = {{0, 0}, {0, 0}};
+    bool start_near_each_point = false;  // (not from the last point's fan)
     uint32_t walk = 0;
     SlotPool pool;                    // its own triangle slots: two per point
-    std::vector<int32_t> reuse;       // slots its insertions emptied
+    std::vector<int32_t> reuse;       // slots its insertions emptied (or it was given)
     std::vector<int32_t> deferred;
     Scratch scratch;
 };
 
-int64_t Triangulation::insert_round_in_parallel(Context &ctx, int32_t prev_begin, int32_t begin,
-                                             int32_t end, int32_t &hint) {
-    // (A second pass over the deferred points with regions cut at the
-    // middles of these gained nothing: a region borders regions far from
-    // it along the curve.)
-    const std::vector<int32_t> deferred = insert_by_regions(ctx, prev_begin, begin, end);
+Triangulation::RoundDeferred Triangulation::insert_round_in_parallel(Context &ctx, int32_t prev_begin,
+                                                                    int32_t begin, int32_t end,
+                                                                    int32_t &hint) {
+    // (A second pass with regions cut at the middles of these gained
+    // nothing: a region borders regions far from it along the curve.)
+    std::vector<int32_t> deferred = insert_by_regions(ctx, prev_begin, begin, end);
+    RoundDeferred count;
+    count.by_regions = static_cast<int64_t>(deferred.size());
+    deferred = insert_by_bands(ctx, std::move(deferred), prev_begin, begin, end);
     for (int32_t v : deferred) {
         // Deferred points are far apart: start next to a vertex of this
         // round or the previous one near v along the curve, else from the
@@ -77,7 +104,8 @@ int64_t Triangulation::insert_round_in_parallel(Context &ctx, int32_t prev_begin
         int32_t other = kNone;
         if (insert_slot(v, hint, &other) == InsertResult::duplicate) fail_on_duplicates();
     }
-    return static_cast<int64_t>(deferred.size());
+    count.to_serial = static_cast<int64_t>(deferred.size());
+    return count;
 }
 
 // The first slot in [begin, end) (sorted by key) whose key is >= key.
@@ -118,11 +146,11 @@ std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx, int32_t prev
     std::vector<Region> regions(n_regions);
     for (int r = 0; r < n_regions; ++r) {
         Region &g = regions[r];
-        g.keys = {bounds[r], bounds[r + 1]};
+        g.keys = {key_.data(), bounds[r], bounds[r + 1]};
         // Equal keys all go to one region (the first with that key).
         g.begin = first_slot_with_key(bounds[r], begin, end);
         g.end = r + 1 == n_regions ? end : first_slot_with_key(bounds[r + 1], begin, end);
-        g.prev_begin = prev_begin, g.prev_end = begin;
+        g.starts[0] = {prev_begin, begin};
         g.walk = static_cast<uint32_t>(g.begin - begin);
         g.pool = {&g.reuse, base + 2 * (g.begin - begin), base + 2 * (g.end - begin)};
     }
@@ -147,20 +175,98 @@ std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx, int32_t prev
     return deferred;
 }
 
+// The second pass over the points the regions deferred (in their order):
+// bands of latitude about kBandAxis, cut where the points' keys split them into equal
+// shares. Returns the points deferred again, band by band.
+std::vector<int32_t> Triangulation::insert_by_bands(Context &ctx, std::vector<int32_t> points,
+                                                    int32_t prev_begin, int32_t begin,
+                                                    int32_t end) {
+    const size_t n_bands = std::min<size_t>(kMaxBands, points.size() / kMinBandPoints);
+    // Every insertion takes at most two slots more than its cavity gives
+    // back, and the regions left two for each point they deferred.
+    if (n_bands < 2 || free_.size() < 2 * points.size()) return points;
+    // Keys for every vertex a band may meet (those of this round and
+    // before): the lifted point's height along the axis, scaled from
+    // [-longest, longest] to the keys. It is the latitude of the
+    // direction when the weights are equal, and a band's share of the
+    // vertices is only less tidy when they are not. (Without a square root
+    // or a division: this runs over every vertex.) The virtual vertices
+    // get ~0, which no band owns.
+    constexpr int kVirtual = 6;
+    Buffer<uint32_t> band_key(static_cast<size_t>(end));
+    const double scale = 0x1p31 / longest_lifted_;
+    ctx.parallel_for(end, 16384, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v) {
+            const Vec3 &q = q_[v];
+            const double key = (kBandAxis[0] * q.x + kBandAxis[1] * q.y + kBandAxis[2] * q.z) * scale + 0x1p31;
+            band_key[v] = key <= 0 ? 0u : static_cast<uint32_t>(std::min(key, 4294967294.0));
+        }
+    });
+    std::fill_n(band_key.begin(), std::min(end, kVirtual), ~uint32_t(0));
+    // Cuts at equal shares of the points, from a histogram of their keys'
+    // top bits (a cut falls between two bins: near enough).
+    constexpr int kBinBits = 12;
+    std::vector<uint32_t> bins(size_t(1) << kBinBits, 0);
+    for (int32_t v : points) ++bins[band_key[v] >> (32 - kBinBits)];
+    std::vector<uint32_t> cuts(n_bands + 1);
+    cuts[0] = 0, cuts[n_bands] = ~uint32_t(0);
+    size_t seen = 0, band = 1;
+    for (size_t bin = 0; bin < bins.size() && band < n_bands; ++bin) {
+        seen += bins[bin];
+        while (band < n_bands && seen * n_bands >= band * points.size())
+            cuts[band++] = static_cast<uint32_t>((bin + 1) << (32 - kBinBits));
+    }
+    std::vector<Region> bands(n_bands);
+    for (size_t b = 0; b < n_bands; ++b) {
+        Region &g = bands[b];
+        g.keys = {band_key.data(), cuts[b], cuts[b + 1]};
+        g.starts[0] = {begin, end}, g.starts[1] = {prev_begin, begin};
+        g.start_near_each_point = true;  // the band's points are far apart
+        g.pool = {&g.reuse, 0, 0};
+    }
+    // Two free slots per point, from the back of the list, band by band.
+    for (int32_t v : points) {
+        const uint32_t key = band_key[v];
+        Region &g = *std::find_if(bands.begin(), bands.end(), [&](const Region &r) {
+            return key - r.keys.lo < r.keys.hi - r.keys.lo;
+        });
+        for (int k = 0; k < 2; ++k) g.reuse.push_back(free_.back()), free_.pop_back();
+        g.deferred.push_back(v);  // (its points, until it runs)
+    }
+    ctx.parallel_for(static_cast<int64_t>(n_bands), 1, [&](int64_t b0, int64_t b1) {
+        for (int64_t b = b0; b < b1; ++b) {
+            Region &g = bands[b];
+            std::vector<int32_t> mine;
+            mine.swap(g.deferred);
+            for (int32_t v : mine)
+                if (insert_in_region(v, g) == RegionInsert::deferred) g.deferred.push_back(v);
+        }
+    });
+    std::vector<int32_t> deferred;
+    for (Region &g : bands) {
+        free_.insert(free_.end(), g.reuse.begin(), g.reuse.end());
+        deferred.insert(deferred.end(), g.deferred.begin(), g.deferred.end());
+    }
+    return deferred;
+}
+
 // Inserts the point in slot v if the region owns everything it needs.
 Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g) {
-    // No start yet (the first point): one near v.
-    if (g.hint == kNone) g.hint = region_start(g.keys, key_[v], g.prev_begin, g.prev_end);
+    // No start yet (the first point), or none near enough: one near v.
+    if (g.hint == kNone || g.start_near_each_point) {
+        const int32_t near = region_start(g, key_[v]);
+        if (near != kNone) g.hint = near;
+    }
     if (g.hint == kNone) return RegionInsert::deferred;
     int zero_edges[3], n_zero = 0;
     int32_t last_owned = g.hint;
     int32_t t = walk(q_[v], g.hint, zero_edges, n_zero, g.walk, kRegionWalkSteps, &g.keys,
                      &last_owned);
-    if (t == kNone) {
+    if (t == kNone && !g.start_near_each_point) {
         // The walk reached the border (deferred points leave the hint
         // behind them): start again from a vertex of the previous round
         // next to v along the curve.
-        const int32_t restart = region_start(g.keys, key_[v], g.prev_begin, g.prev_end);
+        const int32_t restart = region_start(g, key_[v]);
         if (restart != kNone)
             t = walk(q_[v], restart, zero_edges, n_zero, g.walk, kRegionWalkSteps, &g.keys,
                      &last_owned);
@@ -187,23 +293,27 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
     return RegionInsert::inserted;
 }
 
-// A triangle the region owns around one of the first vertices among the
-// slots [prev_begin, prev_end) (a round: sorted by key) from `key` on, in
-// the region's range; kNone if none of the first few has one. Safe while
-// other regions insert: a triangle around a vertex the region owns keeps its
-// vertices, and the edges at that vertex their neighbours (other regions
-// change neither).
-int32_t Triangulation::region_start(const KeyRange &range, uint32_t key, int32_t prev_begin,
-                                    int32_t prev_end) const {
-    const int32_t first = first_slot_with_key(key, prev_begin, prev_end);
-    constexpr int kTries = 64;
-    for (int32_t u = first; u < prev_end && u < first + kTries && key_[u] < range.hi; ++u) {
-        if (key_[u] < range.lo || vertex_tri_[u] < 0) continue;
-        int32_t found = kNone;
-        for_each_in_star(u, [&](int32_t t) {
-            if (found == kNone && owns(range, t)) found = t;
-        });
-        if (found != kNone) return found;
+// A triangle the region owns around one of the first vertices from `key` on
+// among the slots of g.starts (each sorted by Hilbert key), in the region's
+// range; kNone if none of the first few has one. Safe while other regions
+// insert: a triangle around a vertex the region owns keeps its vertices,
+// and the edges at that vertex their neighbours (other regions change
+// neither).
+int32_t Triangulation::region_start(const Region &g, uint32_t key) const {
+    constexpr int kTries = 32;  // each way
+    const uint32_t span = g.keys.hi - g.keys.lo;
+    for (const Region::Slots &slots : g.starts) {
+        const int32_t at = first_slot_with_key(key, slots.begin, slots.end);
+        for (int32_t d = 0; d < kTries; ++d)
+            for (int32_t u : {at + d, at - 1 - d}) {
+                if (u < slots.begin || u >= slots.end) continue;
+                if (g.keys.keys[u] - g.keys.lo >= span || vertex_tri_[u] < 0) continue;
+                int32_t found = kNone;
+                for_each_in_star(u, [&](int32_t t) {
+                    if (found == kNone && owns(g.keys, t)) found = t;
+                });
+                if (found != kNone) return found;
+            }
     }
     return kNone;
 }

@@ -114,7 +114,7 @@ std::vector<Triangulation::Territory> Triangulation::open_territories(
     int32_t slot = first_slot, fresh = first_fresh;
     for (size_t i = 0; i < territories.size(); ++i) {
         Territory &g = territories[i];
-        g.keys_ = {i == 0 ? 0u : cuts[i - 1], i == cuts.size() ? ~uint32_t(0) : cuts[i]};
+        g.keys_ = {key_.data(), i == 0 ? 0u : cuts[i - 1], i == cuts.size() ? ~uint32_t(0) : cuts[i]};
         g.layout_ = layout;
         const int32_t budget = std::max(vertex_budget[i], 0);
         g.first_vertex_ = g.next_vertex_ = slot;

@@ -77,7 +77,7 @@ void Triangulation::insert_all(Context &ctx) {
     auto round_of = [&](int32_t v) { return brio_round(id_[v], n_real); };
     int32_t hint = 0;
     int32_t prev_begin = kVirtual;  // the previous round's first slot
-    int64_t in_parallel = 0, deferred = 0;
+    int64_t in_parallel = 0, deferred = 0, deferred_by_regions = 0;
     for (int32_t begin = kVirtual; begin < last;) {
         const int round = round_of(begin);
         int32_t end = last;  // the first slot of a later round (rounds ascend)
@@ -89,7 +89,8 @@ void Triangulation::insert_all(Context &ctx) {
             }
         }
         if (end - begin >= kParallelRound && key_.size() == q_.size()) {
-            deferred += insert_round_in_parallel(ctx, prev_begin, begin, end, hint);
+            const RoundDeferred count = insert_round_in_parallel(ctx, prev_begin, begin, end, hint);
+            deferred += count.to_serial, deferred_by_regions += count.by_regions;
             in_parallel += end - begin;
         } else {
             for (int32_t v = begin; v < end; ++v) {
@@ -102,9 +103,10 @@ void Triangulation::insert_all(Context &ctx) {
         begin = end;
     }
     decltype(key_)().swap(key_);
-    // bench_triangulation reads this line (the share deferred by the regions).
+    // bench_triangulation reads this line (the share left to the serial pass).
     ctx.log(UM_LOG_DEBUG, concat("triangulate: ", n_real, " points, ", in_parallel,
-                                 " in parallel rounds, ", deferred, " of them deferred"));
+                                 " in parallel rounds, ", deferred, " of them deferred (",
+                                 deferred_by_regions, " by the regions, the rest by the bands)"));
     for (int32_t v = 0; v < kVirtual; ++v)
         if (vertex_tri_[v] >= 0)
             fail(UM_ERR_DEGENERATE_INPUT,
@@ -294,7 +296,7 @@ void Triangulation::restore(Snapshot &&s) {
     // across edge (a, b) of t is the other one around a that has b.
     q_.swap(s.q), id_.swap(s.id), vertex_tri_.swap(s.vertex_tri), free_.swap(s.free);
     decltype(s.q)().swap(s.q);
-    decltype(s.id)().swap(s.id), std::vector<int32_t>().swap(s.vertex_tri), std::vector<int32_t>().swap(s.free);
+    decltype(s.id)().swap(s.id), decltype(s.vertex_tri)().swap(s.vertex_tri), std::vector<int32_t>().swap(s.free);
     decltype(tris_)().swap(tris_);
     decltype(mark_)().swap(mark_);
     try {

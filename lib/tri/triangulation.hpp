@@ -94,8 +94,8 @@ public:
     // throws): consistent, if not what it was.
     struct Snapshot {
         UninitVector<Vec3> q;
-        UninitVector<int32_t> id;
-        std::vector<int32_t> vertex_tri, free;
+        UninitVector<int32_t> id, vertex_tri;
+        std::vector<int32_t> free;
         std::vector<std::array<int32_t, 3>> triangles;  // kNone for a free slot
     };
     Snapshot snapshot() const;
@@ -300,8 +300,11 @@ private:
         std::vector<int32_t> *reuse;
         int32_t fresh = 0, fresh_end = 0;
     };
-    // The vertices a region of a parallel round owns: Hilbert keys in [lo, hi).
+    // The vertices a region of a parallel round owns: those whose key, in a
+    // per-slot array of keys (key_, the Hilbert keys, or band_key_), is in
+    // [lo, hi).
     struct KeyRange {
+        const uint32_t *keys;
         uint32_t lo, hi;
     };
     struct Region;  // parallel_insertion.cpp
@@ -323,19 +326,25 @@ private:
         // every step of a region's walks, where the branches would cost more.
         const int32_t *tv = tris_[t].v;
         const uint32_t span = range.hi - range.lo;
-        auto in = [&](int32_t v) { return key_[v] - range.lo < span; };
+        const uint32_t *const keys = range.keys;
+        auto in = [&](int32_t v) { return keys[v] - range.lo < span; };
         return in(tv[0]) & in(tv[1]) & in(tv[2]);
     }
-    // Parallel insertion of one BRIO round, region by region
-    // (parallel_insertion.cpp); returns how many of its points were deferred.
-    int64_t insert_round_in_parallel(Context &ctx, int32_t prev_begin, int32_t begin, int32_t end,
-                                  int32_t &hint);
+    // Parallel insertion of one BRIO round, region by region, then band by
+    // band (parallel_insertion.cpp); returns how many of its points the
+    // regions deferred, and how many of those were left to the serial pass.
+    struct RoundDeferred {
+        int64_t by_regions = 0, to_serial = 0;
+    };
+    RoundDeferred insert_round_in_parallel(Context &ctx, int32_t prev_begin, int32_t begin,
+                                           int32_t end, int32_t &hint);
     std::vector<int32_t> insert_by_regions(Context &ctx, int32_t prev_begin, int32_t begin,
                                            int32_t end);
+    std::vector<int32_t> insert_by_bands(Context &ctx, std::vector<int32_t> deferred,
+                                         int32_t prev_begin, int32_t begin, int32_t end);
     enum class RegionInsert { inserted, hidden, deferred };
     RegionInsert insert_in_region(int32_t v, Region &region);
-    int32_t region_start(const KeyRange &range, uint32_t key, int32_t prev_begin,
-                         int32_t prev_end) const;
+    int32_t region_start(const Region &region, uint32_t key) const;
     int32_t vertex_near_key(uint32_t key, int32_t begin, int32_t end) const;
     int32_t first_slot_with_key(uint32_t key, int32_t begin, int32_t end) const;
     int32_t locate_brute_force(const Vec3 &p) const;
@@ -382,7 +391,7 @@ private:
     // (UninitVector: the construction writes each element once, in parallel.)
     UninitVector<Vec3> q_;            // lifted point per vertex slot
     UninitVector<int32_t> id_;        // input index; < 0 for the virtual octahedron
-    std::vector<int32_t> vertex_tri_; // a triangle incident to the vertex; kNone hidden, kRemoved
+    UninitVector<int32_t> vertex_tri_;  // a triangle incident to the vertex; kNone hidden, kRemoved
     // One record per triangle so that a visit touches one cache line.
     struct Tri {
         int32_t v[3];  // vertices; v[0] == kNone for a free slot
@@ -401,6 +410,7 @@ private:
     // walk_bound_: orient_origin's (the walk's test), likewise.
     static constexpr double kNoBound = 1e300;
     double build_bound_ = kNoBound, walk_bound_ = kNoBound;
+    double longest_lifted_ = 1.0;     // prepare()'s longest lifted point (the band keys' scale)
 };
 
 class Triangulation::Territory {
@@ -414,7 +424,7 @@ public:
 
 private:
     friend class Triangulation;
-    KeyRange keys_{0, 0};
+    KeyRange keys_{nullptr, 0, 0};
     int layout_ = 0;
     int32_t first_vertex_ = 0, next_vertex_ = 0, vertex_end_ = 0;
     int32_t first_id_ = 0;  // the id of its first vertex slot
@@ -441,12 +451,13 @@ void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, cons
         advise_huge_pages(values.data(), values.capacity() * sizeof(values[0]));
         values.resize(slots);
     };
-    size_for_gather(q_), size_for_gather(id_), size_for_gather(key_);
+    size_for_gather(q_), size_for_gather(id_), size_for_gather(key_), size_for_gather(vertex_tri_);
     std::fill_n(key_.begin(), kVirtual, ~uint32_t(0));  // the virtual vertices: owned by no region
-    vertex_tri_.assign(slots, kNone);
+    std::fill_n(vertex_tri_.begin(), kVirtual, kNone);
     double largest = 1.0;  // the longest lifted point (the virtual ones are tiny)
     if (weights)
         for (int64_t i = 0; i < n; ++i) largest = std::max(largest, lifted_scale(weights[i]));
+    longest_lifted_ = largest;
     build_bound_ = geom::orient3d_static_bound(largest);
     walk_bound_ = geom::orient_origin_static_bound(largest);
     // A gather from the input in a random order: each read misses the
@@ -460,6 +471,7 @@ void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, cons
             q_[kVirtual + i] = s * direction(src);
             id_[kVirtual + i] = src;
             key_[kVirtual + i] = brio_hilbert(order[i]);
+            vertex_tri_[kVirtual + i] = kNone;
         }
     });
 }
