@@ -17,8 +17,8 @@
 namespace um {
 
 constexpr size_t kHugePageBytes = size_t(2) << 20;
-// Below this, a buffer's whole huge pages are too few to matter.
-constexpr size_t kHugePageMinBytes = size_t(4) << 20;
+// Advice is taken from one huge page on.
+constexpr size_t kHugePageMinBytes = kHugePageBytes;
 
 // Asks for huge pages over the whole 2 MiB pages inside [data, data + bytes),
 // for buffers of kHugePageMinBytes or more. Advice only: no effect where

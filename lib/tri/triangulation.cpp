@@ -67,6 +67,7 @@ void Triangulation::insert_all(Context &ctx) {
     tris_.reserve(max_triangles);
     advise_huge_pages(tris_.data(), tris_.capacity() * sizeof(Tri));
     mark_.reserve(max_triangles);
+    advise_huge_pages(mark_.data(), mark_.capacity());
     init_virtual_octahedron();
 
     // prepare() sorted the slots by BRIO round and kept their Hilbert keys:

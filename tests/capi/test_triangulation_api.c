@@ -292,6 +292,46 @@ static void xyz_input(void **state) {
     assert_int_equal(um_triangulation_create_xyz(ctx, 4, xyz, NULL, &t), UM_ERR_INVALID_ARGUMENT);
 }
 
+/* The inputs are checked in parallel chunks; the error is still the first
+   bad point's, whatever the thread count (the later ones lie in other chunks). */
+static void first_bad_point_is_named_on_any_thread_count(void **state) {
+    um_context *ctx = *state;
+    enum { N = 200000 };
+    double *lon = malloc(N * sizeof *lon), *lat = malloc(N * sizeof *lat);
+    double *xyz = malloc(3 * N * sizeof *xyz), *w = malloc(N * sizeof *w);
+    random_lonlat(N, lon, lat);
+    for (int i = 0; i < N; ++i) {
+        xyz[3 * i] = cos(lat[i] / DEG) * cos(lon[i] / DEG);
+        xyz[3 * i + 1] = cos(lat[i] / DEG) * sin(lon[i] / DEG);
+        xyz[3 * i + 2] = sin(lat[i] / DEG);
+        w[i] = 0;
+    }
+    lat[150000] = NAN, lat[70001] = 95, lon[190000] = INFINITY;
+    xyz[3 * 180000 + 1] = NAN, xyz[3 * 90000] = xyz[3 * 90000 + 1] = xyz[3 * 90000 + 2] = 0;
+    w[120000] = 2.5, w[199999] = NAN;
+    for (int threads = 1; threads <= 2; ++threads) {
+        assert_int_equal(um_context_set_threads(ctx, threads), UM_OK);
+        um_triangulation *t = NULL;
+        assert_int_equal(um_triangulation_create(ctx, N, lon, lat, NULL, &t), UM_ERR_COORDINATE_RANGE);
+        assert_non_null(strstr(um_context_last_error(ctx), "lat_deg[70001] = 95"));
+        um_context_clear_error(ctx);
+        assert_int_equal(um_triangulation_create_xyz(ctx, N, xyz, NULL, &t), UM_ERR_INVALID_ARGUMENT);
+        assert_non_null(strstr(um_context_last_error(ctx), "point 90000 of xyz"));
+        um_context_clear_error(ctx);
+        xyz[3 * 90000] = 1;
+        assert_int_equal(um_triangulation_create_xyz(ctx, N, xyz, w, &t), UM_ERR_NONFINITE_INPUT);
+        assert_non_null(strstr(um_context_last_error(ctx), "xyz[540001]"));
+        um_context_clear_error(ctx);
+        xyz[3 * 180000 + 1] = 0;
+        assert_int_equal(um_triangulation_create_xyz(ctx, N, xyz, w, &t), UM_ERR_INVALID_ARGUMENT);
+        assert_non_null(strstr(um_context_last_error(ctx), "weights[120000] = 2.5"));
+        assert_null(t);
+        xyz[3 * 90000] = 0, xyz[3 * 180000 + 1] = NAN;
+        um_context_clear_error(ctx);
+    }
+    free(lon), free(lat), free(xyz), free(w);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(same_triangles_as_qhull, setup_context, teardown_context),
@@ -305,6 +345,8 @@ int main(void) {
         cmocka_unit_test_setup_teardown(identical_for_any_thread_count, setup_context,
                                         teardown_context),
         cmocka_unit_test_setup_teardown(xyz_input, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(first_bad_point_is_named_on_any_thread_count, setup_context,
+                                        teardown_context),
     };
     return cmocka_run_group_tests_name("triangulation_api", tests, NULL, NULL);
 }
