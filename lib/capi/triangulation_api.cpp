@@ -137,7 +137,8 @@ UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const doubl
     check_in_parallel(state, n, [&](int64_t b, int64_t e) { check_lonlat(lon_deg, lat_deg, b, e); });
     check_in_parallel(state, n, [&](int64_t b, int64_t e) { check_weights(weights, b, e); });
     // Unit vectors once, up front: the construction reads each point twice.
-    std::vector<Vec3> xyz(static_cast<size_t>(n));
+    // (A Buffer: first written, page by page, by the parallel loop.)
+    um::Buffer<Vec3> xyz(static_cast<size_t>(n));
     ctx->state->parallel_for(n, 8192, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) xyz[i] = um::geom::unit_from_lonlat_deg(lon_deg[i], lat_deg[i]);
     });
@@ -147,7 +148,7 @@ UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const doubl
     auto direction = [&](int64_t i) { return xyz[i]; };
     auto prefetch = [&](int64_t i) { __builtin_prefetch(xyz.data() + i); };
     handle->tri.prepare(*ctx->state, n, direction, weights, direction, prefetch);
-    std::vector<Vec3>().swap(xyz);
+    um::Buffer<Vec3>().swap(xyz);
     handle->tri.finish_build(*ctx->state);
     um::capi::register_handle(handle.get(), HandleKind::triangulation);
     *out = handle.release();
