@@ -23,11 +23,13 @@ template <class T>
 class Buffer {
     static_assert(std::is_trivially_copyable<T>::value && std::is_trivially_destructible<T>::value,
                   "a Buffer holds plain values");
+    static_assert(alignof(T) <= __STDCPP_DEFAULT_NEW_ALIGNMENT__, "plain operator new must align T");
 
 public:
     Buffer() = default;
     explicit Buffer(size_t size) : size_(size) {
         if (size == 0) return;
+        if (size > size_t(-1) / sizeof(T)) throw std::bad_array_new_length();
         const size_t bytes = size * sizeof(T);
         if (bytes >= kHugePageMinBytes) {
             data_ = static_cast<T *>(::operator new(bytes, std::align_val_t(kHugePageBytes)));

@@ -7,9 +7,11 @@
 // ask for them (madvise) on most distributions, Debian's included.
 // Measured with bench_triangulation (README, Benchmarks).
 //
-// Only the construction from many points asks (its arrays are sized once,
-// up front and exactly): arrays that grow a little at a time, as in the
-// refinement, would round each buffer up to whole huge pages for nothing.
+// Who asks: the construction from many points (its arrays are sized once,
+// up front and exactly) and core/Buffer's temporaries of 2 MiB or more
+// (sort keys, which the pipeline's spatial reordering uses too). Arrays
+// that grow a little at a time, as in the refinement, would round each
+// buffer up to whole huge pages for nothing.
 #pragma once
 
 #include <cstddef>

@@ -18,8 +18,8 @@
 //  - a point whose walk or cavity reaches a vertex the region does not own
 //    is deferred.
 // The deferred points lie along the regions' borders. A second pass inserts
-// them by bands of latitude (about the z axis), which own vertices by the
-// same rule with other keys: the borders of bands cross the regions'
+// them by bands of latitude about a tilted axis (kBandAxis), which own
+// vertices by the same rule with other keys: the borders of bands cross the regions'
 // borders instead of running along them, so most deferred points are well
 // inside a band. What is left is inserted one by one after all bands
 // finished, band by band.
@@ -214,7 +214,8 @@ std::vector<int32_t> Triangulation::insert_by_bands(Context &ctx, std::vector<in
     for (size_t bin = 0; bin < bins.size() && band < n_bands; ++bin) {
         seen += bins[bin];
         while (band < n_bands && seen * n_bands >= band * points.size())
-            cuts[band++] = static_cast<uint32_t>((bin + 1) << (32 - kBinBits));
+            // (After the last bin: ~0, where 2^32 would wrap to 0.)
+            cuts[band++] = bin + 1 < bins.size() ? static_cast<uint32_t>((bin + 1) << (32 - kBinBits)) : ~uint32_t(0);
     }
     std::vector<Region> bands(n_bands);
     for (size_t b = 0; b < n_bands; ++b) {
@@ -225,11 +226,10 @@ std::vector<int32_t> Triangulation::insert_by_bands(Context &ctx, std::vector<in
         g.pool = {&g.reuse, 0, 0};
     }
     // Two free slots per point, from the back of the list, band by band.
+    // (The cuts ascend; a band between two equal ones is empty.)
     for (int32_t v : points) {
-        const uint32_t key = band_key[v];
-        Region &g = *std::find_if(bands.begin(), bands.end(), [&](const Region &r) {
-            return key - r.keys.lo < r.keys.hi - r.keys.lo;
-        });
+        const auto above = std::upper_bound(cuts.begin() + 1, cuts.end() - 1, band_key[v]);
+        Region &g = bands[static_cast<size_t>(above - (cuts.begin() + 1))];
         for (int k = 0; k < 2; ++k) g.reuse.push_back(free_.back()), free_.pop_back();
         g.deferred.push_back(v);  // (its points, until it runs)
     }
@@ -293,9 +293,9 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
     return RegionInsert::inserted;
 }
 
-// A triangle the region owns around one of the first vertices from `key` on
-// among the slots of g.starts (each sorted by Hilbert key), in the region's
-// range; kNone if none of the first few has one. Safe while other regions
+// A triangle the region owns around one of the vertices nearest to `key`
+// (either way) among the slots of g.starts (each sorted by Hilbert key), in
+// the region's range; kNone if none of the few tried has one. Safe while other regions
 // insert: a triangle around a vertex the region owns keeps its vertices,
 // and the edges at that vertex their neighbours (other regions change
 // neither).
@@ -303,6 +303,7 @@ int32_t Triangulation::region_start(const Region &g, uint32_t key) const {
     constexpr int kTries = 32;  // each way
     const uint32_t span = g.keys.hi - g.keys.lo;
     for (const Region::Slots &slots : g.starts) {
+        if (slots.begin == slots.end) continue;
         const int32_t at = first_slot_with_key(key, slots.begin, slots.end);
         for (int32_t d = 0; d < kTries; ++d)
             for (int32_t u : {at + d, at - 1 - d}) {

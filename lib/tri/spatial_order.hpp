@@ -10,6 +10,7 @@
 
 #include "core/buffer.hpp"
 #include "core/context.hpp"
+#include "core/error.hpp"
 #include "geom/sphere.hpp"
 
 namespace um::tri {
@@ -27,7 +28,7 @@ uint64_t hilbert_key(const geom::Vec3 &direction);
 // allocate saves it some 1,000 page faults.)
 template <class DirectionFn>
 Buffer<uint64_t> brio_words(Context &ctx, int64_t n, DirectionFn direction);
-constexpr int kBrioIndexBits = 28;  // n < 2^28
+constexpr int kBrioIndexBits = 28;  // n <= 2^28 (checked by brio_words)
 inline int32_t brio_point(uint64_t word) {
     return static_cast<int32_t>(word & ((uint64_t(1) << kBrioIndexBits) - 1));
 }
@@ -57,6 +58,9 @@ int brio_round(int64_t index, int64_t n);
 
 template <class DirectionFn>
 Buffer<uint64_t> brio_words(Context &ctx, int64_t n, DirectionFn direction) {
+    // Index i < n must fit the index bits below the key.
+    if (n < 0 || n > (int64_t(1) << kBrioIndexBits))
+        fail(UM_ERR_LIMIT, "brio_words: ", n, " points; at most 2^", kBrioIndexBits);
     Buffer<uint64_t> keys(static_cast<size_t>(n));
     const int rounds = brio_rounds(n);
     ctx.parallel_for(n, 4096, [&](int64_t begin, int64_t end) {

@@ -50,16 +50,20 @@ public:
     // `direction` in between: prepare() copies the points in insertion order
     // (BRIO rounds along a Hilbert curve), finish_build() triangulates them.
     // The first rounds are inserted one by one in that order, the big ones
-    // by up to 16 regions in parallel (parallel_insertion.cpp); nothing
+    // by up to 16 regions in parallel, then the points those deferred by 4
+    // bands (parallel_insertion.cpp); nothing
     // depends on the thread count, so neither do the triangles nor their
     // numbering.
     // key_direction(i) is direction(i) times any positive factor (the
     // input before normalising, say): the Hilbert keys need no more.
     // prefetch(i), when given, asks the cache for what direction(i) will
     // read (the points are gathered in insertion order, at random).
-    template <class DirectionFn, class KeyDirectionFn, class PrefetchFn = void (*)(int64_t)>
+    struct NoPrefetch {
+        void operator()(int64_t) const {}
+    };
+    template <class DirectionFn, class KeyDirectionFn, class PrefetchFn = NoPrefetch>
     void prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights,
-                 KeyDirectionFn key_direction, PrefetchFn prefetch = [](int64_t) {});
+                 KeyDirectionFn key_direction, PrefetchFn prefetch = {});
     void finish_build(Context &ctx) { insert_all(ctx); }
 
     // Counts -------------------------------------------------------------
@@ -301,8 +305,8 @@ private:
         int32_t fresh = 0, fresh_end = 0;
     };
     // The vertices a region of a parallel round owns: those whose key, in a
-    // per-slot array of keys (key_, the Hilbert keys, or band_key_), is in
-    // [lo, hi).
+    // per-slot array of keys (key_, the Hilbert keys, or a band pass's
+    // keys), is in [lo, hi).
     struct KeyRange {
         const uint32_t *keys;
         uint32_t lo, hi;

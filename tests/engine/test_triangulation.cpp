@@ -178,6 +178,21 @@ void clustered_points_in_parallel_rounds(void **) {
     expect_identical(one, build(pts, nullptr, 2));
 }
 
+// A third of the points crowded around the axis of the bands that take the
+// points the regions defer (parallel_insertion.cpp): most of those fall in
+// the top bin of the bands' histogram, whose cut is the end of the keys.
+void points_crowded_at_the_band_axis(void **) {
+    auto pts = test::random_points(280000, 43);
+    const Vec3 axis = geom::normalized({1, 2, 3});
+    const Vec3 e1 = geom::normalized(geom::cross(axis, {0, 0, 1})), e2 = geom::cross(axis, e1);
+    std::mt19937_64 rng(47);
+    std::uniform_real_distribution<double> u(-0.02, 0.02);
+    for (int i = 0; i < 120000; ++i) pts.push_back(geom::normalized(axis + u(rng) * e1 + u(rng) * e2));
+    auto one = build(pts, nullptr, 1);
+    expect_complete(one, pts.size());
+    expect_identical(one, build(pts, nullptr, 2));
+}
+
 void one_hemisphere_or_great_circle_is_rejected(void **) {
     auto pts = test::random_points(1000, 13);
     for (auto &p : pts) p.z = std::fabs(p.z) + 1e-3, p = geom::normalized(p);
@@ -730,6 +745,7 @@ int main() {
         cmocka_unit_test(exact_duplicates_in_parallel_rounds_are_named),
         cmocka_unit_test(clustered_points_in_parallel_rounds),
         cmocka_unit_test(one_hemisphere_or_great_circle_is_rejected),
+        cmocka_unit_test(points_crowded_at_the_band_axis),
         cmocka_unit_test(weights_hide_points),
         cmocka_unit_test(same_result_for_any_thread_count),
         cmocka_unit_test(insertion_order_does_not_change_the_triangles),
