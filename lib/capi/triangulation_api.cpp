@@ -91,12 +91,17 @@ void check_xyz(const double *xyz, int64_t begin, int64_t end) {
     }
 }
 
-template <class DirectionFn, class KeyDirectionFn, class PrefetchFn>
+// Builds the handle's triangulation; after_prepare() runs between the two
+// steps (a caller frees the input it made for `direction` there, before the
+// triangulation's own storage grows).
+template <class DirectionFn, class KeyDirectionFn, class PrefetchFn, class AfterPrepareFn>
 um_status create(um_context *ctx, int64_t n, DirectionFn direction, KeyDirectionFn key_direction,
-                 PrefetchFn prefetch, const double *weights, um_triangulation **out) {
+                 PrefetchFn prefetch, AfterPrepareFn after_prepare, const double *weights,
+                 um_triangulation **out) {
     auto handle = std::make_unique<um_triangulation>();
     handle->context = ctx->state;
     handle->tri.prepare(*ctx->state, n, direction, weights, key_direction, prefetch);
+    after_prepare();
     handle->tri.finish_build(*ctx->state);
     um::capi::register_handle(handle.get(), HandleKind::triangulation);
     *out = handle.release();
@@ -142,17 +147,10 @@ UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const doubl
     ctx->state->parallel_for(n, 8192, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) xyz[i] = um::geom::unit_from_lonlat_deg(lon_deg[i], lat_deg[i]);
     });
-    // The unit vectors are freed before the triangulation's own storage grows.
-    auto handle = std::make_unique<um_triangulation>();
-    handle->context = ctx->state;
     auto direction = [&](int64_t i) { return xyz[i]; };
     auto prefetch = [&](int64_t i) { __builtin_prefetch(xyz.data() + i); };
-    handle->tri.prepare(*ctx->state, n, direction, weights, direction, prefetch);
-    um::Buffer<Vec3>().swap(xyz);
-    handle->tri.finish_build(*ctx->state);
-    um::capi::register_handle(handle.get(), HandleKind::triangulation);
-    *out = handle.release();
-    return UM_OK;
+    auto free_unit_vectors = [&] { um::Buffer<Vec3>().swap(xyz); };
+    return create(ctx, n, direction, direction, prefetch, free_unit_vectors, weights, out);
     UM_API_END(context_state_or_null(ctx))
 }
 
@@ -170,7 +168,7 @@ UM_API um_status um_triangulation_create_xyz(um_context *ctx, int64_t n, const d
     auto raw = [xyz](int64_t i) { return Vec3{xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}; };
     auto direction = [raw](int64_t i) { return um::geom::normalized(raw(i)); };
     auto prefetch = [xyz](int64_t i) { __builtin_prefetch(xyz + 3 * i); };
-    return create(ctx, n, direction, raw, prefetch, weights, out);
+    return create(ctx, n, direction, raw, prefetch, [] {}, weights, out);
     UM_API_END(context_state_or_null(ctx))
 }
 

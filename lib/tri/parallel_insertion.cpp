@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.hpp"
 #include "tri/spatial_order.hpp"
 #include "tri/triangulation.hpp"
 
@@ -69,7 +70,9 @@ constexpr double kBandAxis[3] = {0.2672612419124244, 0.5345224838248488, 0.80178
 
 struct Triangulation::Region {
     KeyRange keys;
-    int32_t begin = 0, end = 0;       // its points: vertex slots, sorted by key
+    // Its points: the vertex slots [begin, end) (sorted by key), or `listed`.
+    int32_t begin = 0, end = 0;
+    std::vector<int32_t> listed;
     int32_t hint = kNone;             // a triangle it owns near its last point
     // Where to look for a start near a point: runs of slots sorted by
     // Hilbert key (rounds), tried in order.
@@ -154,19 +157,28 @@ std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx, int32_t prev
         g.walk = static_cast<uint32_t>(g.begin - begin);
         g.pool = {&g.reuse, base + 2 * (g.begin - begin), base + 2 * (g.end - begin)};
     }
-    ctx.parallel_for(n_regions, 1, [&](int64_t r0, int64_t r1) {
+    return run_regions(ctx, regions);
+}
+
+// Inserts every region's points, the regions in parallel; then gives the
+// slots they did not use to free_ (for the passes after) and returns the
+// points they deferred, region by region.
+std::vector<int32_t> Triangulation::run_regions(Context &ctx, std::vector<Region> &regions) {
+    ctx.parallel_for(static_cast<int64_t>(regions.size()), 1, [&](int64_t r0, int64_t r1) {
         for (int64_t r = r0; r < r1; ++r) {
             Region &g = regions[r];
-            for (int32_t v = g.begin; v < g.end; ++v)
+            auto insert = [&](int32_t v) {
                 if (insert_in_region(v, g) == RegionInsert::deferred) g.deferred.push_back(v);
+            };
+            for (int32_t v = g.begin; v < g.end; ++v) insert(v);
+            for (int32_t v : g.listed) insert(v);
         }
     });
-    // The regions' unused slots are for the serial path.
     std::vector<int32_t> deferred;
     for (Region &g : regions) {
         free_.insert(free_.end(), g.reuse.begin(), g.reuse.end());
         for (int32_t t = g.pool.fresh; t < g.pool.fresh_end; ++t) {
-            tris_[t] = {{kNone, kNone, kNone}, {kNone, kNone, kNone}};
+            tris_[t] = {{kNone, kNone, kNone}, {kNone, kNone, kNone}};  // never written
             mark_[t] = 0;
             free_.push_back(t);
         }
@@ -176,8 +188,8 @@ std::vector<int32_t> Triangulation::insert_by_regions(Context &ctx, int32_t prev
 }
 
 // The second pass over the points the regions deferred (in their order):
-// bands of latitude about kBandAxis, cut where the points' keys split them into equal
-// shares. Returns the points deferred again, band by band.
+// bands of latitude about kBandAxis, cut where the points' keys split them
+// into equal shares. Returns the points deferred again, band by band.
 std::vector<int32_t> Triangulation::insert_by_bands(Context &ctx, std::vector<int32_t> points,
                                                     int32_t prev_begin, int32_t begin,
                                                     int32_t end) {
@@ -192,7 +204,6 @@ std::vector<int32_t> Triangulation::insert_by_bands(Context &ctx, std::vector<in
     // vertices is only less tidy when they are not. (Without a square root
     // or a division: this runs over every vertex.) The virtual vertices
     // get ~0, which no band owns.
-    constexpr int kVirtual = 6;
     Buffer<uint32_t> band_key(static_cast<size_t>(end));
     const double scale = 0x1p31 / longest_lifted_;
     ctx.parallel_for(end, 16384, [&](int64_t b, int64_t e) {
@@ -217,6 +228,9 @@ std::vector<int32_t> Triangulation::insert_by_bands(Context &ctx, std::vector<in
             // (After the last bin: ~0, where 2^32 would wrap to 0.)
             cuts[band++] = bin + 1 < bins.size() ? static_cast<uint32_t>((bin + 1) << (32 - kBinBits)) : ~uint32_t(0);
     }
+    // (Bands with overlapping keys could change one triangle at once.)
+    if (!std::is_sorted(cuts.begin(), cuts.end()))
+        fail(UM_ERR_INTERNAL, "insert_by_bands: the band cuts do not ascend");
     std::vector<Region> bands(n_bands);
     for (size_t b = 0; b < n_bands; ++b) {
         Region &g = bands[b];
@@ -231,23 +245,9 @@ std::vector<int32_t> Triangulation::insert_by_bands(Context &ctx, std::vector<in
         const auto above = std::upper_bound(cuts.begin() + 1, cuts.end() - 1, band_key[v]);
         Region &g = bands[static_cast<size_t>(above - (cuts.begin() + 1))];
         for (int k = 0; k < 2; ++k) g.reuse.push_back(free_.back()), free_.pop_back();
-        g.deferred.push_back(v);  // (its points, until it runs)
+        g.listed.push_back(v);
     }
-    ctx.parallel_for(static_cast<int64_t>(n_bands), 1, [&](int64_t b0, int64_t b1) {
-        for (int64_t b = b0; b < b1; ++b) {
-            Region &g = bands[b];
-            std::vector<int32_t> mine;
-            mine.swap(g.deferred);
-            for (int32_t v : mine)
-                if (insert_in_region(v, g) == RegionInsert::deferred) g.deferred.push_back(v);
-        }
-    });
-    std::vector<int32_t> deferred;
-    for (Region &g : bands) {
-        free_.insert(free_.end(), g.reuse.begin(), g.reuse.end());
-        deferred.insert(deferred.end(), g.deferred.begin(), g.deferred.end());
-    }
-    return deferred;
+    return run_regions(ctx, bands);
 }
 
 // Inserts the point in slot v if the region owns everything it needs.
@@ -295,10 +295,10 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
 
 // A triangle the region owns around one of the vertices nearest to `key`
 // (either way) among the slots of g.starts (each sorted by Hilbert key), in
-// the region's range; kNone if none of the few tried has one. Safe while other regions
-// insert: a triangle around a vertex the region owns keeps its vertices,
-// and the edges at that vertex their neighbours (other regions change
-// neither).
+// the region's range; kNone if none of the few tried has one. Safe while
+// other regions insert: a triangle around a vertex the region owns keeps
+// its vertices, and the edges at that vertex their neighbours (other
+// regions change neither).
 int32_t Triangulation::region_start(const Region &g, uint32_t key) const {
     constexpr int kTries = 32;  // each way
     const uint32_t span = g.keys.hi - g.keys.lo;

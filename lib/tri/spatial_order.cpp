@@ -113,7 +113,8 @@ uint64_t hilbert_key(const geom::Vec3 &p) {
     const int i = 2 - 2 * x_largest - y_largest;
     const double m = std::max(ax, std::max(ay, az));
     const int face = i + 3 * (coord[i] <= 0);
-    // The axes after and before i, cyclically (bit tables, as above).
+    // The axes after and before i, cyclically, from bit tables (0 -> 1, 2;
+    // 1 -> 2, 0; 2 -> 0, 1): a conditional here would be a branch.
     const double u = coord[(0x09 >> (2 * i)) & 3], v = coord[(0x12 >> (2 * i)) & 3];
     if (m == 0) return 0;
     // t in [-1, 1] -> cell in [0, 2^bits - 1].

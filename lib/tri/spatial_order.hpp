@@ -37,15 +37,6 @@ inline uint32_t brio_hilbert(uint64_t word) {
     return static_cast<uint32_t>((word >> kBrioIndexBits) & ((uint64_t(1) << kHilbertIndexBits) - 1));
 }
 
-// The insertion order of n points: a permutation of 0..n-1.
-template <class DirectionFn>
-std::vector<int32_t> brio_order(Context &ctx, int64_t n, DirectionFn direction) {
-    const Buffer<uint64_t> words = brio_words(ctx, n, direction);
-    std::vector<int32_t> order(static_cast<size_t>(n));
-    for (int64_t i = 0; i < n; ++i) order[i] = brio_point(words[i]);
-    return order;
-}
-
 // Implementation detail shared with the template: keys are a 5-bit round
 // above a 31-bit Hilbert index (36 bits); sorts the words made from them.
 void brio_sort(Context &ctx, Buffer<uint64_t> &keys);
@@ -53,7 +44,7 @@ void brio_sort(Context &ctx, Buffer<uint64_t> &keys);
 // `index` above its Hilbert index.
 int brio_rounds(int64_t n);
 uint64_t brio_round_key(int64_t index, int rounds);
-// The round (0 = first) brio_order puts point `index` of n in.
+// The round (0 = first) brio_words puts point `index` of n in.
 int brio_round(int64_t index, int64_t n);
 
 template <class DirectionFn>

@@ -17,7 +17,6 @@ using geom::orient3d_perturbed;
 using geom::orient_origin;
 
 namespace {
-constexpr int kVirtual = 6;
 // Length of the virtual octahedron's lifted points: a power of two (exact
 // coordinates), tiny enough that real points around the whole sphere always
 // bury them.

@@ -38,6 +38,8 @@ inline double lifted_scale(double weight) { return 1.0 / (1.0 - 0.5 * weight); }
 class Triangulation {
 public:
     static constexpr int32_t kNone = -1;
+    // Slots 0..kVirtual-1 hold the virtual octahedron while build() inserts.
+    static constexpr int kVirtual = 6;
     static constexpr int32_t kRemoved = -2;  // vertex_tri_ of a removed (not hidden) slot
 
     // Builds the triangulation of n points; direction(i) gives point i's unit
@@ -51,9 +53,8 @@ public:
     // (BRIO rounds along a Hilbert curve), finish_build() triangulates them.
     // The first rounds are inserted one by one in that order, the big ones
     // by up to 16 regions in parallel, then the points those deferred by 4
-    // bands (parallel_insertion.cpp); nothing
-    // depends on the thread count, so neither do the triangles nor their
-    // numbering.
+    // bands (parallel_insertion.cpp); nothing depends on the thread count,
+    // so neither do the triangles nor their numbering.
     // key_direction(i) is direction(i) times any positive factor (the
     // input before normalising, say): the Hilbert keys need no more.
     // prefetch(i), when given, asks the cache for what direction(i) will
@@ -346,6 +347,7 @@ private:
                                            int32_t end);
     std::vector<int32_t> insert_by_bands(Context &ctx, std::vector<int32_t> deferred,
                                          int32_t prev_begin, int32_t begin, int32_t end);
+    std::vector<int32_t> run_regions(Context &ctx, std::vector<Region> &regions);
     enum class RegionInsert { inserted, hidden, deferred };
     RegionInsert insert_in_region(int32_t v, Region &region);
     int32_t region_start(const Region &region, uint32_t key) const;
@@ -444,7 +446,6 @@ template <class DirectionFn, class KeyDirectionFn, class PrefetchFn>
 void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights,
                             KeyDirectionFn key_direction, PrefetchFn prefetch) {
     const Buffer<uint64_t> order = brio_words(ctx, n, key_direction);
-    constexpr int kVirtual = 6;
     const size_t slots = static_cast<size_t>(n) + kVirtual;
     // Sized without being written (the gather below writes each element
     // first, in parallel), and advised before that first touch, which is

@@ -214,8 +214,14 @@ void brio_order_is_a_permutation_and_deterministic(void **) {
     Context one, two;
     one.set_threads(1);
     two.set_threads(2);
-    auto a = tri::brio_order(one, 100000, [&](int64_t i) { return pts[i]; });
-    auto b = tri::brio_order(two, 100000, [&](int64_t i) { return pts[i]; });
+    // The insertion order: the points of the sorted words.
+    auto order = [&](Context &ctx) {
+        const auto words = tri::brio_words(ctx, 100000, [&](int64_t i) { return pts[i]; });
+        std::vector<int32_t> out;
+        for (uint64_t w : words) out.push_back(tri::brio_point(w));
+        return out;
+    };
+    const std::vector<int32_t> a = order(one), b = order(two);
     assert_true(a == b);
     std::vector<int32_t> sorted = a;
     std::sort(sorted.begin(), sorted.end());
