@@ -179,7 +179,7 @@ std::vector<int32_t> Triangulation::run_regions(Context &ctx, std::vector<Region
         free_.insert(free_.end(), g.reuse.begin(), g.reuse.end());
         for (int32_t t = g.pool.fresh; t < g.pool.fresh_end; ++t) {
             tris_[t] = {{kNone, kNone, kNone}, {kNone, kNone, kNone}};  // never written
-            mark_[t] = 0;
+            mark_[t] = Mark::none;
             free_.push_back(t);
         }
         deferred.insert(deferred.end(), g.deferred.begin(), g.deferred.end());
@@ -284,7 +284,7 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
         if (visible(u, v)) start = u;
     }
     if (start == kNone) return RegionInsert::hidden;  // the hull only grows: hidden for good
-    if (!owns(g.keys, start) || !fill_cavity(v, start, g.scratch, &g.keys))
+    if (!fill_cavity(v, start, g.scratch, &g.keys))
         return RegionInsert::deferred;
     stitch_new_triangles(v, g.scratch, g.pool);
     // The next walk starts from the new fan, which the region owns (v and

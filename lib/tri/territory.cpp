@@ -104,7 +104,7 @@ std::vector<Triangulation::Territory> Triangulation::open_territories(
         }
         first_fresh = triangle_slots();
         grow(tris_, tris_.size() + static_cast<size_t>(fresh_needed), Tri{{kNone, kNone, kNone}, {kNone, kNone, kNone}});
-        grow(mark_, tris_.size(), uint8_t(0));
+        grow(mark_, tris_.size(), Mark::none);
     } catch (...) {
         put_back();
         throw;

@@ -49,7 +49,7 @@ void Triangulation::init_virtual_octahedron() {
         }
     for (int32_t t = 0; t < 8; ++t)
         for (int k = 0; k < 3; ++k) vertex_tri_[tris_[t].v[k]] = t;
-    mark_.assign(8, 0);
+    mark_.assign(8, Mark::none);
     free_.clear();
 }
 
@@ -173,7 +173,7 @@ void Triangulation::compact_triangles(int32_t vertex_shift) {
     tris_.resize(static_cast<size_t>(live));
     for (auto &t : vertex_tri_)
         if (t >= 0) t = new_index[t];
-    mark_.assign(static_cast<size_t>(live), 0);
+    mark_.assign(static_cast<size_t>(live), Mark::none);
     free_.clear();
 }
 
@@ -327,7 +327,7 @@ void Triangulation::restore(Snapshot &&s) {
                 }
             }
         }
-        mark_.assign(nt, 0);
+        mark_.assign(nt, Mark::none);
     } catch (...) {
         // Not even that much memory: an empty triangulation, not a broken one.
         q_.clear(), id_.clear(), vertex_tri_.clear(), free_.clear(), tris_.clear(), mark_.clear();
@@ -444,47 +444,79 @@ int32_t Triangulation::locate(const Vec3 &p, int32_t t, int zero_edges[3],
 int32_t Triangulation::walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero,
                             uint32_t &counter, int64_t max_steps, const KeyRange *owner,
                             int32_t *last_owned) const {
+    // Two copies of the loop, so that neither asks at each test which filter
+    // it uses (the static one decides nearly every test while building).
+    return walk_bound_ < kNoBound
+               ? walk_with<true>(p, t, zero_edges, n_zero, counter, max_steps, owner, last_owned)
+               : walk_with<false>(p, t, zero_edges, n_zero, counter, max_steps, owner, last_owned);
+}
+
+template <bool kStaticBound>
+int32_t Triangulation::walk_with(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero,
+                                 uint32_t &counter, int64_t max_steps, const KeyRange *owner,
+                                 int32_t *last_owned) const {
+    // Locals for everything the loop reads or writes more than once, so that
+    // the compiler keeps them in registers.
+    const Tri *const tris = tris_.data();
+    const Vec3 *const q = q_.data();
+    const double pv[3] = {p.x, p.y, p.z};
+    const double bound = walk_bound_;
+    int zeros[3], n = 0;
+    int32_t owned = owner ? *last_owned : kNone;
     int32_t from = kNone;  // the edge just crossed is known to have p inside
+    // Edge k of tr: kNone if p is not strictly outside it (a zero is
+    // listed), else the neighbour across it. The edge just crossed is not
+    // tested: it had p strictly outside in the triangle before, and the
+    // exact sign is antisymmetric.
+    auto cross = [&](const Tri &tr, auto edge) -> int32_t {
+        constexpr int k = decltype(edge)::value;
+        if (tr.n[k] == from) return kNone;
+        const double *a = q[tr.v[(k + 1) % 3]].data(), *b = q[tr.v[(k + 2) % 3]].data();
+        const int s = kStaticBound ? geom::orient_origin_static(a, b, pv, bound) : orient_origin(a, b, pv);
+        if (s == 0) zeros[n++] = k;
+        return s < 0 ? tr.n[k] : kNone;
+    };
+    // The edges in the order k0, k0 + 1, k0 + 2 (mod 3), the first one
+    // with p outside taken; constant indices, one copy per first edge.
+    auto step_from = [&](const Tri &tr, auto e0, auto e1, auto e2) -> int32_t {
+        int32_t to = cross(tr, e0);
+        if (to == kNone) to = cross(tr, e1);
+        if (to == kNone) to = cross(tr, e2);
+        return to;
+    };
+    using E0 = std::integral_constant<int, 0>;
+    using E1 = std::integral_constant<int, 1>;
+    using E2 = std::integral_constant<int, 2>;
     // The first edge tested rotates with `counter` (one step per triangle),
     // which keeps the walk from cycling.
     int k0 = static_cast<int>(counter % 3);
-    for (int64_t step = 0; step < max_steps; ++step) {
-        const Tri &tr = tris_[t];
-        n_zero = 0;
-        int32_t to = kNone;
-        for (int j = 0; j < 3; ++j) {
-            const int k = k0 + j < 3 ? k0 + j : k0 + j - 3;
-            if (tr.n[k] == from) continue;
-            const double *a = q_[tr.v[next(k)]].data(), *b = q_[tr.v[prev(k)]].data();
-            const int s = walk_bound_ < kNoBound ? geom::orient_origin_static(a, b, p.data(), walk_bound_)
-                                                 : orient_origin(a, b, p.data());
-            if (s < 0) {
-                to = tr.n[k];
-                break;
-            }
-            if (s == 0) zero_edges[n_zero++] = k;
-        }
+    int64_t step = 0;
+    int32_t found = kNone;
+    for (; step < max_steps; ++step) {
+        const Tri &tr = tris[t];
+        n = 0;
+        const int32_t to = k0 == 0   ? step_from(tr, E0{}, E1{}, E2{})
+                           : k0 == 1 ? step_from(tr, E1{}, E2{}, E0{})
+                                     : step_from(tr, E2{}, E0{}, E1{});
         k0 = k0 == 2 ? 0 : k0 + 1;
-        // (The edge just crossed cannot hold p: it had p strictly outside
-        // in the triangle before, and the exact sign is antisymmetric.)
         if (to == kNone) {
-            counter += static_cast<uint32_t>(step + 1);
-            return t;
+            found = t;
+            break;
         }
         // Beyond a triangle the region does not own, another region may be
         // changing the mesh.
         if (owner) {
-            if (!owns(*owner, t)) {
-                counter += static_cast<uint32_t>(step + 1);
-                return kNone;
-            }
-            *last_owned = t;
+            if (!owns(*owner, t)) break;
+            owned = t;
         }
         from = t;
         t = to;
     }
-    counter += static_cast<uint32_t>(max_steps);
-    return kNone;
+    counter += static_cast<uint32_t>(step < max_steps ? step + 1 : max_steps);
+    if (owner) *last_owned = owned;
+    n_zero = n;
+    for (int i = 0; i < n; ++i) zero_edges[i] = zeros[i];
+    return found;
 }
 
 int32_t Triangulation::live_triangle_near(int32_t t) const {
@@ -535,63 +567,76 @@ int32_t Triangulation::find_visible_start(int32_t v, int32_t t, const int zero_e
 // horizon is a simple cycle, but stitching needs no order: each new
 // triangle finds the next around v through its vertex (vertex_tri_).
 bool Triangulation::fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyRange *owner) {
-    // Raw pointers: the marks are bytes, which may alias anything, so with
-    // the vectors the compiler would reload every data pointer after each
-    // mark it writes.
+    // The triangles added share an edge with one in the cavity, so with
+    // `start` owned, each is owned when its apex is.
+    if (owner && !owns(*owner, start)) return false;
+    // Two copies of the loop, as for walk().
+    return build_bound_ < kNoBound ? fill_cavity_with<true>(v, start, s, owner)
+                                   : fill_cavity_with<false>(v, start, s, owner);
+}
+
+template <bool kStaticBound>
+bool Triangulation::fill_cavity_with(int32_t v, int32_t start, Scratch &s, const KeyRange *owner) {
     const Tri *const tris = tris_.data();
-    uint8_t *const mark = mark_.data();
+    Mark *const mark = mark_.data();
     const Vec3 *const q = q_.data();
-    s.cavity.clear();
-    s.horizon.clear();
-    s.cavity.push_back(start);
-    mark[start] = 1;
-    for (size_t i = 0; i < s.cavity.size(); ++i) {
-        const Tri c = tris[s.cavity[i]];
+    const double p[3] = {q[v].x, q[v].y, q[v].z};
+    const double bound = build_bound_;
+    std::vector<int32_t> &cavity = s.cavity;
+    std::vector<HorizonEdge> &horizon = s.horizon;
+    cavity.clear();
+    horizon.clear();
+    cavity.push_back(start);
+    mark[start] = Mark::cavity;
+    for (size_t i = 0; i < cavity.size(); ++i) {
+        const Tri c = tris[cavity[i]];
 #pragma GCC unroll 3
         for (int k = 0; k < 3; ++k) {
             const int32_t u = c.n[k];
-            uint8_t m = mark[u];
-            if (m == 1) continue;
+            const Mark m = mark[u];
+            if (m == Mark::cavity) continue;
             // The edge runs a -> b in c and b -> a in u: in u it is the edge
             // after a's corner, and u is (apex, b, a) counter-clockwise.
             const int32_t a = c.v[next(k)], b = c.v[prev(k)];
             const int32_t *uv = tris[u].v;
             const int j = (uv[0] == a) | (uv[1] == a) << 1;  // 1, 2, or 0 when uv[2] == a
-            if (m == 0) {
+            if (m == Mark::none) {
                 const int32_t apex = uv[j];
-                if (visible(u, q[apex].data(), q[b].data(), q[a].data(), v)) {
-                    if (owner && !owns(*owner, u)) {
+                const double *qa = q[apex].data(), *qb = q[b].data(), *qc = q[a].data();
+                const int sign = kStaticBound ? geom::orient3d_static(qa, qb, qc, p, bound)
+                                              : geom::orient3d(qa, qb, qc, p);
+                if (sign > 0 || (sign == 0 && visible_on_tie(u, v))) {
+                    if (owner && !owns_vertex(*owner, apex)) {
                         clear_cavity_marks(s);
                         return false;
                     }
-                    mark[u] = 1;
-                    s.cavity.push_back(u);
+                    mark[u] = Mark::cavity;
+                    cavity.push_back(u);
                     continue;
                 }
-                mark[u] = 2;  // (and listed with its horizon edge below)
+                mark[u] = Mark::outside;  // (and listed with its horizon edge below)
             }
-            s.horizon.push_back({a, b, u, j});
+            horizon.push_back({a, b, u, j});
         }
     }
     return true;
 }
 
 void Triangulation::clear_cavity_marks(const Scratch &s) {
-    for (int32_t t : s.cavity) mark_[t] = 0;
-    for (const HorizonEdge &h : s.horizon) mark_[h.outside] = 0;
+    for (int32_t t : s.cavity) mark_[t] = Mark::none;
+    for (const HorizonEdge &h : s.horizon) mark_[h.outside] = Mark::none;
 }
 
-int32_t Triangulation::new_triangle_slot(SlotPool &pool) {
+int32_t Triangulation::new_triangle_slot_slow(SlotPool &pool) {
     if (!pool.reuse->empty()) {
         int32_t t = pool.reuse->back();
         pool.reuse->pop_back();
         return t;
     }
-    if (pool.fresh < pool.fresh_end) return pool.fresh++;
     int32_t t = static_cast<int32_t>(tris_.size());
     reserve_for(tris_, tris_.size() + 1), reserve_for(mark_, mark_.size() + 1);
     tris_.push_back({{kNone, kNone, kNone}, {kNone, kNone, kNone}});
-    mark_.push_back(0);
+    mark_.push_back(Mark::none);
     return t;
 }
 
@@ -611,20 +656,27 @@ void Triangulation::stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool) 
             }
     // The fan takes the cavity's slots first (in cavity order), then the
     // pool's; the slots first, since the serial path's pool may grow tris_.
+    // A cavity slot the fan does not take gets its mark back to none here;
+    // the fan's get theirs below.
     s.new_tris.resize(m);
-    for (size_t i = m; i < k; ++i) free_triangle_slot(s.cavity[i], pool);
-    for (size_t i = 0; i < m; ++i) s.new_tris[i] = i < k ? s.cavity[i] : new_triangle_slot(pool);
-    // Raw pointers (the marks are bytes, which alias everything). The marks
-    // go back to 0: the cavity's, and those of the triangles outside it,
-    // which are the horizon edges' outer triangles.
+    for (size_t i = m; i < k; ++i) {
+        mark_[s.cavity[i]] = Mark::none;
+        free_triangle_slot(s.cavity[i], pool);
+    }
+    const size_t reused = std::min(k, m);
+    std::copy_n(s.cavity.begin(), reused, s.new_tris.begin());
+    for (size_t i = reused; i < m; ++i) s.new_tris[i] = new_triangle_slot(pool);
     Tri *const tris = tris_.data();
-    uint8_t *const mark = mark_.data();
+    Mark *const mark = mark_.data();
     int32_t *const vertex_tri = vertex_tri_.data();
-    for (int32_t t : s.cavity) mark[t] = 0;
+    const HorizonEdge *const horizon = s.horizon.data();
+    const int32_t *const fan = s.new_tris.data();
     for (size_t i = 0; i < m; ++i) {
-        const HorizonEdge &h = s.horizon[i];
-        const int32_t t = s.new_tris[i];
-        mark[h.outside] = 0, mark[t] = 0;  // (a fresh slot's mark is unwritten)
+        const HorizonEdge &h = horizon[i];
+        const int32_t t = fan[i];
+        // The marks go back to none: the fan's (the cavity's, or a fresh
+        // slot's, unwritten) and the triangles' outside the horizon.
+        mark[h.outside] = Mark::none, mark[t] = Mark::none;
         tris[t].v[0] = v, tris[t].v[1] = h.a, tris[t].v[2] = h.b;
         tris[t].n[0] = h.outside;
         tris[h.outside].n[h.outside_edge] = t;
@@ -632,11 +684,11 @@ void Triangulation::stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool) 
     }
     // Around v: the fan triangle after (v, a, b) is the one that starts at b.
     for (size_t i = 0; i < m; ++i) {
-        const int32_t t = s.new_tris[i], after = vertex_tri[s.horizon[i].b];
+        const int32_t t = fan[i], after = vertex_tri[horizon[i].b];
         tris[t].n[1] = after;
         tris[after].n[2] = t;
     }
-    vertex_tri[v] = s.new_tris[0];
+    vertex_tri[v] = fan[0];
 }
 
 // ------------------------------------------------------------------ updates

@@ -326,14 +326,19 @@ private:
     // left). kNone when it gave up.
     int32_t walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero, uint32_t &counter,
                  int64_t max_steps, const KeyRange *owner, int32_t *last_owned) const;
+    template <bool kStaticBound>
+    int32_t walk_with(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero,
+                      uint32_t &counter, int64_t max_steps, const KeyRange *owner,
+                      int32_t *last_owned) const;
+    // One unsigned comparison.
+    static bool owns_vertex(const KeyRange &range, int32_t v) {
+        return range.keys[v] - range.lo < range.hi - range.lo;
+    }
     bool owns(const KeyRange &range, int32_t t) const {
-        // One unsigned comparison a vertex, and no early exit: this runs at
-        // every step of a region's walks, where the branches would cost more.
+        // No early exit: this runs at every step of a region's walks, where
+        // the branches would cost more.
         const int32_t *tv = tris_[t].v;
-        const uint32_t span = range.hi - range.lo;
-        const uint32_t *const keys = range.keys;
-        auto in = [&](int32_t v) { return keys[v] - range.lo < span; };
-        return in(tv[0]) & in(tv[1]) & in(tv[2]);
+        return owns_vertex(range, tv[0]) & owns_vertex(range, tv[1]) & owns_vertex(range, tv[2]);
     }
     // Parallel insertion of one BRIO round, region by region, then band by
     // band (parallel_insertion.cpp); returns how many of its points the
@@ -358,8 +363,10 @@ private:
     int32_t find_visible_start(int32_t v, int32_t t, const int zero_edges[3], int n_zero,
                                int32_t *coincident);
     // The visible triangles connected to `start`. With `owner`, false (and
-    // nothing marked) when one of them is not the region's.
+    // nothing marked) when `start` or one of them is not the region's.
     bool fill_cavity(int32_t v, int32_t start, Scratch &s, const KeyRange *owner);
+    template <bool kStaticBound>
+    bool fill_cavity_with(int32_t v, int32_t start, Scratch &s, const KeyRange *owner);
     // Undoes fill_cavity's marks (an insertion given up before it stitched).
     void clear_cavity_marks(const Scratch &s);
     // locate_in's walk; n_zero: the edges of the triangle found that hold p.
@@ -381,7 +388,12 @@ private:
     int64_t priority(int32_t v) const;
     // The neighbour of `outer` across its edge from -> to becomes t.
     void set_neighbour(int32_t outer, int32_t from, int32_t to, int32_t t);
-    int32_t new_triangle_slot(SlotPool &pool);
+    // Inline for the usual case, a slot of the pool's fresh run.
+    int32_t new_triangle_slot(SlotPool &pool) {
+        if (pool.reuse->empty() && pool.fresh < pool.fresh_end) return pool.fresh++;
+        return new_triangle_slot_slow(pool);
+    }
+    int32_t new_triangle_slot_slow(SlotPool &pool);
     void free_triangle_slot(int32_t t);
     void free_triangle_slot(int32_t t, SlotPool &pool);
     bool flippable(int32_t t, int k) const;
@@ -404,7 +416,12 @@ private:
         int32_t n[3];  // neighbours across the edges opposite v[k]
     };
     UninitVector<Tri> tris_;
-    UninitVector<uint8_t> mark_;      // per-triangle scratch of the insertion
+    // A triangle's state during one insertion. Not a plain byte: stores
+    // through a character type may alias anything, so after each mark
+    // written the compiler would reload every pointer and bound the
+    // insertion's loops hold.
+    enum class Mark : uint8_t { none = 0, cavity = 1, outside = 2 };
+    UninitVector<Mark> mark_;         // per-triangle scratch of the insertion; none between insertions
     std::vector<int32_t> free_;       // free triangle slots
 
     Scratch scratch_;                 // the serial path's
