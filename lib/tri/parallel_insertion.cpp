@@ -289,7 +289,7 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
     stitch_new_triangles(v, g.scratch, g.pool);
     // The next walk starts from the new fan, which the region owns (v and
     // the horizon vertices are its own).
-    g.hint = g.scratch.new_tris[0];
+    g.hint = vertex_tri_[v];
     return RegionInsert::inserted;
 }
 

@@ -419,7 +419,7 @@ Triangulation::InsertResult Triangulation::insert_slot(int32_t v, int32_t &hint,
     fill_cavity(v, start, scratch_, nullptr);
     SlotPool pool{&free_};
     stitch_new_triangles(v, scratch_, pool);
-    hint = scratch_.new_tris[0];
+    hint = vertex_tri_[v];  // a triangle of the new fan
     return InsertResult::inserted;
 }
 
@@ -658,19 +658,17 @@ void Triangulation::stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool) 
     // pool's; the slots first, since the serial path's pool may grow tris_.
     // A cavity slot the fan does not take gets its mark back to none here;
     // the fan's get theirs below.
-    s.new_tris.resize(m);
+    // The fan's slots are listed in s.cavity, which is not needed after.
     for (size_t i = m; i < k; ++i) {
         mark_[s.cavity[i]] = Mark::none;
         free_triangle_slot(s.cavity[i], pool);
     }
-    const size_t reused = std::min(k, m);
-    std::copy_n(s.cavity.begin(), reused, s.new_tris.begin());
-    for (size_t i = reused; i < m; ++i) s.new_tris[i] = new_triangle_slot(pool);
+    for (size_t i = k; i < m; ++i) s.cavity.push_back(new_triangle_slot(pool));
     Tri *const tris = tris_.data();
     Mark *const mark = mark_.data();
     int32_t *const vertex_tri = vertex_tri_.data();
     const HorizonEdge *const horizon = s.horizon.data();
-    const int32_t *const fan = s.new_tris.data();
+    const int32_t *const fan = s.cavity.data();
     for (size_t i = 0; i < m; ++i) {
         const HorizonEdge &h = horizon[i];
         const int32_t t = fan[i];

@@ -294,7 +294,7 @@ private:
     // The lists of one insertion: one set for the serial path, one per
     // region of a parallel round.
     struct Scratch {
-        std::vector<int32_t> cavity, new_tris;
+        std::vector<int32_t> cavity;  // after stitching, its first horizon.size() are the new fan
         std::vector<int32_t> cavity_vertices;  // filled only when an insertion buries vertices
         std::vector<HorizonEdge> horizon;
     };
