@@ -5,6 +5,7 @@
 
 #include "capi/api.hpp"
 #include "capi/objects.hpp"
+#include "core/growth.hpp"
 #include "tri/triangulation.hpp"
 #include "tri/validate.hpp"
 
@@ -149,7 +150,7 @@ UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const doubl
     });
     auto direction = [&](int64_t i) { return xyz[i]; };
     auto prefetch = [&](int64_t i) { __builtin_prefetch(xyz.data() + i); };
-    auto free_unit_vectors = [&] { um::Buffer<Vec3>().swap(xyz); };
+    auto free_unit_vectors = [&] { um::release(xyz); };
     return create(ctx, n, direction, direction, prefetch, free_unit_vectors, weights, out);
     UM_API_END(context_state_or_null(ctx))
 }

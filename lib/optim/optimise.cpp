@@ -190,7 +190,7 @@ int64_t Optimiser::polish_poor_stars(const StarGraph &g) {
                 poor[v] = 1;
                 move_failed_at_[v] = 0;  // a new search: failures without it do not count
             }
-    std::vector<double>().swap(score);
+    release(score);
     int64_t moved = 0;
     for (int round = 0; round < kPolishRounds; ++round) {
         const int64_t now = sweep(g, Sweep::moves, round % 2 == 0, &poor);

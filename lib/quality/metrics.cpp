@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "core/growth.hpp"
 #include "core/text.hpp"
 #include "geom/predicates.hpp"
 
@@ -172,7 +173,7 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
             for (int i = 0; i < kFine + 2; ++i) a.fine[i] += s.fine[i];
         }
     }
-    std::vector<Block>().swap(blocks);
+    release(blocks);
     r.edges = 3 * r.triangles / 2;
     // The 1st percentile (the value a full sort puts at n / 100): its fine
     // bin and rank there, then the values of that bin only.
@@ -198,7 +199,7 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
                 });
             }
     });
-    std::vector<std::array<uint16_t, kValuesPerTriangle>>().swap(bins);
+    release(bins);
     for (int m = 0; m < kMetrics; ++m) {
         Summary &s = *summary[m];
         s.lo = kLo[m], s.hi = kHi[m];

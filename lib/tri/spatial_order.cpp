@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/cyclic.hpp"
 #include "core/radix_sort.hpp"
 
 
@@ -113,9 +114,8 @@ uint64_t hilbert_key(const geom::Vec3 &p) {
     const int i = 2 - 2 * x_largest - y_largest;
     const double m = std::max(ax, std::max(ay, az));
     const int face = i + 3 * (coord[i] <= 0);
-    // The axes after and before i, cyclically, from bit tables (0 -> 1, 2;
-    // 1 -> 2, 0; 2 -> 0, 1): a conditional here would be a branch.
-    const double u = coord[(0x09 >> (2 * i)) & 3], v = coord[(0x12 >> (2 * i)) & 3];
+    // The axes after and before i, cyclically.
+    const double u = coord[next_of_three(i)], v = coord[prev_of_three(i)];
     if (m == 0) return 0;
     // t in [-1, 1] -> cell in [0, 2^bits - 1].
     constexpr double half_cells = 0.5 * double(1u << kBitsPerAxis);

@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/growth.hpp"
 #include "tri/spatial_order.hpp"
 #include "tri/triangulation.hpp"
 
@@ -66,7 +67,7 @@ std::vector<Triangulation::Territory> Triangulation::open_territories(
         q_.resize(static_cast<size_t>(first_slot)), id_.resize(static_cast<size_t>(first_slot));
         vertex_tri_.resize(static_cast<size_t>(first_slot));
         tris_.resize(triangles_before), mark_.resize(triangles_before);
-        decltype(key_)().swap(key_);
+        release(key_);
     };
     // Exactly (a vector's doubling would hold twice the room for a moment,
     // and keep it).
@@ -223,11 +224,11 @@ Triangulation::TerritoryClose Triangulation::close_territories(Context &ctx,
     for (Territory &g : territories) {
         free_.insert(free_.end(), g.reuse_.begin(), g.reuse_.end());
         for (int32_t t = g.pool_.fresh; t < g.pool_.fresh_end; ++t) free_.push_back(t);
-        std::vector<int32_t>().swap(g.reuse_);
-        std::vector<int32_t>().swap(g.given_);
+        release(g.reuse_);
+        release(g.given_);
         g.pool_.fresh = g.pool_.fresh_end;
     }
-    decltype(key_)().swap(key_);
+    release(key_);
     territories.clear();
     return out;
 }

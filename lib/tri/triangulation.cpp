@@ -4,6 +4,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include "core/cyclic.hpp"
 #include "core/error.hpp"
 #include "core/radix_sort.hpp"
 #include "core/text.hpp"
@@ -21,10 +22,8 @@ namespace {
 // coordinates), tiny enough that real points around the whole sphere always
 // bury them.
 constexpr double kVirtualScale = 0x1p-30;
-// Bit tables, not conditionals: the compiler turns those into branches,
-// and in the walk and the cavity search they are mispredicted often.
-inline int next(int k) { return (0x09 >> (2 * k)) & 3; }  // 0 -> 1, 1 -> 2, 2 -> 0
-inline int prev(int k) { return (0x12 >> (2 * k)) & 3; }  // 0 -> 2, 1 -> 0, 2 -> 1
+inline int next(int k) { return next_of_three(k); }
+inline int prev(int k) { return prev_of_three(k); }
 }  // namespace
 
 // ----------------------------------------------------------------- building
@@ -102,7 +101,7 @@ void Triangulation::insert_all(Context &ctx) {
         prev_begin = begin;
         begin = end;
     }
-    decltype(key_)().swap(key_);
+    release(key_);
     // bench_triangulation reads this line (the share left to the serial pass).
     ctx.log(UM_LOG_DEBUG, concat("triangulate: ", n_real, " points, ", in_parallel,
                                  " in parallel rounds, ", deferred, " of them deferred (",
@@ -204,7 +203,7 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
         old_of_new[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
         new_of_old[old_of_new[i]] = i;
     }
-    Buffer<uint64_t>().swap(keys);
+    release(keys);
     // In place, cycle by cycle: this runs after the optimisation too, with
     // its undo alive, and copies of the largest arrays would set the peak.
     std::vector<bool> placed;
@@ -295,10 +294,10 @@ void Triangulation::restore(Snapshot &&s) {
     // around each vertex (about 32 bytes per vertex of scratch): the triangle
     // across edge (a, b) of t is the other one around a that has b.
     q_.swap(s.q), id_.swap(s.id), vertex_tri_.swap(s.vertex_tri), free_.swap(s.free);
-    decltype(s.q)().swap(s.q);
-    decltype(s.id)().swap(s.id), decltype(s.vertex_tri)().swap(s.vertex_tri), std::vector<int32_t>().swap(s.free);
-    decltype(tris_)().swap(tris_);
-    decltype(mark_)().swap(mark_);
+    release(s.q);
+    release(s.id), release(s.vertex_tri), release(s.free);
+    release(tris_);
+    release(mark_);
     try {
         const size_t nv = q_.size(), nt = s.triangles.size();
         std::vector<int64_t> first(nv + 1, 0);  // 3 per triangle: past int32 above ~357 M vertices
@@ -312,7 +311,7 @@ void Triangulation::restore(Snapshot &&s) {
         for (size_t t = 0; t < nt; ++t)
             if (s.triangles[t][0] != kNone)
                 for (int k = 0; k < 3; ++k) around[fill[s.triangles[t][k]]++] = static_cast<int32_t>(t);
-        std::vector<int64_t>().swap(fill);
+        release(fill);
         tris_.resize(nt);
         for (size_t t = 0; t < nt; ++t) {
             const auto &v = s.triangles[t];

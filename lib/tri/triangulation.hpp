@@ -45,7 +45,11 @@ public:
     // Builds the triangulation of n points; direction(i) gives point i's unit
     // vector, weights (may be null = all 0) its weight. Point i gets id i.
     // Throws um::Error: too few points, coincident points (naming both),
-    // points that do not surround the centre, memory cap.
+    // points that do not surround the centre, memory cap. After it throws
+    // (std::bad_alloc too) the triangulation is half built - a parallel
+    // round may leave triangle slots unwritten - and only fit to be
+    // destroyed or built again; its callers (the C API, the refinement)
+    // discard it.
     template <class DirectionFn>
     void build(Context &ctx, int64_t n, DirectionFn direction, const double *weights);
     // build() in two steps, so that a caller can free the input it made for
