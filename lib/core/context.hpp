@@ -17,6 +17,7 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include "core/growth.hpp"
 #include "unimesh.h"
 
 namespace um {
@@ -84,7 +85,7 @@ public:
         out.reserve(total);
         for (auto &f : found) {
             out.insert(out.end(), f.begin(), f.end());
-            std::vector<T>().swap(f);
+            release(f);
         }
         return out;
     }

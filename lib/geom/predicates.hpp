@@ -41,12 +41,15 @@ constexpr double kUnitRoundoff = DBL_EPSILON / 2;  // u = 2^-53
 constexpr double kOrient3dBound = 8 * kUnitRoundoff;
 constexpr double kOrientOriginBound = 6 * kUnitRoundoff;
 
-// orient3d_static's determinant, rounded exactly as orient3d's expression
-// is: the same products and sums in the same order, so the same bits, with
-// the x and y coordinates side by side in one SSE2 register (fewer
-// instructions in the cavity search's test; the walk's orient_origin gained
-// nothing so). Three facts keep the bits: products commute,
-// x - y == -(y - x), and x + (-y) == x - y.
+// orient3d_static's determinant, rounded as orient3d's expression is: the
+// same products and sums in the same order, with the x and y coordinates
+// side by side in one SSE2 register (fewer instructions in the cavity
+// search's test; the walk's orient_origin gained nothing so). Products
+// commute, x - y == -(y - x) and x + (-y) == x - y, so the value is the
+// same but for the sign of a zero (x - y for x == y); where a compiler fuses
+// multiplications and additions (FMA contraction) the two may differ in the
+// last bits. Neither matters: the static filter's bound holds for either
+// rounding, and what it cannot decide, orient3d decides exactly.
 #if defined(__SSE2__)
 inline double swapped_difference(__m128d t) {  // t[0] - t[1]
     return _mm_cvtsd_f64(t) - _mm_cvtsd_f64(_mm_unpackhi_pd(t, t));
