@@ -101,8 +101,8 @@ Triangulation::RoundDeferred Triangulation::insert_round_in_parallel(Context &ct
         // Deferred points are far apart: start next to a vertex of this
         // round or the previous one near v along the curve, else from the
         // last hint (made live: a region may have emptied its slot).
-        int32_t start = vertex_near_key(key_[v], begin, end);
-        if (start == kNone) start = vertex_near_key(key_[v], prev_begin, begin);
+        int32_t start = vertex_near_key(v, begin, end);
+        if (start == kNone) start = vertex_near_key(v, prev_begin, begin);
         hint = start != kNone ? start : live_triangle_near(hint);
         int32_t other = kNone;
         if (insert_slot(v, hint, &other) == InsertResult::duplicate) fail_on_duplicates();
@@ -117,10 +117,22 @@ int32_t Triangulation::first_slot_with_key(uint32_t key, int32_t begin, int32_t 
                                 key_.begin());
 }
 
+// first_slot_with_key(key_[v], begin, end), found without a search when v
+// is one of the slots: the slots before it with its key, if any, come first.
+// (The bands and the serial pass start every point so, and a binary search
+// over a round misses the cache at each of its some twenty steps.)
+int32_t Triangulation::first_slot_with_key_of(int32_t v, int32_t begin, int32_t end) const {
+    const uint32_t key = key_[v];
+    if (v < begin || v >= end) return first_slot_with_key(key, begin, end);
+    int32_t at = v;
+    while (at > begin && key_[at - 1] == key) --at;
+    return at;
+}
+
 // vertex_tri_ of a vertex in the triangulation among the slots [begin, end)
-// (sorted by key) nearest to `key` in that order, within a few; else kNone.
-int32_t Triangulation::vertex_near_key(uint32_t key, int32_t begin, int32_t end) const {
-    const int32_t at = first_slot_with_key(key, begin, end);
+// (sorted by key) nearest to v's key in that order, within a few; else kNone.
+int32_t Triangulation::vertex_near_key(int32_t v, int32_t begin, int32_t end) const {
+    const int32_t at = first_slot_with_key_of(v, begin, end);
     for (int32_t d = 0; d < 8; ++d)
         for (int32_t u : {at - 1 - d, at + d})
             if (u >= begin && u < end && vertex_tri_[u] >= 0) return vertex_tri_[u];
@@ -254,7 +266,7 @@ std::vector<int32_t> Triangulation::insert_by_bands(Context &ctx, std::vector<in
 Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g) {
     // No start yet (the first point), or none near enough: one near v.
     if (g.hint == kNone || g.start_near_each_point) {
-        const int32_t near = region_start(g, key_[v]);
+        const int32_t near = region_start(g, v);
         if (near != kNone) g.hint = near;
     }
     if (g.hint == kNone) return RegionInsert::deferred;
@@ -266,7 +278,7 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
         // The walk reached the border (deferred points leave the hint
         // behind them): start again from a vertex of the previous round
         // next to v along the curve.
-        const int32_t restart = region_start(g, key_[v]);
+        const int32_t restart = region_start(g, v);
         if (restart != kNone)
             t = walk(q_[v], restart, zero_edges, n_zero, g.walk, kRegionWalkSteps, &g.keys,
                      &last_owned);
@@ -293,18 +305,18 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
     return RegionInsert::inserted;
 }
 
-// A triangle the region owns around one of the vertices nearest to `key`
+// A triangle the region owns around one of the vertices nearest to v's key
 // (either way) among the slots of g.starts (each sorted by Hilbert key), in
 // the region's range; kNone if none of the few tried has one. Safe while
 // other regions insert: a triangle around a vertex the region owns keeps
 // its vertices, and the edges at that vertex their neighbours (other
 // regions change neither).
-int32_t Triangulation::region_start(const Region &g, uint32_t key) const {
+int32_t Triangulation::region_start(const Region &g, int32_t v) const {
     constexpr int kTries = 32;  // each way
     const uint32_t span = g.keys.hi - g.keys.lo;
     for (const Region::Slots &slots : g.starts) {
         if (slots.begin == slots.end) continue;
-        const int32_t at = first_slot_with_key(key, slots.begin, slots.end);
+        const int32_t at = first_slot_with_key_of(v, slots.begin, slots.end);
         for (int32_t d = 0; d < kTries; ++d)
             for (int32_t u : {at + d, at - 1 - d}) {
                 if (u < slots.begin || u >= slots.end) continue;

@@ -359,9 +359,10 @@ private:
     std::vector<int32_t> run_regions(Context &ctx, std::vector<Region> &regions);
     enum class RegionInsert { inserted, hidden, deferred };
     RegionInsert insert_in_region(int32_t v, Region &region);
-    int32_t region_start(const Region &region, uint32_t key) const;
-    int32_t vertex_near_key(uint32_t key, int32_t begin, int32_t end) const;
+    int32_t region_start(const Region &region, int32_t v) const;
+    int32_t vertex_near_key(int32_t v, int32_t begin, int32_t end) const;
     int32_t first_slot_with_key(uint32_t key, int32_t begin, int32_t end) const;
+    int32_t first_slot_with_key_of(int32_t v, int32_t begin, int32_t end) const;
     int32_t locate_brute_force(const Vec3 &p) const;
     int32_t live_triangle_near(int32_t t) const;
     int32_t find_visible_start(int32_t v, int32_t t, const int zero_edges[3], int n_zero,
