@@ -22,8 +22,6 @@ namespace {
 // coordinates), tiny enough that real points around the whole sphere always
 // bury them.
 constexpr double kVirtualScale = 0x1p-30;
-inline int next(int k) { return next_of_three(k); }
-inline int prev(int k) { return prev_of_three(k); }
 }  // namespace
 
 // ----------------------------------------------------------------- building
@@ -41,10 +39,10 @@ void Triangulation::init_virtual_octahedron() {
     // Neighbours by matching reversed edges (8 faces: quadratic is fine).
     for (int32_t t = 0; t < 8; ++t)
         for (int k = 0; k < 3; ++k) {
-            int32_t a = tris_[t].v[next(k)], b = tris_[t].v[prev(k)];
+            int32_t a = tris_[t].v[next_of_three(k)], b = tris_[t].v[prev_of_three(k)];
             for (int32_t u = 0; u < 8; ++u)
                 for (int m = 0; m < 3; ++m)
-                    if (tris_[u].v[next(m)] == b && tris_[u].v[prev(m)] == a) tris_[t].n[k] = u;
+                    if (tris_[u].v[next_of_three(m)] == b && tris_[u].v[prev_of_three(m)] == a) tris_[t].n[k] = u;
         }
     for (int32_t t = 0; t < 8; ++t)
         for (int k = 0; k < 3; ++k) vertex_tri_[tris_[t].v[k]] = t;
@@ -318,7 +316,7 @@ void Triangulation::restore(Snapshot &&s) {
             for (int k = 0; k < 3; ++k) tris_[t].v[k] = v[k], tris_[t].n[k] = kNone;
             if (v[0] == kNone) continue;
             for (int k = 0; k < 3; ++k) {
-                const int32_t a = v[next(k)], b = v[prev(k)];
+                const int32_t a = v[next_of_three(k)], b = v[prev_of_three(k)];
                 for (int64_t i = first[a]; i < first[a + 1]; ++i) {
                     const auto &w = s.triangles[around[i]];
                     if (around[i] != static_cast<int32_t>(t) && (w[0] == b || w[1] == b || w[2] == b))
@@ -398,7 +396,7 @@ bool Triangulation::visible_on_tie(int32_t t, int32_t v) const {
 void Triangulation::set_neighbour(int32_t outer, int32_t from, int32_t to, int32_t t) {
     Tri &o = tris_[outer];
     for (int m = 0; m < 3; ++m)
-        if (o.v[next(m)] == from && o.v[prev(m)] == to) o.n[m] = t;
+        if (o.v[next_of_three(m)] == from && o.v[prev_of_three(m)] == to) o.n[m] = t;
 }
 
 Triangulation::InsertResult Triangulation::insert_slot(int32_t v, int32_t &hint,
@@ -434,7 +432,7 @@ int32_t Triangulation::locate(const Vec3 &p, int32_t t, int zero_edges[3],
     t = locate_brute_force(p);
     n_zero = 0;
     for (int k = 0; k < 3; ++k)
-        if (orient_origin(q_[tris_[t].v[next(k)]].data(), q_[tris_[t].v[prev(k)]].data(),
+        if (orient_origin(q_[tris_[t].v[next_of_three(k)]].data(), q_[tris_[t].v[prev_of_three(k)]].data(),
                           p.data()) == 0)
             zero_edges[n_zero++] = k;
     return t;
@@ -529,8 +527,8 @@ int32_t Triangulation::locate_brute_force(const Vec3 &p) const {
         if (tris_[t].v[0] == kNone) continue;
         bool inside = true;
         for (int k = 0; k < 3 && inside; ++k)
-            inside = orient_origin(q_[tris_[t].v[next(k)]].data(),
-                                   q_[tris_[t].v[prev(k)]].data(), p.data()) >= 0;
+            inside = orient_origin(q_[tris_[t].v[next_of_three(k)]].data(),
+                                   q_[tris_[t].v[prev_of_three(k)]].data(), p.data()) >= 0;
         if (inside) return t;
     }
     fail(UM_ERR_INTERNAL, "point location failed: the triangulation is not a sphere");
@@ -596,7 +594,7 @@ bool Triangulation::fill_cavity_with(int32_t v, int32_t start, Scratch &s, const
             if (m == Mark::cavity) continue;
             // The edge runs a -> b in c and b -> a in u: in u it is the edge
             // after a's corner, and u is (apex, b, a) counter-clockwise.
-            const int32_t a = c.v[next(k)], b = c.v[prev(k)];
+            const int32_t a = c.v[next_of_three(k)], b = c.v[prev_of_three(k)];
             const int32_t *uv = tris[u].v;
             const int j = (uv[0] == a) | (uv[1] == a) << 1;  // 1, 2, or 0 when uv[2] == a
             if (m == Mark::none) {
@@ -654,10 +652,10 @@ void Triangulation::stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool) 
                 vertex_tri_[u] = kNone;
             }
     // The fan takes the cavity's slots first (in cavity order), then the
-    // pool's; the slots first, since the serial path's pool may grow tris_.
-    // A cavity slot the fan does not take gets its mark back to none here;
-    // the fan's get theirs below.
-    // The fan's slots are listed in s.cavity, which is not needed after.
+    // pool's, appended to s.cavity (not needed as the cavity after this);
+    // the slots first, since the serial path's pool may grow tris_. A cavity
+    // slot the fan does not take gets its mark back to none here, the fan's
+    // below.
     for (size_t i = m; i < k; ++i) {
         mark_[s.cavity[i]] = Mark::none;
         free_triangle_slot(s.cavity[i], pool);
@@ -735,9 +733,9 @@ int32_t Triangulation::reinsert(int32_t v, std::vector<int32_t> *buried, int32_t
 
 bool Triangulation::flippable(int32_t t, int k) const {
     const Tri &tr = tris_[t];
-    int32_t a = tr.v[k], b = tr.v[next(k)], c = tr.v[prev(k)];
+    int32_t a = tr.v[k], b = tr.v[next_of_three(k)], c = tr.v[prev_of_three(k)];
     int32_t u = tr.n[k];
-    int32_t d = tris_[u].v[next(next(local_index(u, c)))];
+    int32_t d = tris_[u].v[next_of_three(next_of_three(local_index(u, c)))];
     // New triangles (a, b, d) and (d, c, a) must both face outwards.
     return orient_origin(q_[a].data(), q_[b].data(), q_[d].data()) > 0 &&
            orient_origin(q_[d].data(), q_[c].data(), q_[a].data()) > 0;
@@ -746,14 +744,14 @@ bool Triangulation::flippable(int32_t t, int k) const {
 bool Triangulation::flip(int32_t t, int k) {
     if (!flippable(t, k)) return false;
     Tri &tr = tris_[t];
-    int32_t a = tr.v[k], b = tr.v[next(k)], c = tr.v[prev(k)];
+    int32_t a = tr.v[k], b = tr.v[next_of_three(k)], c = tr.v[prev_of_three(k)];
     int32_t u = tr.n[k];
-    int ku = next(next(local_index(u, c)));  // apex of u
+    int ku = next_of_three(next_of_three(local_index(u, c)));  // apex of u
     Tri &ur = tris_[u];
     int32_t d = ur.v[ku];
     // Outer neighbours of the quad a -> b -> d -> c.
-    int32_t n_ab = tr.n[prev(k)], n_ca = tr.n[next(k)];
-    int32_t n_bd = ur.n[next(ku)], n_dc = ur.n[prev(ku)];
+    int32_t n_ab = tr.n[prev_of_three(k)], n_ca = tr.n[next_of_three(k)];
+    int32_t n_bd = ur.n[next_of_three(ku)], n_dc = ur.n[prev_of_three(ku)];
     // t becomes (a, b, d), u becomes (d, c, a).
     tr = {{a, b, d}, {n_bd, u, n_ab}};
     ur = {{d, c, a}, {n_ca, t, n_dc}};
@@ -795,7 +793,7 @@ int32_t Triangulation::remove(int32_t v) {
         std::vector<int32_t> st = star(v);
         if (st.size() <= 3) break;
         std::vector<int32_t> link(st.size());
-        for (size_t i = 0; i < st.size(); ++i) link[i] = tris_[st[i]].v[next(local_index(st[i], v))];
+        for (size_t i = 0; i < st.size(); ++i) link[i] = tris_[st[i]].v[next_of_three(local_index(st[i], v))];
         // The spoke (v, link[i]) is shared by st[i-1] = (v, link[i-1], link[i])
         // and st[i]; in st[i-1] it is the edge opposite link[i-1]. Flipping it
         // creates the ear (link[i-1], link[i], link[i+1]).
@@ -874,7 +872,7 @@ int32_t Triangulation::remove_degree_three(int32_t v) {
     std::vector<int32_t> st = star(v);
     int32_t t1 = st[0], t2 = st[1], t3 = st[2];
     int j1 = local_index(t1, v), j2 = local_index(t2, v), j3 = local_index(t3, v);
-    int32_t a = tris_[t1].v[next(j1)], b = tris_[t2].v[next(j2)], c = tris_[t3].v[next(j3)];
+    int32_t a = tris_[t1].v[next_of_three(j1)], b = tris_[t2].v[next_of_three(j2)], c = tris_[t3].v[next_of_three(j3)];
     int32_t n_ab = tris_[t1].n[j1], n_bc = tris_[t2].n[j2], n_ca = tris_[t3].n[j3];
     tris_[t1] = {{a, b, c}, {n_bc, n_ca, n_ab}};
     set_neighbour(n_bc, c, b, t1);
@@ -989,7 +987,7 @@ Vec3 Triangulation::orthocentre(int32_t t) const {
 
 Vec3 Triangulation::edge_orthocentre(int32_t t, int k) const {
     // p = alpha x_i + beta x_j with p . (q_i - q_j) = 0, alpha, beta > 0.
-    const Vec3 &qi = q_[tris_[t].v[next(k)]], &qj = q_[tris_[t].v[prev(k)]];
+    const Vec3 &qi = q_[tris_[t].v[next_of_three(k)]], &qj = q_[tris_[t].v[prev_of_three(k)]];
     double si = geom::norm(qi), sj = geom::norm(qj);
     Vec3 xi = (1.0 / si) * qi, xj = (1.0 / sj) * qj;
     double c = geom::dot(xi, xj);
@@ -1004,7 +1002,7 @@ std::vector<Vec3> Triangulation::power_cell(int32_t v) const {
 
 bool Triangulation::is_locally_regular(int32_t t, int k) const {
     int32_t u = tris_[t].n[k];
-    int32_t apex = tris_[u].v[next(next(local_index(u, tris_[t].v[prev(k)])))];
+    int32_t apex = tris_[u].v[next_of_three(next_of_three(local_index(u, tris_[t].v[prev_of_three(k)])))];
     // Convex across the edge iff the far apex is not beyond t's facet.
     return !visible(t, apex);
 }

@@ -377,13 +377,12 @@ private:
     // locate_in's walk; n_zero: the edges of the triangle found that hold p.
     int32_t walk_in(const Territory &g, const Vec3 &p, int32_t hint, int &n_zero) const;
     void stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool);
-    // Inline: the insertion's innermost test (about ten per point).
+    // Whether vertex slot v's lifted point lies beyond t's facet (exact,
+    // perturbed). The cavity search has its own copy of this test, inlined
+    // with the static filter only (fill_cavity_with).
     bool visible(int32_t t, int32_t v) const {
         const int32_t *tv = tris_[t].v;
-        return visible(t, q_[tv[0]].data(), q_[tv[1]].data(), q_[tv[2]].data(), v);
-    }
-    // The same for t = (a, b, c) in that order (or a cyclic turn of it).
-    bool visible(int32_t t, const double *a, const double *b, const double *c, int32_t v) const {
+        const double *a = q_[tv[0]].data(), *b = q_[tv[1]].data(), *c = q_[tv[2]].data();
         const int s = build_bound_ < kNoBound ? geom::orient3d_static(a, b, c, q_[v].data(), build_bound_)
                                              : geom::orient3d(a, b, c, q_[v].data());
         return s != 0 ? s > 0 : visible_on_tie(t, v);
