@@ -5,7 +5,6 @@
 
 #include "capi/api.hpp"
 #include "capi/objects.hpp"
-#include "core/growth.hpp"
 #include "tri/triangulation.hpp"
 #include "tri/validate.hpp"
 
@@ -92,17 +91,18 @@ void check_xyz(const double *xyz, int64_t begin, int64_t end) {
     }
 }
 
-// Builds the handle's triangulation; after_prepare() runs between the two
-// steps (a caller frees the input it made for `direction` there, before the
-// triangulation's own storage grows).
-template <class DirectionFn, class KeyDirectionFn, class PrefetchFn, class AfterPrepareFn>
-um_status create(um_context *ctx, int64_t n, DirectionFn direction, KeyDirectionFn key_direction,
-                 PrefetchFn prefetch, AfterPrepareFn after_prepare, const double *weights,
-                 um_triangulation **out) {
+std::unique_ptr<um_triangulation> new_handle(um_context *ctx) {
     auto handle = std::make_unique<um_triangulation>();
     handle->context = ctx->state;
+    return handle;
+}
+
+// Builds the handle's triangulation and hands it out.
+template <class DirectionFn, class KeyDirectionFn, class PrefetchFn>
+um_status create(um_context *ctx, std::unique_ptr<um_triangulation> handle, int64_t n,
+                 DirectionFn direction, KeyDirectionFn key_direction, PrefetchFn prefetch,
+                 const double *weights, um_triangulation **out) {
     handle->tri.prepare(*ctx->state, n, direction, weights, key_direction, prefetch);
-    after_prepare();
     handle->tri.finish_build(*ctx->state);
     um::capi::register_handle(handle.get(), HandleKind::triangulation);
     *out = handle.release();
@@ -143,15 +143,16 @@ UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const doubl
     check_in_parallel(state, n, [&](int64_t b, int64_t e) { check_lonlat(lon_deg, lat_deg, b, e); });
     check_in_parallel(state, n, [&](int64_t b, int64_t e) { check_weights(weights, b, e); });
     // Unit vectors once, up front: the construction reads each point twice.
-    // (A Buffer: first written, page by page, by the parallel loop.)
-    um::Buffer<Vec3> xyz(static_cast<size_t>(n));
+    // (In the build's room, which the triangles take over after prepare();
+    // first written, page by page, by the parallel loop.)
+    auto handle = new_handle(ctx);
+    Vec3 *const xyz = handle->tri.reserve_build(n).take<Vec3>(static_cast<size_t>(n));
     ctx->state->parallel_for(n, 8192, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) xyz[i] = um::geom::unit_from_lonlat_deg(lon_deg[i], lat_deg[i]);
     });
-    auto direction = [&](int64_t i) { return xyz[i]; };
-    auto prefetch = [&](int64_t i) { __builtin_prefetch(xyz.data() + i); };
-    auto free_unit_vectors = [&] { um::release(xyz); };
-    return create(ctx, n, direction, direction, prefetch, free_unit_vectors, weights, out);
+    auto direction = [xyz](int64_t i) { return xyz[i]; };
+    auto prefetch = [xyz](int64_t i) { __builtin_prefetch(xyz + i); };
+    return create(ctx, std::move(handle), n, direction, direction, prefetch, weights, out);
     UM_API_END(context_state_or_null(ctx))
 }
 
@@ -169,7 +170,7 @@ UM_API um_status um_triangulation_create_xyz(um_context *ctx, int64_t n, const d
     auto raw = [xyz](int64_t i) { return Vec3{xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}; };
     auto direction = [raw](int64_t i) { return um::geom::normalized(raw(i)); };
     auto prefetch = [xyz](int64_t i) { __builtin_prefetch(xyz + 3 * i); };
-    return create(ctx, n, direction, raw, prefetch, [] {}, weights, out);
+    return create(ctx, new_handle(ctx), n, direction, raw, prefetch, weights, out);
     UM_API_END(context_state_or_null(ctx))
 }
 

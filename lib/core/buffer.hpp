@@ -39,6 +39,13 @@ public:
             data_ = static_cast<T *>(::operator new(bytes));
         }
     }
+    // A Buffer over memory it does not own (nor free): `size` values at
+    // `data`, which must outlive it.
+    static Buffer over(T *data, size_t size) noexcept {
+        Buffer b;
+        b.data_ = data, b.size_ = size, b.owned_ = false;
+        return b;
+    }
     Buffer(Buffer &&other) noexcept { swap(other); }
     Buffer &operator=(Buffer &&other) noexcept {
         Buffer(std::move(other)).swap(*this);
@@ -47,6 +54,8 @@ public:
     Buffer(const Buffer &) = delete;
     Buffer &operator=(const Buffer &) = delete;
     ~Buffer() {
+        if (!owned_)
+            return;
         if (aligned_)
             ::operator delete(data_, std::align_val_t(kHugePageBytes));
         else
@@ -54,6 +63,7 @@ public:
     }
     void swap(Buffer &other) noexcept {
         std::swap(data_, other.data_), std::swap(size_, other.size_), std::swap(aligned_, other.aligned_);
+        std::swap(owned_, other.owned_);
     }
 
     size_t size() const { return size_; }
@@ -70,6 +80,7 @@ private:
     T *data_ = nullptr;
     size_t size_ = 0;
     bool aligned_ = false;
+    bool owned_ = true;
 };
 
 }  // namespace um

@@ -160,14 +160,14 @@ int brio_round(int64_t index, int64_t n) {
     return static_cast<int>(brio_round_key(index, brio_rounds(n)) >> kHilbertBits);
 }
 
-void brio_sort(Context &ctx, Buffer<uint64_t> &keys) {
+void brio_sort(Context &ctx, Buffer<uint64_t> &keys, uint64_t *scratch) {
     // Pack (key, index) into one word: the key (round + Hilbert, 36 bits)
     // above the index. An LSD radix sort on the key bits is stable, so
     // equal keys keep index order: the result is fully determined by the keys.
     ctx.parallel_for(static_cast<int64_t>(keys.size()), 16384, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) keys[i] = (keys[i] << kBrioIndexBits) | uint64_t(i);
     });
-    radix_sort(ctx, keys, kBrioIndexBits, 64);
+    radix_sort(ctx, keys, kBrioIndexBits, 64, scratch);
 }
 
 }  // namespace um::tri

@@ -26,8 +26,10 @@ uint64_t hilbert_key(const geom::Vec3 &direction);
 // (Words, not a permutation and a list of keys: the construction reads
 // both from the one array, and at 10^6 points each array it does not
 // allocate saves it some 1,000 page faults.)
+// `room`, when given, holds 2n words for the words and the sort's buffer
+// (the Buffer returned is then over part of it), else they are allocated.
 template <class DirectionFn>
-Buffer<uint64_t> brio_words(Context &ctx, int64_t n, DirectionFn direction);
+Buffer<uint64_t> brio_words(Context &ctx, int64_t n, DirectionFn direction, uint64_t *room = nullptr);
 constexpr int kBrioIndexBits = 28;  // n <= 2^28 (checked by brio_words)
 inline int32_t brio_point(uint64_t word) {
     return static_cast<int32_t>(word & ((uint64_t(1) << kBrioIndexBits) - 1));
@@ -39,7 +41,7 @@ inline uint32_t brio_hilbert(uint64_t word) {
 
 // Implementation detail shared with the template: keys are a 5-bit round
 // above a 31-bit Hilbert index (36 bits); sorts the words made from them.
-void brio_sort(Context &ctx, Buffer<uint64_t> &keys);
+void brio_sort(Context &ctx, Buffer<uint64_t> &keys, uint64_t *scratch);
 // The number of rounds after the first for n points, and the round of point
 // `index` above its Hilbert index.
 int brio_rounds(int64_t n);
@@ -48,17 +50,18 @@ uint64_t brio_round_key(int64_t index, int rounds);
 int brio_round(int64_t index, int64_t n);
 
 template <class DirectionFn>
-Buffer<uint64_t> brio_words(Context &ctx, int64_t n, DirectionFn direction) {
+Buffer<uint64_t> brio_words(Context &ctx, int64_t n, DirectionFn direction, uint64_t *room) {
     // Index i < n must fit the index bits below the key.
     if (n < 0 || n > (int64_t(1) << kBrioIndexBits))
         fail(UM_ERR_LIMIT, "brio_words: ", n, " points; at most 2^", kBrioIndexBits);
-    Buffer<uint64_t> keys(static_cast<size_t>(n));
+    Buffer<uint64_t> keys = room ? Buffer<uint64_t>::over(room, static_cast<size_t>(n))
+                                 : Buffer<uint64_t>(static_cast<size_t>(n));
     const int rounds = brio_rounds(n);
     ctx.parallel_for(n, 4096, [&](int64_t begin, int64_t end) {
         for (int64_t i = begin; i < end; ++i)
             keys[i] = brio_round_key(i, rounds) | hilbert_key(direction(i));
     });
-    brio_sort(ctx, keys);
+    brio_sort(ctx, keys, room ? room + n : nullptr);
     return keys;
 }
 

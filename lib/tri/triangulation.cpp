@@ -50,6 +50,18 @@ void Triangulation::init_virtual_octahedron() {
     free_.clear();
 }
 
+Triangulation::BuildRoom &Triangulation::reserve_build(int64_t n) {
+    // A triangulated sphere of V vertices has 2V - 4 triangles: 2 (n + 6)
+    // with the virtual octahedron is room enough.
+    const size_t max_triangles = 2 * (static_cast<size_t>(n) + kVirtual);
+    tris_.clear();
+    tris_.reserve(max_triangles);
+    advise_huge_pages(tris_.data(), tris_.capacity() * sizeof(Tri));
+    room_.next_ = reinterpret_cast<unsigned char *>(tris_.data());
+    room_.end_ = room_.next_ + tris_.capacity() * sizeof(Tri);
+    return room_;
+}
+
 void Triangulation::insert_all(Context &ctx) {
     // The static bound holds for prepare()'s points only: off when done,
     // however it ends.
@@ -58,10 +70,9 @@ void Triangulation::insert_all(Context &ctx) {
         ~BoundsOff() { t.build_bound_ = t.walk_bound_ = kNoBound; }
     } bounds_off{*this};
     const int64_t n_real = static_cast<int64_t>(q_.size()) - kVirtual;
-    // A triangulated sphere of V vertices has 2V - 4 triangles.
+    // prepare() reserved the triangles (reserve_build); a triangulated
+    // sphere of V vertices has 2V - 4.
     size_t max_triangles = 2 * q_.size();
-    tris_.reserve(max_triangles);
-    advise_huge_pages(tris_.data(), tris_.capacity() * sizeof(Tri));
     mark_.reserve(max_triangles);
     advise_huge_pages(mark_.data(), mark_.capacity());
     init_virtual_octahedron();

@@ -19,9 +19,11 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "core/context.hpp"
+#include "core/error.hpp"
 #include "core/huge_pages.hpp"
 #include "core/uninit_vector.hpp"
 #include "geom/predicates.hpp"
@@ -70,6 +72,30 @@ public:
     void prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights,
                  KeyDirectionFn key_direction, PrefetchFn prefetch = {});
     void finish_build(Context &ctx) { insert_all(ctx); }
+
+    // The preparation's temporaries (the BRIO words, the sort's buffer, and
+    // a caller's unit vectors) live in the storage reserved for the
+    // triangles the build makes, 2 (n + 6) of 24 bytes: nothing is written
+    // there before insertion starts, and insertion writes all of it, so the
+    // pages the temporaries touch are pages the triangles need anyway, not
+    // fresh ones - 16 bytes a point fewer from xyz, 40 from lon/lat. (On
+    // the benchmark machine the first touch of a page costs 0.1-4 ms per
+    // MB: bench_first_touch.)
+    // reserve_build(n) reserves that storage for a build of n points and
+    // returns the room, where a caller may take its share before prepare()
+    // takes the words' (and ends the room, however it ends).
+    class BuildRoom {
+    public:
+        // Room for `count` values of T (aligned); throws UM_ERR_INTERNAL
+        // when there is not enough left.
+        template <class T>
+        T *take(size_t count);
+
+    private:
+        friend class Triangulation;
+        unsigned char *next_ = nullptr, *end_ = nullptr;
+    };
+    BuildRoom &reserve_build(int64_t n);
 
     // Counts -------------------------------------------------------------
     // Live triangles. After updates some slots may be free (is_free); build()
@@ -438,7 +464,20 @@ private:
     static constexpr double kNoBound = 1e300;
     double build_bound_ = kNoBound, walk_bound_ = kNoBound;
     double longest_lifted_ = 1.0;     // prepare()'s longest lifted point (the band keys' scale)
+    BuildRoom room_;                  // from reserve_build() to the end of prepare()
 };
+
+template <class T>
+T *Triangulation::BuildRoom::take(size_t count) {
+    static_assert(std::is_trivially_copyable<T>::value && std::is_trivially_destructible<T>::value,
+                  "the room holds plain values");
+    const uintptr_t at = (reinterpret_cast<uintptr_t>(next_) + alignof(T) - 1) / alignof(T) * alignof(T);
+    const uintptr_t end = reinterpret_cast<uintptr_t>(end_);
+    if (!next_ || at > end || count > (end - at) / sizeof(T))
+        fail(UM_ERR_INTERNAL, "the build's room has no space for ", count, " values of ", sizeof(T), " bytes");
+    next_ = reinterpret_cast<unsigned char *>(at + count * sizeof(T));
+    return reinterpret_cast<T *>(at);
+}
 
 class Triangulation::Territory {
 public:
@@ -466,7 +505,12 @@ private:
 template <class DirectionFn, class KeyDirectionFn, class PrefetchFn>
 void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights,
                             KeyDirectionFn key_direction, PrefetchFn prefetch) {
-    const Buffer<uint64_t> order = brio_words(ctx, n, key_direction);
+    BuildRoom &room = room_.end_ ? room_ : reserve_build(n);
+    struct RoomEnds {  // here, however prepare() ends
+        BuildRoom &room;
+        ~RoomEnds() { room = {}; }
+    } room_ends{room};
+    const Buffer<uint64_t> order = brio_words(ctx, n, key_direction, room.take<uint64_t>(2 * static_cast<size_t>(n)));
     const size_t slots = static_cast<size_t>(n) + kVirtual;
     // Sized without being written (the gather below writes each element
     // first, in parallel), and advised before that first touch, which is

@@ -5,8 +5,10 @@
 #include <csetjmp>
 #include <random>
 #include <set>
+#include <algorithm>
 #include <cstring>
 
+#include "core/radix_sort.hpp"
 #include "geom/predicates.hpp"
 #include "geom/sphere.hpp"
 #include "support/point_sets.hpp"
@@ -256,6 +258,32 @@ void brio_order_is_a_permutation_and_deterministic(void **) {
     std::vector<int32_t> sorted = a;
     std::sort(sorted.begin(), sorted.end());
     for (int32_t i = 0; i < 100000; ++i) assert_int_equal(sorted[i], i);
+    // The same words in a caller's room of 2n words, and the room only.
+    std::vector<uint64_t> room(200000);
+    const auto words = tri::brio_words(two, 100000, [&](int64_t i) { return pts[i]; }, room.data());
+    assert_true(words.data() == room.data() || words.data() == room.data() + 100000);
+    for (int32_t i = 0; i < 100000; ++i) assert_int_equal(tri::brio_point(words[i]), a[i]);
+}
+
+// The radix sort with its buffer given: sorted and stable for an odd number
+// of passes too, when the result ends in that buffer.
+void radix_sort_with_a_given_buffer(void **) {
+    std::mt19937_64 rng(11);
+    std::vector<uint64_t> input(50000);
+    for (size_t i = 0; i < input.size(); ++i) input[i] = (rng() & ~uint64_t(0xfffff)) | i;  // index below
+    for (int high_bit : {29, 38, 47}) {  // 1, 2 and 3 passes of at most 9 bits above bit 20
+        Context ctx;
+        ctx.set_threads(2);
+        std::vector<uint64_t> own(input), scratch(input.size());
+        Buffer<uint64_t> keys = Buffer<uint64_t>::over(own.data(), own.size());
+        radix_sort(ctx, keys, 20, high_bit, scratch.data());
+        assert_true(keys.data() == own.data() || keys.data() == scratch.data());
+        std::vector<uint64_t> expected(input);
+        const uint64_t mask = ((uint64_t(1) << high_bit) - 1) & ~uint64_t(0xfffff);
+        std::stable_sort(expected.begin(), expected.end(),
+                         [&](uint64_t x, uint64_t y) { return (x & mask) < (y & mask); });
+        for (size_t i = 0; i < expected.size(); ++i) assert_true(keys[i] == expected[i]);
+    }
 }
 
 }  // namespace
@@ -274,6 +302,7 @@ int main() {
         cmocka_unit_test(arc_intersections),
         cmocka_unit_test(hilbert_order_is_continuous),
         cmocka_unit_test(brio_order_is_a_permutation_and_deterministic),
+        cmocka_unit_test(radix_sort_with_a_given_buffer),
     };
     return cmocka_run_group_tests_name("geometry", tests, nullptr, nullptr);
 }

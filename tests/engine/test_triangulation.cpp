@@ -261,6 +261,47 @@ void same_result_for_any_thread_count(void **) {
     expect_identical(ione, build(ico, nullptr, 2));
 }
 
+// A caller's temporaries in the build's room (as the C API's unit vectors
+// from lon/lat are) leave the triangulation as build() makes it; the room
+// is bounded, and ends with prepare().
+void build_room_holds_a_callers_temporaries(void **) {
+    auto pts = test::random_points(150000, 41);
+    const int64_t n = static_cast<int64_t>(pts.size());
+    for (int threads : {1, 2}) {
+        Context ctx;
+        ctx.set_threads(threads);
+        tri::Triangulation t;
+        for (int again = 0; again < 2; ++again) {  // a second build in the same object
+            Vec3 *unit = t.reserve_build(n).take<Vec3>(pts.size());
+            std::copy(pts.begin(), pts.end(), unit);
+            auto direction = [unit](int64_t i) { return unit[i]; };
+            t.prepare(ctx, n, direction, nullptr, direction);
+            t.finish_build(ctx);
+            expect_complete(t, pts.size());
+            expect_identical(t, build(pts));
+        }
+    }
+    Context ctx;
+    tri::Triangulation t;
+    tri::Triangulation::BuildRoom &room = t.reserve_build(1000);  // 2 (1000 + 6) triangles of 24 bytes
+    (void)room.take<double>(4000);
+    try {
+        (void)room.take<double>(2100);
+        fail_msg("the room gave more than it holds");
+    } catch (const Error &e) {
+        assert_int_equal(e.status(), UM_ERR_INTERNAL);
+    }
+    auto few = test::random_points(1000, 43);
+    t.build(ctx, 1000, [&](int64_t i) { return few[i]; }, nullptr);
+    expect_complete(t, few.size());
+    try {
+        (void)room.take<double>(1);
+        fail_msg("the room outlived the build");
+    } catch (const Error &e) {
+        assert_int_equal(e.status(), UM_ERR_INTERNAL);
+    }
+}
+
 void insertion_order_does_not_change_the_triangles(void **) {
     // Same points, permuted ids: the symbolic perturbation follows the ids,
     // so compare a non-degenerate input (no ties) across orders.
@@ -748,6 +789,7 @@ int main() {
         cmocka_unit_test(points_crowded_at_the_band_axis),
         cmocka_unit_test(weights_hide_points),
         cmocka_unit_test(same_result_for_any_thread_count),
+        cmocka_unit_test(build_room_holds_a_callers_temporaries),
         cmocka_unit_test(insertion_order_does_not_change_the_triangles),
         cmocka_unit_test(territories_insert_as_the_serial_path_would),
         cmocka_unit_test(territory_insertion_refuses_without_changes),
