@@ -36,6 +36,7 @@
 #include <malloc.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -394,6 +395,47 @@ Outcome run_in_child(const std::function<ChildResult()> &work, double timeout_s,
     return result.ok ? Outcome::ok : Outcome::failed;
 }
 
+// Memory in place before each run. This project's machine is a virtual
+// machine whose host backs the guest's memory only when it is first touched
+// and takes back memory that stays free for a few seconds (free page
+// reporting): a child that starts after a pause, such as the first one after
+// a case's points are made, first-touches its memory at 2-4 ms per MB
+// instead of 0.1 (bench_first_touch), which cost the first method of a case
+// up to a second at 4*10^6 points. So before every run a child touches this
+// much memory with huge pages and exits, and every method starts from memory
+// the host has in place; --cold leaves it out. Returns false when it could
+// not (the run is measured anyway).
+bool warm_memory(size_t bytes) {
+    if (bytes == 0) return true;
+    const pid_t pid = fork();
+    if (pid < 0) return false;
+    if (pid == 0) {
+        void *p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (p == MAP_FAILED) _exit(1);
+        madvise(p, bytes, MADV_HUGEPAGE);
+        for (size_t i = 0; i < bytes; i += 4096) static_cast<volatile char *>(p)[i] = 1;
+        _exit(0);
+    }
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+// What warm_memory touches before a run of `points` points by a method using
+// about bytes_per_point of them, at most half the memory available.
+size_t warm_bytes(int64_t points, double bytes_per_point) {
+    long available_kb = 0;
+    if (FILE *f = std::fopen("/proc/meminfo", "r")) {
+        char line[256];
+        while (std::fgets(line, sizeof line, f))
+            if (std::sscanf(line, "MemAvailable: %ld kB", &available_kb) == 1) break;
+        std::fclose(f);
+    }
+    const double wanted = double(points) * bytes_per_point + double(32 << 20);
+    return size_t(std::min(wanted, 0.5 * double(available_kb) * 1024.0));
+}
+
 // --- the methods; each body runs inside a child process ---
 
 ChildResult measure_unimesh(const PointSet &ps, int threads, bool from_lonlat) {
@@ -537,12 +579,14 @@ struct Options {
     int repeat = 0;  // 0: 3, or 1 for the largest cases (>= 3e6 points)
     double timeout = 1800.0;
     double qhull_limit = 180.0;  // seconds; Qhull above 1e6 points is skipped beyond this
+    bool cold = false;           // no warm_memory before the runs
+    bool qhull = true;           // --no-qhull: CGAL the only reference
 };
 
 void usage(FILE *f) {
     std::fprintf(f,
                  "usage: bench_triangulation [--quick] [--cases LIST] [--repeat R]\n"
-                 "                           [--timeout S] [--qhull-limit S]\n"
+                 "                           [--timeout S] [--qhull-limit S] [--no-qhull] [--cold]\n"
                  "  --quick          only random-1e5 and ico-6 (smoke test)\n"
                  "  --cases LIST     comma-separated cases: random-<points> (e.g. random-1e6)\n"
                  "                   and ico-<level> (0..11); default\n"
@@ -551,7 +595,11 @@ void usage(FILE *f) {
                  "                   cases of 3e6 points or more)\n"
                  "  --timeout S      give up a single run after S seconds (default 1800)\n"
                  "  --qhull-limit S  above 1e6 points, skip Qhull when it would take, or\n"
-                 "                   takes, more than S seconds (default 180)\n");
+                 "                   takes, more than S seconds (default 180)\n"
+                 "  --no-qhull       leave Qhull out (CGAL stays)\n"
+                 "  --cold           no child touching memory before each run (see\n"
+                 "                   warm_memory: on a virtual machine the first touch of\n"
+                 "                   memory the host took back costs 20-40 times more)\n");
 }
 
 void print_row(const Row &row) {
@@ -569,8 +617,9 @@ void print_row(const Row &row) {
                 row.n_hidden, row.runs, row.note.empty() ? "" : "  ", row.note.c_str());
 }
 
+// Each run is preceded by warm_memory(warm) (0: none).
 Row measure(const CaseSpec &spec, const std::string &method, int threads, int runs, double timeout,
-            const std::function<ChildResult()> &work) {
+            size_t warm, const std::function<ChildResult()> &work) {
     Row row;
     row.case_name = spec.name;
     row.method = method;
@@ -578,6 +627,7 @@ Row measure(const CaseSpec &spec, const std::string &method, int threads, int ru
     row.n = spec.n;
     for (int k = 0; k < runs; ++k) {
         malloc_trim(0);  // give freed memory back, so the child starts from a lean heap
+        if (!warm_memory(warm)) row.note = "(memory not warmed)";
         ChildResult r;
         const Outcome outcome = run_in_child(work, timeout, r);
         if (outcome != Outcome::ok) {
@@ -598,7 +648,7 @@ Row measure(const CaseSpec &spec, const std::string &method, int threads, int ru
         row.n_triangles = r.n_triangles;
         row.n_hidden = r.n_hidden;
         row.runs = k + 1;
-        if (row.note.empty()) row.note = r.message;  // what the method adds (unimesh: deferrals)
+        if (row.note.empty() || row.note[0] == '(') row.note = r.message;  // what the method adds (unimesh: deferrals)
     }
     row.ok = true;
     return row;
@@ -643,6 +693,10 @@ int main(int argc, char **argv) {
             opt.timeout = positive("--timeout", value("--timeout"));
         } else if (a == "--qhull-limit") {
             opt.qhull_limit = positive("--qhull-limit", value("--qhull-limit"));
+        } else if (a == "--no-qhull") {
+            opt.qhull = false;
+        } else if (a == "--cold") {
+            opt.cold = true;
         } else if (a == "-h" || a == "--help") {
             usage(stdout);
             return 0;
@@ -695,6 +749,11 @@ int main(int argc, char **argv) {
     std::printf("# every run in its own fork()ed child; seconds = best of 'runs' (construction only);\n"
                 "# peak_MB = increase of the child's max RSS from when its input was ready to the end of\n"
                 "# the construction (largest over the runs); B/pt = that in bytes per input point.\n");
+    if (opt.cold)
+        std::printf("# --cold: runs start from whatever memory the machine gives them\n");
+    else
+        std::printf("# before each run a child touches, with huge pages, about the memory the method will\n"
+                    "# use and exits (warm_memory: the host of this virtual machine takes back free memory)\n");
     std::printf("# methods: unimesh-xyz = um_triangulation_create_xyz; unimesh-lonlat = um_triangulation_create\n"
                 "# (lon/lat in degrees); cgal-dtos2 and qhull-Qt are single threaded.\n");
     std::printf("# %-10s %-15s %3s %9s %9s %8s %9s %8s %9s %9s %6s %4s\n", "case", "method", "thr", "points",
@@ -727,6 +786,10 @@ int main(int argc, char **argv) {
                         "%" PRId64 " triangles, made in %.2f s\n",
                         spec.name.c_str(), spec.level, ps.size(), spec.level, 2 * ps.size() - 4, g1 - g0);
         const int runs = opt.repeat > 0 ? opt.repeat : (spec.n >= 3000000 ? 1 : 3);
+        // The memory each method uses, with room (bytes per point; the last
+        // runs' peaks were about 92-118, 168-176 and 500-600).
+        constexpr double kUnimeshBytes = 160, kCgalBytes = 220, kQhullBytes = 700;
+        auto warm = [&](double bytes_per_point) { return opt.cold ? size_t(0) : warm_bytes(spec.n, bytes_per_point); };
 
         std::vector<Row> rows;
         auto add = [&](Row row) {
@@ -738,16 +801,19 @@ int main(int argc, char **argv) {
         };
 
         for (int t : unimesh_threads)
-            add(measure(spec, "unimesh-xyz", t, runs, opt.timeout,
+            add(measure(spec, "unimesh-xyz", t, runs, opt.timeout, warm(kUnimeshBytes),
                         [&ps, t] { return measure_unimesh(ps, t, false); }));
-        add(measure(spec, "unimesh-lonlat", lonlat_threads, runs, opt.timeout,
+        add(measure(spec, "unimesh-lonlat", lonlat_threads, runs, opt.timeout, warm(kUnimeshBytes),
                     [&ps, lonlat_threads] { return measure_unimesh(ps, lonlat_threads, true); }));
-        add(measure(spec, "cgal-dtos2", 1, runs, opt.timeout, [&ps] { return measure_cgal(ps); }));
+        add(measure(spec, "cgal-dtos2", 1, runs, opt.timeout, warm(kCgalBytes), [&ps] { return measure_cgal(ps); }));
 
         // Qhull: above 1e6 points only when it finishes within the limit; the time is
         // predicted from the largest case it already did (n log n), else bounded by a timeout.
-        if (spec.n <= 1000000) {
-            Row row = measure(spec, "qhull-Qt", 1, runs, opt.timeout, [&ps] { return measure_qhull(ps); });
+        if (!opt.qhull) {
+            // left out
+        } else if (spec.n <= 1000000) {
+            Row row = measure(spec, "qhull-Qt", 1, runs, opt.timeout, warm(kQhullBytes),
+                              [&ps] { return measure_qhull(ps); });
             if (row.ok && spec.n > qhull_done_n) {
                 qhull_done_n = spec.n;
                 qhull_done_s = row.seconds;
@@ -772,7 +838,8 @@ int main(int argc, char **argv) {
                 add(row);
             } else {
                 const double limit = std::min(opt.qhull_limit, opt.timeout);
-                Row row = measure(spec, "qhull-Qt", 1, runs, limit, [&ps] { return measure_qhull(ps); });
+                Row row = measure(spec, "qhull-Qt", 1, runs, limit, warm(kQhullBytes),
+                                  [&ps] { return measure_qhull(ps); });
                 if (row.skipped)
                     row.note = "Qhull skipped above 1e6 points: too slow, did not finish within " +
                                std::to_string(int(limit)) + " s (--qhull-limit)";
