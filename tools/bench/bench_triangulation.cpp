@@ -36,7 +36,6 @@
 #include <malloc.h>
 #include <poll.h>
 #include <signal.h>
-#include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -395,47 +394,6 @@ Outcome run_in_child(const std::function<ChildResult()> &work, double timeout_s,
     return result.ok ? Outcome::ok : Outcome::failed;
 }
 
-// Memory in place before each run. This project's machine is a virtual
-// machine whose host backs the guest's memory only when it is first touched
-// and takes back memory that stays free for a few seconds (free page
-// reporting): a child that starts after a pause, such as the first one after
-// a case's points are made, first-touches its memory at 2-4 ms per MB
-// instead of 0.1 (bench_first_touch), which cost the first method of a case
-// up to a second at 4*10^6 points. So before every run a child touches this
-// much memory with huge pages and exits, and every method starts from memory
-// the host has in place; --cold leaves it out. Returns false when it could
-// not (the run is measured anyway).
-bool warm_memory(size_t bytes) {
-    if (bytes == 0) return true;
-    const pid_t pid = fork();
-    if (pid < 0) return false;
-    if (pid == 0) {
-        void *p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-        if (p == MAP_FAILED) _exit(1);
-        madvise(p, bytes, MADV_HUGEPAGE);
-        for (size_t i = 0; i < bytes; i += 4096) static_cast<volatile char *>(p)[i] = 1;
-        _exit(0);
-    }
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
-
-// What warm_memory touches before a run of `points` points by a method using
-// about bytes_per_point of them, at most half the memory available.
-size_t warm_bytes(int64_t points, double bytes_per_point) {
-    long available_kb = 0;
-    if (FILE *f = std::fopen("/proc/meminfo", "r")) {
-        char line[256];
-        while (std::fgets(line, sizeof line, f))
-            if (std::sscanf(line, "MemAvailable: %ld kB", &available_kb) == 1) break;
-        std::fclose(f);
-    }
-    const double wanted = double(points) * bytes_per_point + double(32 << 20);
-    return size_t(std::min(wanted, 0.5 * double(available_kb) * 1024.0));
-}
-
 // --- the methods; each body runs inside a child process ---
 
 ChildResult measure_unimesh(const PointSet &ps, int threads, bool from_lonlat) {
@@ -579,7 +537,7 @@ struct Options {
     int repeat = 0;  // 0: 3, or 1 for the largest cases (>= 3e6 points)
     double timeout = 1800.0;
     double qhull_limit = 180.0;  // seconds; Qhull above 1e6 points is skipped beyond this
-    bool cold = false;           // no warm_memory before the runs
+    bool cold = false;           // no warm-up run
     bool qhull = true;           // --no-qhull: CGAL the only reference
 };
 
@@ -597,9 +555,9 @@ void usage(FILE *f) {
                  "  --qhull-limit S  above 1e6 points, skip Qhull when it would take, or\n"
                  "                   takes, more than S seconds (default 180)\n"
                  "  --no-qhull       leave Qhull out (CGAL stays)\n"
-                 "  --cold           no child touching memory before each run (see\n"
-                 "                   warm_memory: on a virtual machine the first touch of\n"
-                 "                   memory the host took back costs 20-40 times more)\n");
+                 "  --cold           no uncounted warm-up run before a method's runs (on\n"
+                 "                   a virtual machine the first touch of memory the host\n"
+                 "                   took back costs 20-40 times more: see measure())\n");
 }
 
 void print_row(const Row &row) {
@@ -617,17 +575,24 @@ void print_row(const Row &row) {
                 row.n_hidden, row.runs, row.note.empty() ? "" : "  ", row.note.c_str());
 }
 
-// Each run is preceded by warm_memory(warm) (0: none).
+// With warm_up, one run more comes first and is not counted: this project's
+// machine is a virtual machine whose host backs the guest's memory only when
+// it is first touched and takes back memory that stays free for a few
+// seconds (free page reporting), so a child that starts after a pause - the
+// first method of each case, after its points are made - first-touches its
+// memory at 2-4 ms per MB instead of about 0.1 (bench_first_touch). At
+// 4*10^6 points, with one counted run, that was about 1 s of unimesh's time
+// on one thread. A child that exits leaves its memory in place for the next
+// one, so the counted runs start as the later runs of a method always did.
 Row measure(const CaseSpec &spec, const std::string &method, int threads, int runs, double timeout,
-            size_t warm, const std::function<ChildResult()> &work) {
+            bool warm_up, const std::function<ChildResult()> &work) {
     Row row;
     row.case_name = spec.name;
     row.method = method;
     row.threads = threads;
     row.n = spec.n;
-    for (int k = 0; k < runs; ++k) {
+    for (int k = warm_up ? -1 : 0; k < runs; ++k) {
         malloc_trim(0);  // give freed memory back, so the child starts from a lean heap
-        if (!warm_memory(warm)) row.note = "(memory not warmed)";
         ChildResult r;
         const Outcome outcome = run_in_child(work, timeout, r);
         if (outcome != Outcome::ok) {
@@ -636,9 +601,10 @@ Row measure(const CaseSpec &spec, const std::string &method, int threads, int ru
             row.note = outcome == Outcome::timed_out
                            ? "did not finish within " + std::to_string(int(timeout)) + " s"
                            : std::string(r.message);
-            row.runs = k + 1;
+            row.runs = std::max(k, 0) + 1;
             return row;
         }
+        if (k < 0) continue;  // the warm-up run
         const int64_t delta = r.rss_peak_kb - r.rss_base_kb;
         if (k == 0 || r.seconds < row.seconds) row.seconds = r.seconds;
         if (k == 0 || delta > row.peak_kb) row.peak_kb = delta;
@@ -648,7 +614,7 @@ Row measure(const CaseSpec &spec, const std::string &method, int threads, int ru
         row.n_triangles = r.n_triangles;
         row.n_hidden = r.n_hidden;
         row.runs = k + 1;
-        if (row.note.empty() || row.note[0] == '(') row.note = r.message;  // what the method adds (unimesh: deferrals)
+        if (row.note.empty()) row.note = r.message;  // what the method adds (unimesh: deferrals)
     }
     row.ok = true;
     return row;
@@ -750,10 +716,9 @@ int main(int argc, char **argv) {
                 "# peak_MB = increase of the child's max RSS from when its input was ready to the end of\n"
                 "# the construction (largest over the runs); B/pt = that in bytes per input point.\n");
     if (opt.cold)
-        std::printf("# --cold: runs start from whatever memory the machine gives them\n");
+        std::printf("# --cold: no warm-up run (the first run of a case may meet memory the host took back)\n");
     else
-        std::printf("# before each run a child touches, with huge pages, about the memory the method will\n"
-                    "# use and exits (warm_memory: the host of this virtual machine takes back free memory)\n");
+        std::printf("# unimesh and CGAL: one uncounted warm-up run before the counted ones (see measure())\n");
     std::printf("# methods: unimesh-xyz = um_triangulation_create_xyz; unimesh-lonlat = um_triangulation_create\n"
                 "# (lon/lat in degrees); cgal-dtos2 and qhull-Qt are single threaded.\n");
     std::printf("# %-10s %-15s %3s %9s %9s %8s %9s %8s %9s %9s %6s %4s\n", "case", "method", "thr", "points",
@@ -786,10 +751,8 @@ int main(int argc, char **argv) {
                         "%" PRId64 " triangles, made in %.2f s\n",
                         spec.name.c_str(), spec.level, ps.size(), spec.level, 2 * ps.size() - 4, g1 - g0);
         const int runs = opt.repeat > 0 ? opt.repeat : (spec.n >= 3000000 ? 1 : 3);
-        // The memory each method uses, with room (bytes per point; the last
-        // runs' peaks were about 92-118, 168-176 and 500-600).
-        constexpr double kUnimeshBytes = 160, kCgalBytes = 220, kQhullBytes = 700;
-        auto warm = [&](double bytes_per_point) { return opt.cold ? size_t(0) : warm_bytes(spec.n, bytes_per_point); };
+        // (Qhull, not a target and minutes at 4*10^6 points, has no warm-up run.)
+        const bool warm_up = !opt.cold;
 
         std::vector<Row> rows;
         auto add = [&](Row row) {
@@ -801,18 +764,18 @@ int main(int argc, char **argv) {
         };
 
         for (int t : unimesh_threads)
-            add(measure(spec, "unimesh-xyz", t, runs, opt.timeout, warm(kUnimeshBytes),
+            add(measure(spec, "unimesh-xyz", t, runs, opt.timeout, warm_up,
                         [&ps, t] { return measure_unimesh(ps, t, false); }));
-        add(measure(spec, "unimesh-lonlat", lonlat_threads, runs, opt.timeout, warm(kUnimeshBytes),
+        add(measure(spec, "unimesh-lonlat", lonlat_threads, runs, opt.timeout, warm_up,
                     [&ps, lonlat_threads] { return measure_unimesh(ps, lonlat_threads, true); }));
-        add(measure(spec, "cgal-dtos2", 1, runs, opt.timeout, warm(kCgalBytes), [&ps] { return measure_cgal(ps); }));
+        add(measure(spec, "cgal-dtos2", 1, runs, opt.timeout, warm_up, [&ps] { return measure_cgal(ps); }));
 
         // Qhull: above 1e6 points only when it finishes within the limit; the time is
         // predicted from the largest case it already did (n log n), else bounded by a timeout.
         if (!opt.qhull) {
             // left out
         } else if (spec.n <= 1000000) {
-            Row row = measure(spec, "qhull-Qt", 1, runs, opt.timeout, warm(kQhullBytes),
+            Row row = measure(spec, "qhull-Qt", 1, runs, opt.timeout, false,
                               [&ps] { return measure_qhull(ps); });
             if (row.ok && spec.n > qhull_done_n) {
                 qhull_done_n = spec.n;
@@ -838,7 +801,7 @@ int main(int argc, char **argv) {
                 add(row);
             } else {
                 const double limit = std::min(opt.qhull_limit, opt.timeout);
-                Row row = measure(spec, "qhull-Qt", 1, runs, limit, warm(kQhullBytes),
+                Row row = measure(spec, "qhull-Qt", 1, runs, limit, false,
                                   [&ps] { return measure_qhull(ps); });
                 if (row.skipped)
                     row.note = "Qhull skipped above 1e6 points: too slow, did not finish within " +
