@@ -13,7 +13,8 @@ namespace um {
 // Sorts keys by bits [low_bit, high_bit) (0 <= low_bit < high_bit <= 64);
 // equal digits keep their order. Uses a second buffer of keys.size() words:
 // `scratch` when given, else one it allocates. (After an odd number of
-// passes the sorted words are in the scratch, and keys refers to it.)
+// passes the sorted words are in the scratch, and keys refers to it: the
+// memory keys owned is freed, and the scratch must outlive keys.)
 void radix_sort(Context &ctx, Buffer<uint64_t> &keys, int low_bit, int high_bit,
                 uint64_t *scratch = nullptr);
 

@@ -51,14 +51,21 @@ void Triangulation::init_virtual_octahedron() {
 }
 
 Triangulation::BuildRoom &Triangulation::reserve_build(int64_t n) {
+    if (n < 0 || n > (int64_t(1) << kBrioIndexBits))
+        fail(UM_ERR_LIMIT, "a build of ", n, " points; at most 2^", kBrioIndexBits);
     // A triangulated sphere of V vertices has 2V - 4 triangles: 2 (n + 6)
-    // with the virtual octahedron is room enough.
+    // with the virtual octahedron is room enough. Sized, not only reserved,
+    // so that the room lies within the vector (unwritten: UninitVector);
+    // insertion starts with clear().
     const size_t max_triangles = 2 * (static_cast<size_t>(n) + kVirtual);
+    room_ = BuildRoom();
     tris_.clear();
     tris_.reserve(max_triangles);
     advise_huge_pages(tris_.data(), tris_.capacity() * sizeof(Tri));
-    room_.next_ = reinterpret_cast<unsigned char *>(tris_.data());
-    room_.end_ = room_.next_ + tris_.capacity() * sizeof(Tri);
+    tris_.resize(max_triangles);
+    room_.begin_ = room_.next_ = reinterpret_cast<unsigned char *>(tris_.data());
+    room_.end_ = room_.begin_ + max_triangles * sizeof(Tri);
+    room_.n_ = n;
     return room_;
 }
 
@@ -70,9 +77,10 @@ void Triangulation::insert_all(Context &ctx) {
         ~BoundsOff() { t.build_bound_ = t.walk_bound_ = kNoBound; }
     } bounds_off{*this};
     const int64_t n_real = static_cast<int64_t>(q_.size()) - kVirtual;
-    // prepare() reserved the triangles (reserve_build); a triangulated
-    // sphere of V vertices has 2V - 4.
+    // A triangulated sphere of V vertices has 2V - 4 triangles (prepare()
+    // made the room already: reserve_build).
     size_t max_triangles = 2 * q_.size();
+    tris_.reserve(max_triangles);
     mark_.reserve(max_triangles);
     advise_huge_pages(mark_.data(), mark_.capacity());
     init_virtual_octahedron();

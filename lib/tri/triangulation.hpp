@@ -54,9 +54,10 @@ public:
     // discard it.
     template <class DirectionFn>
     void build(Context &ctx, int64_t n, DirectionFn direction, const double *weights);
-    // build() in two steps, so that a caller can free the input it made for
-    // `direction` in between: prepare() copies the points in insertion order
-    // (BRIO rounds along a Hilbert curve), finish_build() triangulates them.
+    // build() in two steps: prepare() copies the points in insertion order
+    // (BRIO rounds along a Hilbert curve), finish_build() triangulates them;
+    // a caller's input for `direction` may live in the build's room (below),
+    // which is dead from finish_build() on.
     // The first rounds are inserted one by one in that order, the big ones
     // by up to 16 regions in parallel, then the points those deferred by 4
     // bands (parallel_insertion.cpp); nothing depends on the thread count,
@@ -74,18 +75,26 @@ public:
     void finish_build(Context &ctx) { insert_all(ctx); }
 
     // The preparation's temporaries (the BRIO words, the sort's buffer, and
-    // a caller's unit vectors) live in the storage reserved for the
-    // triangles the build makes, 2 (n + 6) of 24 bytes: nothing is written
-    // there before insertion starts, and insertion writes all of it, so the
-    // pages the temporaries touch are pages the triangles need anyway, not
-    // fresh ones - 16 bytes a point fewer from xyz, 40 from lon/lat. (On
-    // the benchmark machine the first touch of a page costs 0.1-4 ms per
-    // MB: bench_first_touch.)
-    // reserve_build(n) reserves that storage for a build of n points and
-    // returns the room, where a caller may take its share before prepare()
-    // takes the words' (and ends the room, however it ends).
+    // a caller's unit vectors) live in the storage of the triangles the
+    // build makes, 2 (n + 6) of 24 bytes: nothing is written there before
+    // insertion starts, and insertion writes nearly all of it (all but the
+    // slots of points that end hidden), so the pages the temporaries touch
+    // are pages the triangles need anyway, not fresh ones - 16 bytes a point
+    // fewer from xyz, 40 from lon/lat. (On the benchmark machine the first
+    // touch of a page costs 0.1-4 ms per MB: bench_first_touch.)
+    // reserve_build(n) sizes that storage for a build of n points (its
+    // values unwritten) and returns the room, where a caller may take its
+    // share before prepare(n) takes the words' and ends the room, however
+    // it ends. Throws UM_ERR_LIMIT for n outside [0, 2^28].
     class BuildRoom {
     public:
+        BuildRoom() = default;
+        // A copy of a triangulation has no room (its storage is its own).
+        BuildRoom(const BuildRoom &) noexcept {}
+        BuildRoom &operator=(const BuildRoom &) noexcept {
+            begin_ = next_ = end_ = nullptr, n_ = -1;
+            return *this;
+        }
         // Room for `count` values of T (aligned); throws UM_ERR_INTERNAL
         // when there is not enough left.
         template <class T>
@@ -93,7 +102,8 @@ public:
 
     private:
         friend class Triangulation;
-        unsigned char *next_ = nullptr, *end_ = nullptr;
+        unsigned char *begin_ = nullptr, *next_ = nullptr, *end_ = nullptr;
+        int64_t n_ = -1;  // the build it was made for
     };
     BuildRoom &reserve_build(int64_t n);
 
@@ -505,10 +515,16 @@ private:
 template <class DirectionFn, class KeyDirectionFn, class PrefetchFn>
 void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, const double *weights,
                             KeyDirectionFn key_direction, PrefetchFn prefetch) {
+    // The room a caller opened for this build, else one of its own.
+    if (room_.end_ && (room_.n_ != n || room_.begin_ != reinterpret_cast<unsigned char *>(tris_.data()))) {
+        const int64_t made_for = room_.n_;
+        room_ = BuildRoom();  // ended, as by any prepare()
+        fail(UM_ERR_INTERNAL, "prepare(", n, "): the build's room was made for ", made_for, " points");
+    }
     BuildRoom &room = room_.end_ ? room_ : reserve_build(n);
     struct RoomEnds {  // here, however prepare() ends
         BuildRoom &room;
-        ~RoomEnds() { room = {}; }
+        ~RoomEnds() { room = BuildRoom(); }  // (assigning empties it)
     } room_ends{room};
     const Buffer<uint64_t> order = brio_words(ctx, n, key_direction, room.take<uint64_t>(2 * static_cast<size_t>(n)));
     const size_t slots = static_cast<size_t>(n) + kVirtual;

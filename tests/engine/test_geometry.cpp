@@ -258,11 +258,13 @@ void brio_order_is_a_permutation_and_deterministic(void **) {
     std::vector<int32_t> sorted = a;
     std::sort(sorted.begin(), sorted.end());
     for (int32_t i = 0; i < 100000; ++i) assert_int_equal(sorted[i], i);
-    // The same words in a caller's room of 2n words, and the room only.
-    std::vector<uint64_t> room(200000);
+    // The same words in a caller's room of 2n words, and the room only
+    // (the words past it keep their values).
+    std::vector<uint64_t> room(200000 + 64, 0x5eed5eed5eed5eedull);
     const auto words = tri::brio_words(two, 100000, [&](int64_t i) { return pts[i]; }, room.data());
     assert_true(words.data() == room.data() || words.data() == room.data() + 100000);
     for (int32_t i = 0; i < 100000; ++i) assert_int_equal(tri::brio_point(words[i]), a[i]);
+    for (size_t i = 200000; i < room.size(); ++i) assert_true(room[i] == 0x5eed5eed5eed5eedull);
 }
 
 // The radix sort with its buffer given: sorted and stable for an odd number

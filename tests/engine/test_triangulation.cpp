@@ -281,25 +281,46 @@ void build_room_holds_a_callers_temporaries(void **) {
             expect_identical(t, build(pts));
         }
     }
+    auto expect_status = [](um_status status, auto &&call) {
+        try {
+            call();
+            fail_msg("no error where status %d was due", int(status));
+        } catch (const Error &e) {
+            assert_int_equal(e.status(), status);
+        }
+    };
     Context ctx;
-    tri::Triangulation t;
-    tri::Triangulation::BuildRoom &room = t.reserve_build(1000);  // 2 (1000 + 6) triangles of 24 bytes
-    (void)room.take<double>(4000);
-    try {
-        (void)room.take<double>(2100);
-        fail_msg("the room gave more than it holds");
-    } catch (const Error &e) {
-        assert_int_equal(e.status(), UM_ERR_INTERNAL);
-    }
     auto few = test::random_points(1000, 43);
-    t.build(ctx, 1000, [&](int64_t i) { return few[i]; }, nullptr);
-    expect_complete(t, few.size());
-    try {
-        (void)room.take<double>(1);
-        fail_msg("the room outlived the build");
-    } catch (const Error &e) {
-        assert_int_equal(e.status(), UM_ERR_INTERNAL);
+    auto few_direction = [&](int64_t i) { return few[i]; };
+    {  // bounded: 2 (1000 + 6) triangles of 24 bytes
+        tri::Triangulation t;
+        tri::Triangulation::BuildRoom &room = t.reserve_build(1000);
+        (void)room.take<double>(6000);
+        expect_status(UM_ERR_INTERNAL, [&] { (void)room.take<double>(37); });
+        // A copy has no room (one pointing into t's storage would fail its
+        // build), and t's stays as it was.
+        tri::Triangulation copy = t;
+        copy.build(ctx, 1000, few_direction, nullptr);
+        expect_complete(copy, few.size());
+        (void)room.take<double>(36);
     }
+    {  // ended by the build
+        tri::Triangulation t;
+        tri::Triangulation::BuildRoom &room = t.reserve_build(1000);
+        t.build(ctx, 1000, few_direction, nullptr);
+        expect_complete(t, few.size());
+        expect_status(UM_ERR_INTERNAL, [&] { (void)room.take<double>(1); });
+    }
+    {  // made for another build
+        tri::Triangulation t;
+        (void)t.reserve_build(999);
+        expect_status(UM_ERR_INTERNAL, [&] { t.build(ctx, 1000, few_direction, nullptr); });
+        t.build(ctx, 1000, few_direction, nullptr);  // the failed prepare() ended it
+        expect_complete(t, few.size());
+    }
+    tri::Triangulation t;
+    expect_status(UM_ERR_LIMIT, [&] { (void)t.reserve_build(-1); });
+    expect_status(UM_ERR_LIMIT, [&] { (void)t.reserve_build((int64_t(1) << 28) + 1); });
 }
 
 void insertion_order_does_not_change_the_triangles(void **) {

@@ -601,7 +601,8 @@ Row measure(const CaseSpec &spec, const std::string &method, int threads, int ru
             row.note = outcome == Outcome::timed_out
                            ? "did not finish within " + std::to_string(int(timeout)) + " s"
                            : std::string(r.message);
-            row.runs = std::max(k, 0) + 1;
+            if (k < 0) row.note = "(warm-up run) " + row.note;
+            row.runs = std::max(k, 0);  // the counted runs that finished
             return row;
         }
         if (k < 0) continue;  // the warm-up run
