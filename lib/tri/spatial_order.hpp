@@ -30,7 +30,13 @@ uint64_t hilbert_key(const geom::Vec3 &direction);
 // (the Buffer returned is then over part of it), else they are allocated.
 template <class DirectionFn>
 Buffer<uint64_t> brio_words(Context &ctx, int64_t n, DirectionFn direction, uint64_t *room = nullptr);
-constexpr int kBrioIndexBits = 28;  // n <= 2^28 (checked by brio_words)
+constexpr int kBrioIndexBits = 28;  // n <= 2^28 (check_brio_count)
+// Throws UM_ERR_LIMIT unless 0 <= n <= 2^28: point indices fit the bits
+// below the key.
+inline void check_brio_count(int64_t n) {
+    if (n < 0 || n > (int64_t(1) << kBrioIndexBits))
+        fail(UM_ERR_LIMIT, n, " points to order; at most 2^", kBrioIndexBits);
+}
 inline int32_t brio_point(uint64_t word) {
     return static_cast<int32_t>(word & ((uint64_t(1) << kBrioIndexBits) - 1));
 }
@@ -51,9 +57,7 @@ int brio_round(int64_t index, int64_t n);
 
 template <class DirectionFn>
 Buffer<uint64_t> brio_words(Context &ctx, int64_t n, DirectionFn direction, uint64_t *room) {
-    // Index i < n must fit the index bits below the key.
-    if (n < 0 || n > (int64_t(1) << kBrioIndexBits))
-        fail(UM_ERR_LIMIT, "brio_words: ", n, " points; at most 2^", kBrioIndexBits);
+    check_brio_count(n);
     Buffer<uint64_t> keys = room ? Buffer<uint64_t>::over(room, static_cast<size_t>(n))
                                  : Buffer<uint64_t>(static_cast<size_t>(n));
     const int rounds = brio_rounds(n);

@@ -51,14 +51,13 @@ void Triangulation::init_virtual_octahedron() {
 }
 
 Triangulation::BuildRoom &Triangulation::reserve_build(int64_t n) {
-    if (n < 0 || n > (int64_t(1) << kBrioIndexBits))
-        fail(UM_ERR_LIMIT, "a build of ", n, " points; at most 2^", kBrioIndexBits);
+    check_brio_count(n);
     // A triangulated sphere of V vertices has 2V - 4 triangles: 2 (n + 6)
     // with the virtual octahedron is room enough. Sized, not only reserved,
     // so that the room lies within the vector (unwritten: UninitVector);
     // insertion starts with clear().
     const size_t max_triangles = 2 * (static_cast<size_t>(n) + kVirtual);
-    room_ = BuildRoom();
+    room_.close();
     tris_.clear();
     tris_.reserve(max_triangles);
     advise_huge_pages(tris_.data(), tris_.capacity() * sizeof(Tri));
@@ -754,7 +753,7 @@ bool Triangulation::flippable(int32_t t, int k) const {
     const Tri &tr = tris_[t];
     int32_t a = tr.v[k], b = tr.v[next_of_three(k)], c = tr.v[prev_of_three(k)];
     int32_t u = tr.n[k];
-    int32_t d = tris_[u].v[next_of_three(next_of_three(local_index(u, c)))];
+    int32_t d = tris_[u].v[prev_of_three(local_index(u, c))];
     // New triangles (a, b, d) and (d, c, a) must both face outwards.
     return orient_origin(q_[a].data(), q_[b].data(), q_[d].data()) > 0 &&
            orient_origin(q_[d].data(), q_[c].data(), q_[a].data()) > 0;

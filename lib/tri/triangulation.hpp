@@ -92,7 +92,7 @@ public:
         // A copy of a triangulation has no room (its storage is its own).
         BuildRoom(const BuildRoom &) noexcept {}
         BuildRoom &operator=(const BuildRoom &) noexcept {
-            begin_ = next_ = end_ = nullptr, n_ = -1;
+            close();
             return *this;
         }
         // Room for `count` values of T (aligned); throws UM_ERR_INTERNAL
@@ -102,6 +102,7 @@ public:
 
     private:
         friend class Triangulation;
+        void close() noexcept { begin_ = next_ = end_ = nullptr, n_ = -1; }
         unsigned char *begin_ = nullptr, *next_ = nullptr, *end_ = nullptr;
         int64_t n_ = -1;  // the build it was made for
     };
@@ -518,13 +519,13 @@ void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, cons
     // The room a caller opened for this build, else one of its own.
     if (room_.end_ && (room_.n_ != n || room_.begin_ != reinterpret_cast<unsigned char *>(tris_.data()))) {
         const int64_t made_for = room_.n_;
-        room_ = BuildRoom();  // ended, as by any prepare()
+        room_.close();  // ended, as by any prepare()
         fail(UM_ERR_INTERNAL, "prepare(", n, "): the build's room was made for ", made_for, " points");
     }
     BuildRoom &room = room_.end_ ? room_ : reserve_build(n);
     struct RoomEnds {  // here, however prepare() ends
         BuildRoom &room;
-        ~RoomEnds() { room = BuildRoom(); }  // (assigning empties it)
+        ~RoomEnds() { room.close(); }
     } room_ends{room};
     const Buffer<uint64_t> order = brio_words(ctx, n, key_direction, room.take<uint64_t>(2 * static_cast<size_t>(n)));
     const size_t slots = static_cast<size_t>(n) + kVirtual;

@@ -291,16 +291,37 @@ struct ChildResult {
     double seconds = 0.0;
     int64_t rss_base_kb = 0;  // ru_maxrss when the input was ready
     int64_t rss_peak_kb = 0;  // ru_maxrss after the construction
+    int64_t faults = 0;       // page faults during the construction (ru_minflt + ru_majflt)
+    double system_s = 0.0;    // system time during it, all threads (mostly first touches)
     int64_t n_vertices = 0;
     int64_t n_triangles = 0;
     int64_t n_hidden = 0;
     char message[480] = {0};
 };
 
-int64_t maxrss_kb() {
+// The child's resource use at a moment: peak RSS, page faults, system time.
+struct Usage {
+    int64_t maxrss_kb = 0, faults = 0;
+    double system_s = 0.0;
+};
+
+Usage usage_now() {
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
-    return int64_t(ru.ru_maxrss);  // kilobytes on Linux
+    Usage u;
+    u.maxrss_kb = int64_t(ru.ru_maxrss);  // kilobytes on Linux
+    u.faults = int64_t(ru.ru_minflt) + int64_t(ru.ru_majflt);
+    u.system_s = double(ru.ru_stime.tv_sec) + 1e-6 * double(ru.ru_stime.tv_usec);
+    return u;
+}
+
+// What the construction since `before` used, into r.
+void record_usage(ChildResult &r, const Usage &before) {
+    const Usage after = usage_now();
+    r.rss_base_kb = before.maxrss_kb;
+    r.rss_peak_kb = after.maxrss_kb;
+    r.faults = after.faults - before.faults;
+    r.system_s = after.system_s - before.system_s;
 }
 
 double now_seconds() {
@@ -421,13 +442,13 @@ ChildResult measure_unimesh(const PointSet &ps, int threads, bool from_lonlat) {
     }, &rounds, UM_LOG_DEBUG);
     const int64_t n = ps.size();
     um_triangulation *tri = nullptr;
-    r.rss_base_kb = maxrss_kb();
+    const Usage before = usage_now();
     const double t0 = now_seconds();
     const um_status st =
         from_lonlat ? um_triangulation_create(ctx, n, ps.lon.data(), ps.lat.data(), nullptr, &tri)
                     : um_triangulation_create_xyz(ctx, n, ps.xyz.data(), nullptr, &tri);
     const double t1 = now_seconds();
-    r.rss_peak_kb = maxrss_kb();
+    record_usage(r, before);
     r.seconds = t1 - t0;
     if (st != UM_OK) {
         set_message(r, "status " + std::to_string(st) + ": " + um_context_last_error(ctx));
@@ -457,13 +478,13 @@ ChildResult measure_cgal(const PointSet &ps) {
     for (int64_t i = 0; i < n; ++i)
         points.emplace_back(ps.xyz[size_t(3 * i)], ps.xyz[size_t(3 * i + 1)], ps.xyz[size_t(3 * i + 2)]);
     const SphereTraits traits(Kernel::Point_3(0, 0, 0), 1.0);
-    r.rss_base_kb = maxrss_kb();
+    const Usage before = usage_now();
     const double t0 = now_seconds();
     {
         SphereDT dt(traits);
         dt.insert(points.begin(), points.end());  // shuffles and spatially sorts itself
         const double t1 = now_seconds();
-        r.rss_peak_kb = maxrss_kb();
+        record_usage(r, before);
         r.seconds = t1 - t0;
         r.n_vertices = int64_t(dt.number_of_vertices());
         r.n_triangles = int64_t(dt.number_of_solid_faces());
@@ -491,11 +512,11 @@ ChildResult measure_qhull(const PointSet &ps) {
     char command[] = "qhull Qt";
     // The child owns a copy-on-write copy of the points; qhull does not change them.
     coordT *coords = const_cast<coordT *>(ps.xyz.data());
-    r.rss_base_kb = maxrss_kb();
+    const Usage before = usage_now();
     const double t0 = now_seconds();
     const int exitcode = qh_new_qhull(qh, 3, int(n), coords, False, command, nullptr, stderr);
     const double t1 = now_seconds();
-    r.rss_peak_kb = maxrss_kb();
+    record_usage(r, before);
     r.seconds = t1 - t0;
     if (exitcode != 0) {
         set_message(r, "qh_new_qhull exit code " + std::to_string(exitcode));
@@ -527,6 +548,8 @@ struct Row {
     bool skipped = false;
     double seconds = 0.0;  // best of the runs
     int64_t peak_kb = 0;   // largest increase of the child's max RSS over the runs
+    int64_t faults = 0;    // page faults of the best run
+    double system_s = 0.0; // system time of the best run
     int64_t n_vertices = 0, n_triangles = 0, n_hidden = 0;
     std::string note;
 };
@@ -568,11 +591,12 @@ void print_row(const Row &row) {
     }
     const double mb = double(row.peak_kb) / 1024.0;
     const double bytes_per_point = double(row.peak_kb) * 1024.0 / double(row.n);
-    std::printf("%-12s %-15s %3d %9" PRId64 " %9.4f %8.3f %9.1f %8.1f %9" PRId64 " %9" PRId64
-                " %6" PRId64 " %4d%s%s\n",
+    std::printf("%-12s %-15s %3d %9" PRId64 " %9.4f %8.3f %9.1f %8.1f %8" PRId64 " %7.3f %9" PRId64
+                " %9" PRId64 " %6" PRId64 " %4d%s%s\n",
                 row.case_name.c_str(), row.method.c_str(), row.threads, row.n, row.seconds,
-                double(row.n) / row.seconds / 1e6, mb, bytes_per_point, row.n_vertices, row.n_triangles,
-                row.n_hidden, row.runs, row.note.empty() ? "" : "  ", row.note.c_str());
+                double(row.n) / row.seconds / 1e6, mb, bytes_per_point, row.faults, row.system_s,
+                row.n_vertices, row.n_triangles, row.n_hidden, row.runs, row.note.empty() ? "" : "  ",
+                row.note.c_str());
 }
 
 // With warm_up, one run more comes first and is not counted: this project's
@@ -607,7 +631,7 @@ Row measure(const CaseSpec &spec, const std::string &method, int threads, int ru
         }
         if (k < 0) continue;  // the warm-up run
         const int64_t delta = r.rss_peak_kb - r.rss_base_kb;
-        if (k == 0 || r.seconds < row.seconds) row.seconds = r.seconds;
+        if (k == 0 || r.seconds < row.seconds) row.seconds = r.seconds, row.faults = r.faults, row.system_s = r.system_s;
         if (k == 0 || delta > row.peak_kb) row.peak_kb = delta;
         if (k > 0 && (r.n_triangles != row.n_triangles || r.n_vertices != row.n_vertices))
             row.note = "counts differ between runs";
@@ -715,15 +739,17 @@ int main(int argc, char **argv) {
                 std::thread::hardware_concurrency(), kSeed);
     std::printf("# every run in its own fork()ed child; seconds = best of 'runs' (construction only);\n"
                 "# peak_MB = increase of the child's max RSS from when its input was ready to the end of\n"
-                "# the construction (largest over the runs); B/pt = that in bytes per input point.\n");
+                "# the construction (largest over the runs); B/pt = that in bytes per input point;\n"
+                "# faults, sys_s = page faults and system time of the construction (the best run).\n");
     if (opt.cold)
         std::printf("# --cold: no warm-up run (the first run of a case may meet memory the host took back)\n");
     else
         std::printf("# unimesh and CGAL: one uncounted warm-up run before the counted ones (see measure())\n");
     std::printf("# methods: unimesh-xyz = um_triangulation_create_xyz; unimesh-lonlat = um_triangulation_create\n"
                 "# (lon/lat in degrees); cgal-dtos2 and qhull-Qt are single threaded.\n");
-    std::printf("# %-10s %-15s %3s %9s %9s %8s %9s %8s %9s %9s %6s %4s\n", "case", "method", "thr", "points",
-                "seconds", "Mpts/s", "peak_MB", "B/pt", "vertices", "triangles", "hidden", "runs");
+    std::printf("# %-10s %-15s %3s %9s %9s %8s %9s %8s %8s %7s %9s %9s %6s %4s\n", "case", "method", "thr",
+                "points", "seconds", "Mpts/s", "peak_MB", "B/pt", "faults", "sys_s", "vertices", "triangles",
+                "hidden", "runs");
     std::fflush(stdout);
 
     bool any_failure = false;
