@@ -11,6 +11,7 @@
 
 #include <memory>
 #include <new>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -25,11 +26,18 @@ struct UninitAllocator : std::allocator<T> {
     struct rebind {
         using other = UninitAllocator<U>;
     };
-    // Default-initialises (nothing, for plain values) where std::allocator
-    // would value-initialise (zero).
+    // Leaves plain values (trivially copyable and destructible) unwritten
+    // where std::allocator would value-initialise them (zero), and
+    // default-initialises the others. Not `new U` for plain values either:
+    // a type with default member initialisers (geom::Vec3's zeros) is
+    // written by it, which made resize() zero the lifted points on one
+    // thread before the parallel gather wrote them again. (Such values
+    // need no constructor call to exist: the allocator's storage holds
+    // them implicitly.)
     template <class U>
-    void construct(U *p) noexcept {
-        ::new (static_cast<void *>(p)) U;
+    void construct(U *p) noexcept(std::is_nothrow_default_constructible<U>::value) {
+        if constexpr (!(std::is_trivially_copyable<U>::value && std::is_trivially_destructible<U>::value))
+            ::new (static_cast<void *>(p)) U;
     }
     template <class U, class... Args>
     void construct(U *p, Args &&...args) {
