@@ -13,7 +13,7 @@
 // and never starts threads, so fork() is safe.
 //
 // Usage: bench_triangulation [--quick] [--cases LIST] [--repeat R]
-//                            [--timeout S] [--qhull-limit S]
+//                            [--timeout S] [--qhull-limit S] [--no-qhull] [--cold]
 // See README.md in this folder.
 #include <algorithm>
 #include <array>
@@ -550,6 +550,7 @@ struct Row {
     int64_t peak_kb = 0;   // largest increase of the child's max RSS over the runs
     int64_t faults = 0;    // page faults of the best run
     double system_s = 0.0; // system time of the best run
+    std::vector<double> times;  // every counted run's, in round order
     int64_t n_vertices = 0, n_triangles = 0, n_hidden = 0;
     std::string note;
 };
@@ -557,7 +558,7 @@ struct Row {
 struct Options {
     bool quick = false;
     std::vector<std::string> cases;
-    int repeat = 0;  // 0: 3, or 1 for the largest cases (>= 3e6 points)
+    int repeat = 0;  // 0: the defaults (usage())
     double timeout = 1800.0;
     double qhull_limit = 180.0;  // seconds; Qhull above 1e6 points is skipped beyond this
     bool cold = false;           // no warm-up run
@@ -572,15 +573,17 @@ void usage(FILE *f) {
                  "  --cases LIST     comma-separated cases: random-<points> (e.g. random-1e6)\n"
                  "                   and ico-<level> (0..11); default\n"
                  "                   random-1e5,random-1e6,random-4e6,ico-9\n"
-                 "  --repeat R       runs per measurement, best time kept (default 3; 1 for\n"
-                 "                   cases of 3e6 points or more)\n"
+                 "  --repeat R       rounds of runs (every method once a round), best time\n"
+                 "                   kept; default 5 (3 for cases of 3e6 points or more);\n"
+                 "                   Qhull's runs: default 3 (1 from 3e6 points)\n"
                  "  --timeout S      give up a single run after S seconds (default 1800)\n"
                  "  --qhull-limit S  above 1e6 points, skip Qhull when it would take, or\n"
                  "                   takes, more than S seconds (default 180)\n"
                  "  --no-qhull       leave Qhull out (CGAL stays)\n"
                  "  --cold           no uncounted warm-up run before a method's runs (on\n"
                  "                   a virtual machine the first touch of memory the host\n"
-                 "                   took back costs 20-40 times more: see measure())\n");
+                 "                   took back costs 20-40 times more: see\n"
+                 "                   measure_by_rounds())\n");
 }
 
 void print_row(const Row &row) {
@@ -599,26 +602,48 @@ void print_row(const Row &row) {
                 row.note.c_str());
 }
 
-// With warm_up, one run more comes first and is not counted: this project's
-// machine is a virtual machine whose host backs the guest's memory only when
-// it is first touched and takes back memory that stays free for a few
-// seconds (free page reporting), so a child that starts after a pause - the
-// first method of each case, after its points are made - first-touches its
-// memory at 2-4 ms per MB instead of about 0.1 (bench_first_touch). At
+// One method of a case: what a row measures, and the work of one run.
+struct Method {
+    std::string name;
+    int threads = 1;
+    std::function<ChildResult()> work;
+};
+
+// The methods of a case measured by rounds: in each round every method makes
+// one run, the first method of round k being method k (mod their number),
+// so that each pair of methods ran seconds apart in every round, in both
+// orders. This machine's speed drifts by 20-40 % within minutes; a method's
+// best run and another's could come from different minutes, but the ratio of
+// two methods' times in one round sees the same machine (the summary prints
+// the median of those ratios next to the ratio of the best times).
+//
+// With warm_up, each method first makes one run that is not counted: this
+// project's machine is a virtual machine whose host backs the guest's memory
+// only when it is first touched and takes back memory that stays free for a
+// few seconds (free page reporting), so a child that starts after a pause -
+// the first method of each case, after its points are made - first-touches
+// its memory at 2-4 ms per MB instead of about 0.1 (bench_first_touch). At
 // 4*10^6 points, with one counted run, that was about 1 s of unimesh's time
 // on one thread. A child that exits leaves its memory in place for the next
 // one, so the counted runs start as the later runs of a method always did.
-Row measure(const CaseSpec &spec, const std::string &method, int threads, int runs, double timeout,
-            bool warm_up, const std::function<ChildResult()> &work) {
-    Row row;
-    row.case_name = spec.name;
-    row.method = method;
-    row.threads = threads;
-    row.n = spec.n;
-    for (int k = warm_up ? -1 : 0; k < runs; ++k) {
+// A method that fails drops out of the rounds after it.
+std::vector<Row> measure_by_rounds(const CaseSpec &spec, const std::vector<Method> &methods, int runs,
+                                   double timeout, bool warm_up) {
+    const size_t m = methods.size();
+    std::vector<Row> rows(m);
+    std::vector<bool> out(m, false);  // failed: no more runs
+    for (size_t i = 0; i < m; ++i) {
+        rows[i].case_name = spec.name;
+        rows[i].method = methods[i].name;
+        rows[i].threads = methods[i].threads;
+        rows[i].n = spec.n;
+        rows[i].ok = true;
+    }
+    auto run = [&](size_t i, int k) {  // k < 0: the warm-up run
+        Row &row = rows[i];
         malloc_trim(0);  // give freed memory back, so the child starts from a lean heap
         ChildResult r;
-        const Outcome outcome = run_in_child(work, timeout, r);
+        const Outcome outcome = run_in_child(methods[i].work, timeout, r);
         if (outcome != Outcome::ok) {
             row.ok = false;
             row.skipped = outcome == Outcome::timed_out;
@@ -626,23 +651,40 @@ Row measure(const CaseSpec &spec, const std::string &method, int threads, int ru
                            ? "did not finish within " + std::to_string(int(timeout)) + " s"
                            : std::string(r.message);
             if (k < 0) row.note = "(warm-up run) " + row.note;
-            row.runs = std::max(k, 0);  // the counted runs that finished
-            return row;
+            out[i] = true;  // row.runs stays the count of counted runs that finished
+            return;
         }
-        if (k < 0) continue;  // the warm-up run
+        if (k < 0) return;
         const int64_t delta = r.rss_peak_kb - r.rss_base_kb;
-        if (k == 0 || r.seconds < row.seconds) row.seconds = r.seconds, row.faults = r.faults, row.system_s = r.system_s;
-        if (k == 0 || delta > row.peak_kb) row.peak_kb = delta;
-        if (k > 0 && (r.n_triangles != row.n_triangles || r.n_vertices != row.n_vertices))
+        if (row.runs == 0 || r.seconds < row.seconds) row.seconds = r.seconds, row.faults = r.faults, row.system_s = r.system_s;
+        if (row.runs == 0 || delta > row.peak_kb) row.peak_kb = delta;
+        if (row.runs > 0 && (r.n_triangles != row.n_triangles || r.n_vertices != row.n_vertices))
             row.note = "counts differ between runs";
         row.n_vertices = r.n_vertices;
         row.n_triangles = r.n_triangles;
         row.n_hidden = r.n_hidden;
-        row.runs = k + 1;
+        row.times.push_back(r.seconds);
+        ++row.runs;
         if (row.note.empty()) row.note = r.message;  // what the method adds (unimesh: deferrals)
-    }
-    row.ok = true;
-    return row;
+    };
+    if (warm_up)
+        for (size_t i = 0; i < m; ++i) run(i, -1);
+    for (int k = 0; k < runs; ++k)
+        for (size_t j = 0; j < m; ++j) {
+            const size_t i = (static_cast<size_t>(k) + j) % m;
+            if (!out[i]) run(i, k);
+        }
+    return rows;
+}
+
+// The ratios ref/um of the rounds where both ran (times[k] is round k's).
+std::vector<double> round_ratios(const Row &ref, const Row &um) {
+    std::vector<double> ratios;
+    if (!ref.ok || !um.ok) return ratios;
+    for (size_t k = 0; k < ref.times.size() && k < um.times.size(); ++k)
+        if (um.times[k] > 0) ratios.push_back(ref.times[k] / um.times[k]);
+    std::sort(ratios.begin(), ratios.end());
+    return ratios;
 }
 
 }  // namespace
@@ -737,14 +779,15 @@ int main(int argc, char **argv) {
     std::printf("# hardware threads: %u | random points: normalised 3-D normal deviates, seed 0x%" PRIx64
                 " | icosahedral grid: 10*4^L+2 points\n",
                 std::thread::hardware_concurrency(), kSeed);
-    std::printf("# every run in its own fork()ed child; seconds = best of 'runs' (construction only);\n"
+    std::printf("# every run in its own fork()ed child; the methods of a case run by rounds, each once a\n"
+                "# round, the first one rotating; seconds = best of 'runs' (construction only);\n"
                 "# peak_MB = increase of the child's max RSS from when its input was ready to the end of\n"
                 "# the construction (largest over the runs); B/pt = that in bytes per input point;\n"
                 "# faults, sys_s = page faults and system time of the construction (the best run).\n");
     if (opt.cold)
         std::printf("# --cold: no warm-up run (the first run of a case may meet memory the host took back)\n");
     else
-        std::printf("# unimesh and CGAL: one uncounted warm-up run before the counted ones (see measure())\n");
+        std::printf("# unimesh and CGAL: one uncounted warm-up run before the counted ones (see measure_by_rounds())\n");
     std::printf("# methods: unimesh-xyz = um_triangulation_create_xyz; unimesh-lonlat = um_triangulation_create\n"
                 "# (lon/lat in degrees); cgal-dtos2 and qhull-Qt are single threaded.\n");
     std::printf("# %-10s %-15s %3s %9s %9s %8s %9s %8s %8s %7s %9s %9s %6s %4s\n", "case", "method", "thr",
@@ -777,7 +820,10 @@ int main(int argc, char **argv) {
             std::printf("# %s: icosahedral grid level %d, %" PRId64 " points = 10*4^%d+2 (verified), "
                         "%" PRId64 " triangles, made in %.2f s\n",
                         spec.name.c_str(), spec.level, ps.size(), spec.level, 2 * ps.size() - 4, g1 - g0);
-        const int runs = opt.repeat > 0 ? opt.repeat : (spec.n >= 3000000 ? 1 : 3);
+        // Rounds of unimesh and CGAL; Qhull, minutes at 4*10^6 points and not a
+        // target, keeps fewer runs.
+        const int runs = opt.repeat > 0 ? opt.repeat : (spec.n >= 3000000 ? 3 : 5);
+        const int qhull_runs = opt.repeat > 0 ? opt.repeat : (spec.n >= 3000000 ? 1 : 3);
         // (Qhull, not a target and minutes at 4*10^6 points, has no warm-up run.)
         const bool warm_up = !opt.cold;
 
@@ -790,20 +836,27 @@ int main(int argc, char **argv) {
             all_rows.push_back(row);
         };
 
+        std::vector<Method> methods;
         for (int t : unimesh_threads)
-            add(measure(spec, "unimesh-xyz", t, runs, opt.timeout, warm_up,
-                        [&ps, t] { return measure_unimesh(ps, t, false); }));
-        add(measure(spec, "unimesh-lonlat", lonlat_threads, runs, opt.timeout, warm_up,
-                    [&ps, lonlat_threads] { return measure_unimesh(ps, lonlat_threads, true); }));
-        add(measure(spec, "cgal-dtos2", 1, runs, opt.timeout, warm_up, [&ps] { return measure_cgal(ps); }));
+            methods.push_back({"unimesh-xyz", t, [&ps, t] { return measure_unimesh(ps, t, false); }});
+        methods.push_back({"unimesh-lonlat", lonlat_threads,
+                           [&ps, lonlat_threads] { return measure_unimesh(ps, lonlat_threads, true); }});
+        methods.push_back({"cgal-dtos2", 1, [&ps] { return measure_cgal(ps); }});
+        const std::vector<Row> by_rounds = measure_by_rounds(spec, methods, runs, opt.timeout, warm_up);
+        for (const Row &row : by_rounds) add(row);
+        for (const Row &row : by_rounds) {  // every round's time (the rows show the best)
+            std::printf("# rounds %s %s/%dT:", spec.name.c_str(), row.method.c_str(), row.threads);
+            for (double t : row.times) std::printf(" %.4f", t);
+            std::printf("\n");
+        }
 
         // Qhull: above 1e6 points only when it finishes within the limit; the time is
         // predicted from the largest case it already did (n log n), else bounded by a timeout.
         if (!opt.qhull) {
             // left out
         } else if (spec.n <= 1000000) {
-            Row row = measure(spec, "qhull-Qt", 1, runs, opt.timeout, false,
-                              [&ps] { return measure_qhull(ps); });
+            Row row = measure_by_rounds(spec, {{"qhull-Qt", 1, [&ps] { return measure_qhull(ps); }}}, qhull_runs,
+                                        opt.timeout, false)[0];
             if (row.ok && spec.n > qhull_done_n) {
                 qhull_done_n = spec.n;
                 qhull_done_s = row.seconds;
@@ -828,8 +881,8 @@ int main(int argc, char **argv) {
                 add(row);
             } else {
                 const double limit = std::min(opt.qhull_limit, opt.timeout);
-                Row row = measure(spec, "qhull-Qt", 1, runs, limit, false,
-                                  [&ps] { return measure_qhull(ps); });
+                Row row = measure_by_rounds(spec, {{"qhull-Qt", 1, [&ps] { return measure_qhull(ps); }}}, qhull_runs,
+                                            limit, false)[0];
                 if (row.skipped)
                     row.note = "Qhull skipped above 1e6 points: too slow, did not finish within " +
                                std::to_string(int(limit)) + " s (--qhull-limit)";
@@ -869,8 +922,8 @@ int main(int argc, char **argv) {
     }
 
     // Summary: throughput ratios unimesh / CGAL (= CGAL seconds / unimesh seconds).
-    std::printf("\n# summary: throughput ratio unimesh / CGAL (CGAL time / unimesh time; > 1: unimesh faster);\n"
-                "# the last column is unimesh (2 threads) / Qhull\n");
+    std::printf("\n# summary: throughput ratio unimesh / CGAL (CGAL's best time / unimesh's best time; > 1:\n"
+                "# unimesh faster); the last column is unimesh (2 threads) / Qhull\n");
     std::printf("# %-10s %9s %14s %14s %18s %14s\n", "case", "points", "xyz 1T/CGAL", "xyz 2T/CGAL",
                 "lonlat 2T/CGAL", "xyz 2T/Qhull");
     for (const CaseSpec &spec : specs) {
@@ -893,6 +946,31 @@ int main(int argc, char **argv) {
                     ratio(cgal, find("unimesh-xyz", 1)).c_str(), ratio(cgal, find("unimesh-xyz", 2)).c_str(),
                     ratio(cgal, find("unimesh-lonlat", lonlat_threads)).c_str(),
                     ratio(qhull, find("unimesh-xyz", 2)).c_str());
+    }
+    // The same ratios round by round: each from two runs seconds apart.
+    std::printf("\n# by rounds: CGAL time / unimesh time of the same round, median [least - greatest]\n"
+                "# over the rounds\n");
+    std::printf("# %-10s %9s %22s %22s %22s\n", "case", "points", "xyz 1T/CGAL", "xyz 2T/CGAL",
+                "lonlat 2T/CGAL");
+    for (const CaseSpec &spec : specs) {
+        auto find = [&](const std::string &method, int threads) -> const Row * {
+            for (const Row &r : all_rows)
+                if (r.case_name == spec.name && r.method == method && r.threads == threads && r.ok) return &r;
+            return nullptr;
+        };
+        const Row *cgal = find("cgal-dtos2", 1);
+        auto spread = [cgal](const Row *um) {
+            char buf[48];
+            const std::vector<double> ratios = cgal && um ? round_ratios(*cgal, *um) : std::vector<double>();
+            if (ratios.empty()) return std::string("n/a");
+            const size_t h = ratios.size() / 2;
+            const double median = ratios.size() % 2 ? ratios[h] : 0.5 * (ratios[h - 1] + ratios[h]);
+            std::snprintf(buf, sizeof buf, "%.2f [%.2f - %.2f]", median, ratios.front(), ratios.back());
+            return std::string(buf);
+        };
+        std::printf("  %-10s %9" PRId64 " %22s %22s %22s\n", spec.name.c_str(), spec.n,
+                    spread(find("unimesh-xyz", 1)).c_str(), spread(find("unimesh-xyz", 2)).c_str(),
+                    spread(find("unimesh-lonlat", lonlat_threads)).c_str());
     }
     std::printf("%s\n", any_failure ? "# RESULT: FAILURES (see FAILED / MISMATCH lines above)" : "# RESULT: all runs OK");
     return any_failure ? 1 : 0;
