@@ -293,6 +293,7 @@ struct ChildResult {
     int64_t rss_peak_kb = 0;  // ru_maxrss after the construction
     int64_t faults = 0;       // page faults during the construction (ru_minflt + ru_majflt)
     double system_s = 0.0;    // system time during it, all threads (mostly first touches)
+    double user_s = 0.0;      // user time during it, all threads
     int64_t n_vertices = 0;
     int64_t n_triangles = 0;
     int64_t n_hidden = 0;
@@ -302,7 +303,7 @@ struct ChildResult {
 // The child's resource use at a moment: peak RSS, page faults, system time.
 struct Usage {
     int64_t maxrss_kb = 0, faults = 0;
-    double system_s = 0.0;
+    double system_s = 0.0, user_s = 0.0;
 };
 
 Usage usage_now() {
@@ -312,6 +313,7 @@ Usage usage_now() {
     u.maxrss_kb = int64_t(ru.ru_maxrss);  // kilobytes on Linux
     u.faults = int64_t(ru.ru_minflt) + int64_t(ru.ru_majflt);
     u.system_s = double(ru.ru_stime.tv_sec) + 1e-6 * double(ru.ru_stime.tv_usec);
+    u.user_s = double(ru.ru_utime.tv_sec) + 1e-6 * double(ru.ru_utime.tv_usec);
     return u;
 }
 
@@ -322,6 +324,7 @@ void record_usage(ChildResult &r, const Usage &before) {
     r.rss_peak_kb = after.maxrss_kb;
     r.faults = after.faults - before.faults;
     r.system_s = after.system_s - before.system_s;
+    r.user_s = after.user_s - before.user_s;
 }
 
 double now_seconds() {
@@ -551,6 +554,7 @@ struct Row {
     int64_t faults = 0;    // page faults of the best run
     double system_s = 0.0; // system time of the best run
     std::vector<double> times;  // every counted run's, in round order
+    std::vector<double> user_times, system_times;  // their user and system times
     int64_t n_vertices = 0, n_triangles = 0, n_hidden = 0;
     std::string note;
 };
@@ -664,6 +668,8 @@ std::vector<Row> measure_by_rounds(const CaseSpec &spec, const std::vector<Metho
         row.n_triangles = r.n_triangles;
         row.n_hidden = r.n_hidden;
         row.times.push_back(r.seconds);
+        row.user_times.push_back(r.user_s);
+        row.system_times.push_back(r.system_s);
         ++row.runs;
         if (row.note.empty()) row.note = r.message;  // what the method adds (unimesh: deferrals)
     };
@@ -844,9 +850,13 @@ int main(int argc, char **argv) {
         methods.push_back({"cgal-dtos2", 1, [&ps] { return measure_cgal(ps); }});
         const std::vector<Row> by_rounds = measure_by_rounds(spec, methods, runs, opt.timeout, warm_up);
         for (const Row &row : by_rounds) add(row);
-        for (const Row &row : by_rounds) {  // every round's time (the rows show the best)
+        // Every round's time (the rows show the best), with its user and
+        // system time: a run slower than the others with as much user time
+        // waited on something else (the host, first touches).
+        for (const Row &row : by_rounds) {
             std::printf("# rounds %s %s/%dT:", spec.name.c_str(), row.method.c_str(), row.threads);
-            for (double t : row.times) std::printf(" %.4f", t);
+            for (size_t k = 0; k < row.times.size(); ++k)
+                std::printf(" %.4f (u %.3f s %.3f)", row.times[k], row.user_times[k], row.system_times[k]);
             std::printf("\n");
         }
 
