@@ -11,9 +11,20 @@
 // conditions. Even so, two copies of the same build differ by up to ~5 %,
 // which is the noise floor to quote.
 //
-//   bench_ab POINTS THREADS ROUNDS LIB [LIB ...]
+// With --fresh, every call runs in a child process of its own (fork(), then
+// dlopen there), as a program that triangulates once would: then what a
+// change does to first touches of memory shows too, and the builds' medians
+// of user time, system time, page faults and peak memory growth (bytes per
+// point) are printed as well, with the median per-round ratios of system
+// time and page faults to the first build. (Fresh-process times spread
+// more: take more rounds.)
+//
+//   bench_ab [--fresh] POINTS THREADS ROUNDS LIB [LIB ...]
 //   e.g. bench_ab 1000000 1 16 /tmp/before/libunimesh.so.0 build/lib/libunimesh.so.0
 #include <dlfcn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -21,6 +32,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -74,6 +86,52 @@ double construct(Build &b, const std::vector<double> &xyz) {
     return s;
 }
 
+// One call's measures.
+struct Sample {
+    double seconds = -1, user = 0, system = 0;
+    double faults = 0, bytes_per_point = 0;
+};
+
+double seconds_of(const timeval &t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); }
+
+// One construction by the build at `path`, in a child process that loads it:
+// its measures, or seconds < 0 on failure. The parent holds no threads (it
+// loads no build in this mode), so fork() is safe.
+Sample construct_fresh(const std::string &path, int threads, const std::vector<double> &xyz) {
+    Sample sample;
+    int fds[2];
+    if (pipe(fds) != 0) return sample;
+    const pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]), close(fds[1]);
+        return sample;
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        Build b{path};
+        Sample mine;
+        if (load(b, threads)) {
+            rusage before, after;
+            getrusage(RUSAGE_SELF, &before);
+            mine.seconds = construct(b, xyz);
+            getrusage(RUSAGE_SELF, &after);
+            mine.user = seconds_of(after.ru_utime) - seconds_of(before.ru_utime);
+            mine.system = seconds_of(after.ru_stime) - seconds_of(before.ru_stime);
+            mine.faults = double(after.ru_minflt - before.ru_minflt + after.ru_majflt - before.ru_majflt);
+            mine.bytes_per_point = double(after.ru_maxrss - before.ru_maxrss) * 1024.0 / double(xyz.size() / 3);
+        }
+        const bool sent = write(fds[1], &mine, sizeof mine) == static_cast<ssize_t>(sizeof mine);
+        _exit(sent ? 0 : 1);
+    }
+    close(fds[1]);
+    Sample got;
+    const bool read_all = read(fds[0], &got, sizeof got) == static_cast<ssize_t>(sizeof got);
+    close(fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    return read_all && WIFEXITED(status) && WEXITSTATUS(status) == 0 ? got : sample;
+}
+
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
@@ -92,8 +150,10 @@ long parse(const char *text, const char *what, long least) {
 }  // namespace
 
 int main(int argc, char **argv) {
+    const bool fresh = argc > 1 && std::strcmp(argv[1], "--fresh") == 0;
+    if (fresh) --argc, ++argv;
     if (argc < 5) {
-        std::fprintf(stderr, "usage: bench_ab POINTS THREADS ROUNDS LIB [LIB ...]\n");
+        std::fprintf(stderr, "usage: bench_ab [--fresh] POINTS THREADS ROUNDS LIB [LIB ...]\n");
         return 2;
     }
     const long n = parse(argv[1], "POINTS", 4), threads = parse(argv[2], "THREADS", 1),
@@ -110,25 +170,52 @@ int main(int argc, char **argv) {
     }
     std::vector<Build> builds;
     for (int i = 4; i < argc; ++i) builds.push_back(Build{argv[i]});
-    for (Build &b : builds)
-        if (!load(b, static_cast<int>(threads))) return 1;
+    if (!fresh)
+        for (Build &b : builds)
+            if (!load(b, static_cast<int>(threads))) return 1;
     const size_t k = builds.size();
+    std::vector<std::vector<Sample>> samples(k);
     for (long r = 0; r <= rounds; ++r)  // round 0 warms each build up
         for (size_t i = 0; i < k; ++i) {
-            Build &b = builds[(static_cast<size_t>(r) + i) % k];
-            const double s = construct(b, xyz);
-            if (s < 0) {
+            const size_t at = (static_cast<size_t>(r) + i) % k;
+            Build &b = builds[at];
+            Sample sample;
+            if (fresh)
+                sample = construct_fresh(b.path, static_cast<int>(threads), xyz);
+            else
+                sample.seconds = construct(b, xyz);
+            if (sample.seconds < 0) {
                 std::fprintf(stderr, "bench_ab: '%s' failed to triangulate\n", b.path.c_str());
                 return 1;
             }
-            if (r > 0) b.seconds.push_back(s);
+            if (r > 0) b.seconds.push_back(sample.seconds), samples[at].push_back(sample);
         }
-    std::printf("# %ld points, %ld threads, %ld rounds (after one warm-up call each)\n", n, threads, rounds);
-    for (const Build &b : builds) {
-        std::vector<double> ratio;
-        for (long r = 0; r < rounds; ++r) ratio.push_back(b.seconds[r] / builds[0].seconds[r]);
+    std::printf("# %ld points, %ld threads, %ld rounds (after one warm-up call each)%s\n", n, threads, rounds,
+                fresh ? ", every call in a fresh process" : "");
+    // The median over the rounds of a measure, and of its ratio to the first build's.
+    auto of = [&](size_t i, double Sample::*field) {
+        std::vector<double> v;
+        for (const Sample &x : samples[i]) v.push_back(x.*field);
+        return median(v);
+    };
+    auto ratio_of = [&](size_t i, double Sample::*field) {
+        std::vector<double> v;
+        for (long r = 0; r < rounds; ++r) {
+            const double first = samples[0][r].*field;
+            v.push_back(first > 0 ? samples[i][r].*field / first : 0.0);
+        }
+        return median(v);
+    };
+    for (size_t i = 0; i < k; ++i) {
+        const Build &b = builds[i];
         std::printf("%-48s least %.4f s  median %.4f s  median ratio to the first %.3f\n", b.path.c_str(),
-                    *std::min_element(b.seconds.begin(), b.seconds.end()), median(b.seconds), median(ratio));
+                    *std::min_element(b.seconds.begin(), b.seconds.end()), median(b.seconds),
+                    ratio_of(i, &Sample::seconds));
+        if (fresh)
+            std::printf("%-48s medians: user %.4f s, system %.4f s (ratio %.3f), page faults %.0f (ratio %.3f), "
+                        "%.1f B/pt\n",
+                        "", of(i, &Sample::user), of(i, &Sample::system), ratio_of(i, &Sample::system),
+                        of(i, &Sample::faults), ratio_of(i, &Sample::faults), of(i, &Sample::bytes_per_point));
     }
     return 0;
 }
