@@ -584,10 +584,10 @@ void usage(FILE *f) {
                  "  --qhull-limit S  above 1e6 points, skip Qhull when it would take, or\n"
                  "                   takes, more than S seconds (default 180)\n"
                  "  --no-qhull       leave Qhull out (CGAL stays)\n"
-                 "  --cold           no uncounted warm-up run before a method's runs (on\n"
-                 "                   a virtual machine the first touch of memory the host\n"
-                 "                   took back costs 20-40 times more: see\n"
-                 "                   measure_by_rounds())\n");
+                 "  --cold           no uncounted run of the same method before each\n"
+                 "                   counted one (on a virtual machine the first touch of\n"
+                 "                   memory the host took back costs 20-40 times more:\n"
+                 "                   see measure_by_rounds())\n");
 }
 
 void print_row(const Row &row) {
@@ -621,15 +621,18 @@ struct Method {
 // two methods' times in one round sees the same machine (the summary prints
 // the median of those ratios next to the ratio of the best times).
 //
-// With warm_up, each method first makes one run that is not counted: this
-// project's machine is a virtual machine whose host backs the guest's memory
-// only when it is first touched and takes back memory that stays free for a
-// few seconds (free page reporting), so a child that starts after a pause -
-// the first method of each case, after its points are made - first-touches
-// its memory at 2-4 ms per MB instead of about 0.1 (bench_first_touch). At
-// 4*10^6 points, with one counted run, that was about 1 s of unimesh's time
-// on one thread. A child that exits leaves its memory in place for the next
-// one, so the counted runs start as the later runs of a method always did.
+// With warm_up, every counted run comes right after an uncounted run of the
+// same method: this project's machine is a virtual machine whose host backs
+// the guest's memory only when it is first touched and takes back memory
+// that stays free for a few seconds (free page reporting), and a child
+// first-touches what the previous one left at 0.1 ms per MB or at 2-4 ms
+// (bench_first_touch), depending on what that one was. A warm-up run per
+// method (the first design) left each counted run after another method: in
+// the rotation unimesh's one-thread run came right after CGAL's in every
+// round, and there it took 0.94-1.12 s of system time at 4*10^6 points, 0.03
+// - 0.09 s after a unimesh run (CGAL frees 640 MB of small pages). After a
+// run of its own every method starts as the later runs of a method did
+// before the rounds.
 // A method that fails drops out of the rounds after it.
 std::vector<Row> measure_by_rounds(const CaseSpec &spec, const std::vector<Method> &methods, int runs,
                                    double timeout, bool warm_up) {
@@ -673,11 +676,10 @@ std::vector<Row> measure_by_rounds(const CaseSpec &spec, const std::vector<Metho
         ++row.runs;
         if (row.note.empty()) row.note = r.message;  // what the method adds (unimesh: deferrals)
     };
-    if (warm_up)
-        for (size_t i = 0; i < m; ++i) run(i, -1);
     for (int k = 0; k < runs; ++k)
         for (size_t j = 0; j < m; ++j) {
             const size_t i = (static_cast<size_t>(k) + j) % m;
+            if (warm_up && !out[i]) run(i, -1);
             if (!out[i]) run(i, k);
         }
     return rows;
@@ -793,7 +795,7 @@ int main(int argc, char **argv) {
     if (opt.cold)
         std::printf("# --cold: no warm-up run (the first run of a case may meet memory the host took back)\n");
     else
-        std::printf("# unimesh and CGAL: one uncounted warm-up run before the counted ones (see measure_by_rounds())\n");
+        std::printf("# unimesh and CGAL: an uncounted run before each counted one (see measure_by_rounds())\n");
     std::printf("# methods: unimesh-xyz = um_triangulation_create_xyz; unimesh-lonlat = um_triangulation_create\n"
                 "# (lon/lat in degrees); cgal-dtos2 and qhull-Qt are single threaded.\n");
     std::printf("# %-10s %-15s %3s %9s %9s %8s %9s %8s %8s %7s %9s %9s %6s %4s\n", "case", "method", "thr",
