@@ -17,6 +17,17 @@
 
 namespace um {
 
+// Whether UninitVector leaves new values of T unwritten: types whose default
+// initialisation writes nothing (plain values without member initialisers),
+// and types that opt in by specialising this (geom::Vec3, in
+// tri/triangulation.hpp: its `= 0` member initialisers would otherwise make
+// resize() zero the lifted points on one thread before the parallel gather
+// writes them again). Opt-in, not every trivially copyable type: a member
+// initialiser that matters (say `int32_t tri = kNone`) must not be skipped
+// silently.
+template <class T>
+struct LeftUnwritten : std::is_trivially_default_constructible<T> {};
+
 template <class T>
 struct UninitAllocator : std::allocator<T> {
     UninitAllocator() = default;
@@ -26,18 +37,19 @@ struct UninitAllocator : std::allocator<T> {
     struct rebind {
         using other = UninitAllocator<U>;
     };
-    // Leaves plain values (trivially copyable and destructible) unwritten
-    // where std::allocator would value-initialise them (zero), and
-    // default-initialises the others. Not `new U` for plain values either:
-    // a type with default member initialisers (geom::Vec3's zeros) is
-    // written by it, which made resize() zero the lifted points on one
-    // thread before the parallel gather wrote them again. (Such values
-    // need no constructor call to exist: the allocator's storage holds
-    // them implicitly.)
+    // Leaves LeftUnwritten values unwritten where std::allocator would
+    // value-initialise them (zero), and default-initialises the others.
+    // (An opted-in type is trivially copyable and destructible: its values
+    // need no constructor call to exist, the allocator's storage holds them
+    // implicitly.)
     template <class U>
     void construct(U *p) noexcept(std::is_nothrow_default_constructible<U>::value) {
-        if constexpr (!(std::is_trivially_copyable<U>::value && std::is_trivially_destructible<U>::value))
+        if constexpr (LeftUnwritten<U>::value) {
+            static_assert(std::is_trivially_copyable<U>::value && std::is_trivially_destructible<U>::value,
+                          "only plain values may be left unwritten");
+        } else {
             ::new (static_cast<void *>(p)) U;
+        }
     }
     template <class U, class... Args>
     void construct(U *p, Args &&...args) {

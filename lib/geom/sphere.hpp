@@ -2,6 +2,9 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
+
+#include "core/uninit_vector.hpp"
 
 namespace um::geom {
 
@@ -11,6 +14,17 @@ struct Vec3 {
     double *data() { return &x; }
     double operator[](int i) const { return (&x)[i]; }
 };
+
+}  // namespace um::geom
+
+// An UninitVector of points leaves new ones unwritten, the zeros above
+// notwithstanding: the triangulation's lifted points are first written by
+// its parallel gather (tri/triangulation.hpp, prepare()). Declared with the
+// type, so that every use of UninitVector<Vec3> sees it.
+template <>
+struct um::LeftUnwritten<um::geom::Vec3> : std::true_type {};
+
+namespace um::geom {
 
 inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }

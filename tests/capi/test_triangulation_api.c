@@ -7,9 +7,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmocka.h>
 #include <libqhull_r/qhull_ra.h>
@@ -295,69 +292,6 @@ static void xyz_input(void **state) {
     assert_int_equal(um_triangulation_create_xyz(ctx, 4, xyz, NULL, &t), UM_ERR_INVALID_ARGUMENT);
 }
 
-/* The memory target of the construction: at most 120 bytes per point over
-   what the process held before (the triangulation it returns included), from
-   xyz on one thread and from lon/lat on two (the worst case in the
-   benchmark: the second thread's stack and heap are a fixed megabyte or so).
-   Each build runs in a forked child, whose peak resident size
-   (getrusage) no earlier test has raised. Not under the sanitizers, whose
-   shadow memory and allocators count too. */
-static int64_t construction_bytes_per_point(int64_t n, const double *lon, const double *lat,
-                                            const double *xyz, int threads) {
-    int fds[2];
-    assert_int_equal(pipe(fds), 0);
-    const pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-        int64_t result = -1;
-        um_context *ctx = NULL;
-        if (um_context_create(&ctx) == UM_OK && um_context_set_threads(ctx, threads) == UM_OK) {
-            struct rusage before, after;
-            um_triangulation *t = NULL;
-            getrusage(RUSAGE_SELF, &before);
-            const um_status st = xyz ? um_triangulation_create_xyz(ctx, n, xyz, NULL, &t)
-                                     : um_triangulation_create(ctx, n, lon, lat, NULL, &t);
-            getrusage(RUSAGE_SELF, &after);
-            if (st == UM_OK) result = (int64_t)(after.ru_maxrss - before.ru_maxrss) * 1024 / n;
-            um_triangulation_destroy(t);
-        }
-        um_context_destroy(ctx);
-        ssize_t written = write(fds[1], &result, sizeof result);
-        _exit(written == (ssize_t)sizeof result ? 0 : 1);
-    }
-    close(fds[1]);
-    int64_t result = -1;
-    assert_int_equal(read(fds[0], &result, sizeof result), (ssize_t)sizeof result);
-    close(fds[0]);
-    int status = 0;
-    assert_int_equal(waitpid(pid, &status, 0), pid);
-    assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
-    return result;
-}
-
-static void construction_stays_within_120_bytes_per_point(void **state) {
-    (void)state;
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-    skip();
-#else
-    enum { N = 300000 };
-    double *lon = malloc(N * sizeof *lon), *lat = malloc(N * sizeof *lat), *xyz = malloc(3 * N * sizeof *xyz);
-    assert_non_null(lon), assert_non_null(lat), assert_non_null(xyz);
-    random_lonlat(N, lon, lat);
-    for (int64_t i = 0; i < N; ++i) {
-        const double phi = lat[i] / DEG, lambda = lon[i] / DEG;
-        xyz[3 * i] = cos(phi) * cos(lambda), xyz[3 * i + 1] = cos(phi) * sin(lambda), xyz[3 * i + 2] = sin(phi);
-    }
-    const int64_t from_xyz = construction_bytes_per_point(N, NULL, NULL, xyz, 1);
-    const int64_t from_lonlat = construction_bytes_per_point(N, lon, lat, NULL, 2);
-    printf("construction peak: %lld bytes per point from xyz on 1 thread, %lld from lon/lat on 2\n",
-           (long long)from_xyz, (long long)from_lonlat);
-    assert_true(from_xyz > 0 && from_xyz <= 120);
-    assert_true(from_lonlat > 0 && from_lonlat <= 120);
-    free(lon), free(lat), free(xyz);
-#endif
-}
-
 /* The inputs are checked in parallel chunks; the error is still the first
    bad point's, whatever the thread count (the later ones lie in other chunks). */
 static void first_bad_point_is_named_on_any_thread_count(void **state) {
@@ -411,7 +345,6 @@ int main(void) {
         cmocka_unit_test_setup_teardown(identical_for_any_thread_count, setup_context,
                                         teardown_context),
         cmocka_unit_test_setup_teardown(xyz_input, setup_context, teardown_context),
-        cmocka_unit_test(construction_stays_within_120_bytes_per_point),
         cmocka_unit_test_setup_teardown(first_bad_point_is_named_on_any_thread_count, setup_context,
                                         teardown_context),
     };

@@ -198,13 +198,15 @@ int main(int argc, char **argv) {
         for (const Sample &x : samples[i]) v.push_back(x.*field);
         return median(v);
     };
+    // (Rounds where the first build's value is 0 - system time, in clock
+    // ticks, at small sizes - give no ratio; NaN, printed so, if none does.)
     auto ratio_of = [&](size_t i, double Sample::*field) {
         std::vector<double> v;
         for (long r = 0; r < rounds; ++r) {
             const double first = samples[0][r].*field;
-            v.push_back(first > 0 ? samples[i][r].*field / first : 0.0);
+            if (first > 0) v.push_back(samples[i][r].*field / first);
         }
-        return median(v);
+        return v.empty() ? std::nan("") : median(v);
     };
     for (size_t i = 0; i < k; ++i) {
         const Build &b = builds[i];

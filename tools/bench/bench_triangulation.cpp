@@ -615,8 +615,9 @@ struct Method {
 
 // The methods of a case measured by rounds: in each round every method makes
 // one run, the first method of round k being method k (mod their number),
-// so that each pair of methods ran seconds apart in every round, in both
-// orders. This machine's speed drifts by 20-40 % within minutes; a method's
+// so that each pair of methods ran seconds apart in every round (in the same
+// cyclic order: which of two runs first changes only when a round starts
+// between them). This machine's speed drifts by 20-40 % within minutes; a method's
 // best run and another's could come from different minutes, but the ratio of
 // two methods' times in one round sees the same machine (the summary prints
 // the median of those ratios next to the ratio of the best times).
