@@ -19,10 +19,10 @@ namespace um {
 
 // Whether UninitVector leaves new values of T unwritten: types whose default
 // initialisation writes nothing (plain values without member initialisers),
-// and types that opt in by specialising this (geom::Vec3, in
-// tri/triangulation.hpp: its `= 0` member initialisers would otherwise make
-// resize() zero the lifted points on one thread before the parallel gather
-// writes them again). Opt-in, not every trivially copyable type: a member
+// and types that opt in by specialising this beside the type (geom::Vec3,
+// in geom/sphere.hpp: its `= 0` member initialisers would otherwise make
+// resize() zero the triangulation's lifted points on one thread before the
+// parallel gather writes them again). Opt-in, not every trivially copyable type: a member
 // initialiser that matters (say `int32_t tri = kNone`) must not be skipped
 // silently.
 template <class T>

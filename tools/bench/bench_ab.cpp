@@ -22,9 +22,6 @@
 //   bench_ab [--fresh] POINTS THREADS ROUNDS LIB [LIB ...]
 //   e.g. bench_ab 1000000 1 16 /tmp/before/libunimesh.so.0 build/lib/libunimesh.so.0
 #include <dlfcn.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -36,6 +33,8 @@
 #include <random>
 #include <string>
 #include <vector>
+
+#include "child_process.hpp"
 
 namespace {
 
@@ -92,44 +91,25 @@ struct Sample {
     double faults = 0, bytes_per_point = 0;
 };
 
-double seconds_of(const timeval &t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); }
-
-// One construction by the build at `path`, in a child process that loads it:
-// its measures, or seconds < 0 on failure. The parent holds no threads (it
-// loads no build in this mode), so fork() is safe.
+// One construction by the build at `path`, in a child process that loads it
+// (bench::run_in_child): its measures, or seconds < 0 on failure. The parent
+// holds no threads (it loads no build in this mode), so fork() is safe.
 Sample construct_fresh(const std::string &path, int threads, const std::vector<double> &xyz) {
-    Sample sample;
-    int fds[2];
-    if (pipe(fds) != 0) return sample;
-    const pid_t pid = fork();
-    if (pid < 0) {
-        close(fds[0]), close(fds[1]);
-        return sample;
-    }
-    if (pid == 0) {
-        close(fds[0]);
+    auto in_child = [&] {
         Build b{path};
         Sample mine;
-        if (load(b, threads)) {
-            rusage before, after;
-            getrusage(RUSAGE_SELF, &before);
-            mine.seconds = construct(b, xyz);
-            getrusage(RUSAGE_SELF, &after);
-            mine.user = seconds_of(after.ru_utime) - seconds_of(before.ru_utime);
-            mine.system = seconds_of(after.ru_stime) - seconds_of(before.ru_stime);
-            mine.faults = double(after.ru_minflt - before.ru_minflt + after.ru_majflt - before.ru_majflt);
-            mine.bytes_per_point = double(after.ru_maxrss - before.ru_maxrss) * 1024.0 / double(xyz.size() / 3);
-        }
-        const bool sent = write(fds[1], &mine, sizeof mine) == static_cast<ssize_t>(sizeof mine);
-        _exit(sent ? 0 : 1);
-    }
-    close(fds[1]);
+        if (!load(b, threads)) return mine;
+        const bench::Usage before = bench::usage_now();
+        mine.seconds = construct(b, xyz);
+        const bench::Usage after = bench::usage_now();
+        mine.user = after.user_s - before.user_s;
+        mine.system = after.system_s - before.system_s;
+        mine.faults = double(after.faults - before.faults);
+        mine.bytes_per_point = double(after.maxrss_kb - before.maxrss_kb) * 1024.0 / double(xyz.size() / 3);
+        return mine;
+    };
     Sample got;
-    const bool read_all = read(fds[0], &got, sizeof got) == static_cast<ssize_t>(sizeof got);
-    close(fds[0]);
-    int status = 0;
-    waitpid(pid, &status, 0);
-    return read_all && WIFEXITED(status) && WEXITSTATUS(status) == 0 ? got : sample;
+    return bench::run_in_child(in_child, got) == bench::ChildOutcome::ok ? got : Sample();
 }
 
 double median(std::vector<double> v) {

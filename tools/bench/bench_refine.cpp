@@ -17,10 +17,6 @@
 // Each run happens in a fork()ed child (peak memory per run: the child's max
 // RSS growth over the refinement, read with getrusage). Phase times come from
 // the progress callback's stage names. Data: the repository's data/ folder.
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <array>
 #include <algorithm>
 #include <chrono>
@@ -32,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "child_process.hpp"
 #include "unimesh.h"
 
 namespace {
@@ -84,12 +81,6 @@ int32_t on_progress(void *user, const char *stage, double) {
         p->last = now;
     }
     return 0;
-}
-
-long max_rss_kb() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return u.ru_maxrss;
 }
 
 // The number after `key` at or after `from` in the report text.
@@ -320,7 +311,7 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
             x->surface_points += points, x->by_territories += parallel;
         if (g_log && level >= UM_LOG_INFO) std::fprintf(stderr, "  log: %s\n", msg);
     }, &r, UM_LOG_DEBUG);
-    long base_kb = max_rss_kb();
+    long base_kb = bench::usage_now().maxrss_kb;
     auto t0 = Clock::now();
     phases.start = phases.last = t0;
     um_mesh *m = nullptr;
@@ -343,7 +334,7 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
     }
     r.total_s = refine_s + r.optimise_s;
     // Peak memory of the pipeline itself: read before the report is made.
-    r.peak_mb = (max_rss_kb() - base_kb) / 1024.0;
+    r.peak_mb = (bench::usage_now().maxrss_kb - base_kb) / 1024.0;
     if (s != UM_OK) {
         std::snprintf(r.error, sizeof r.error, "%s", um_context_last_error(ctx));
     } else {
@@ -369,22 +360,10 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
 }
 
 Result in_child(const std::string &name, const std::string &data, int threads, bool optimise) {
-    int fd[2];
-    if (pipe(fd) != 0) std::exit(2);
-    pid_t pid = fork();
-    if (pid == 0) {
-        close(fd[0]);
-        Result r = run_case(name, data, threads, optimise);
-        ssize_t w = write(fd[1], &r, sizeof r);
-        _exit(w == static_cast<ssize_t>(sizeof r) ? 0 : 1);
-    }
-    close(fd[1]);
     Result r;
-    ssize_t got = read(fd[0], &r, sizeof r);
-    close(fd[0]);
     int status = 0;
-    waitpid(pid, &status, 0);
-    if (got != static_cast<ssize_t>(sizeof r)) {
+    auto work = [&] { return run_case(name, data, threads, optimise); };
+    if (bench::run_in_child(work, r, 0.0, &status) != bench::ChildOutcome::ok) {
         r = Result();
         std::snprintf(r.error, sizeof r.error, "child failed (status %d)", status);
     }

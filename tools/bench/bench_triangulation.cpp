@@ -34,7 +34,6 @@
 #include <vector>
 
 #include <malloc.h>
-#include <poll.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -49,6 +48,7 @@ extern "C" {
 #include <libqhull_r/qhull_ra.h>
 }
 
+#include "child_process.hpp"
 #include "unimesh.h"
 
 namespace {
@@ -300,22 +300,9 @@ struct ChildResult {
     char message[480] = {0};
 };
 
-// The child's resource use at a moment: peak RSS, page faults, system time.
-struct Usage {
-    int64_t maxrss_kb = 0, faults = 0;
-    double system_s = 0.0, user_s = 0.0;
-};
-
-Usage usage_now() {
-    struct rusage ru;
-    getrusage(RUSAGE_SELF, &ru);
-    Usage u;
-    u.maxrss_kb = int64_t(ru.ru_maxrss);  // kilobytes on Linux
-    u.faults = int64_t(ru.ru_minflt) + int64_t(ru.ru_majflt);
-    u.system_s = double(ru.ru_stime.tv_sec) + 1e-6 * double(ru.ru_stime.tv_usec);
-    u.user_s = double(ru.ru_utime.tv_sec) + 1e-6 * double(ru.ru_utime.tv_usec);
-    return u;
-}
+using bench::now_seconds;
+using bench::Usage;
+using bench::usage_now;
 
 // What the construction since `before` used, into r.
 void record_usage(ChildResult &r, const Usage &before) {
@@ -327,35 +314,17 @@ void record_usage(ChildResult &r, const Usage &before) {
     r.user_s = after.user_s - before.user_s;
 }
 
-double now_seconds() {
-    using clock = std::chrono::steady_clock;
-    return std::chrono::duration<double>(clock::now().time_since_epoch()).count();
-}
-
 void set_message(ChildResult &r, const std::string &text) {
     std::snprintf(r.message, sizeof r.message, "%s", text.c_str());
 }
 
-enum class Outcome { ok, failed, timed_out };
+using Outcome = bench::ChildOutcome;
 
-// Runs `work` in a child process; gives up (SIGKILL to that child) after timeout_s.
+// Runs `work` in a child process (bench::run_in_child); gives up (SIGKILL to
+// that child) after timeout_s. An exception in the child, its death, or a
+// result not ok is a failure with a message.
 Outcome run_in_child(const std::function<ChildResult()> &work, double timeout_s, ChildResult &result) {
-    int fds[2];
-    if (pipe(fds) != 0) {
-        set_message(result, std::string("pipe: ") + std::strerror(errno));
-        return Outcome::failed;
-    }
-    std::fflush(stdout);
-    std::fflush(stderr);
-    const pid_t pid = fork();
-    if (pid < 0) {
-        close(fds[0]);
-        close(fds[1]);
-        set_message(result, std::string("fork: ") + std::strerror(errno));
-        return Outcome::failed;
-    }
-    if (pid == 0) {  // child
-        close(fds[0]);
+    auto guarded = [&work] {
         ChildResult r;
         try {
             r = work();
@@ -366,46 +335,11 @@ Outcome run_in_child(const std::function<ChildResult()> &work, double timeout_s,
             r.ok = 0;
             set_message(r, "unknown exception");
         }
-        const char *p = reinterpret_cast<const char *>(&r);
-        size_t left = sizeof r;
-        while (left > 0) {
-            const ssize_t w = write(fds[1], p, left);
-            if (w < 0 && errno == EINTR) continue;
-            if (w <= 0) break;
-            p += w;
-            left -= size_t(w);
-        }
-        close(fds[1]);
-        _exit(0);
-    }
-    close(fds[1]);
-    char *dst = reinterpret_cast<char *>(&result);
-    size_t got = 0;
-    const double deadline = now_seconds() + timeout_s;
-    bool timed_out = false;
-    while (got < sizeof result) {
-        const double left = deadline - now_seconds();
-        if (left <= 0) {
-            timed_out = true;
-            break;
-        }
-        struct pollfd pfd = {fds[0], POLLIN, 0};
-        const int rc = poll(&pfd, 1, int(std::min(left, 60.0) * 1000) + 1);
-        if (rc < 0 && errno == EINTR) continue;
-        if (rc < 0) break;
-        if (rc == 0) continue;
-        const ssize_t r = read(fds[0], dst + got, sizeof result - got);
-        if (r < 0 && errno == EINTR) continue;
-        if (r <= 0) break;  // EOF: the child died before reporting
-        got += size_t(r);
-    }
-    close(fds[0]);
-    if (timed_out) kill(pid, SIGKILL);
+        return r;
+    };
     int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (timed_out) return Outcome::timed_out;
-    if (got != sizeof result) {
+    const Outcome outcome = bench::run_in_child(guarded, result, timeout_s, &status);
+    if (outcome == Outcome::failed) {
         result = ChildResult();
         if (WIFSIGNALED(status))
             set_message(result, "child killed by signal " + std::to_string(WTERMSIG(status)) + " (" +
@@ -413,8 +347,8 @@ Outcome run_in_child(const std::function<ChildResult()> &work, double timeout_s,
         else
             set_message(result, "child exited with status " + std::to_string(WEXITSTATUS(status)) +
                                     " without reporting");
-        return Outcome::failed;
     }
+    if (outcome != Outcome::ok) return outcome;
     return result.ok ? Outcome::ok : Outcome::failed;
 }
 
@@ -686,6 +620,13 @@ std::vector<Row> measure_by_rounds(const CaseSpec &spec, const std::vector<Metho
     return rows;
 }
 
+// The row of a case's method that ran, or null.
+const Row *find_row(const std::vector<Row> &rows, const CaseSpec &spec, const std::string &method, int threads) {
+    for (const Row &r : rows)
+        if (r.case_name == spec.name && r.method == method && r.threads == threads && r.ok) return &r;
+    return nullptr;
+}
+
 // The ratios ref/um of the rounds where both ran (times[k] is round k's).
 std::vector<double> round_ratios(const Row &ref, const Row &um) {
     std::vector<double> ratios;
@@ -940,11 +881,7 @@ int main(int argc, char **argv) {
     std::printf("# %-10s %9s %14s %14s %18s %14s\n", "case", "points", "xyz 1T/CGAL", "xyz 2T/CGAL",
                 "lonlat 2T/CGAL", "xyz 2T/Qhull");
     for (const CaseSpec &spec : specs) {
-        auto find = [&](const std::string &method, int threads) -> const Row * {
-            for (const Row &r : all_rows)
-                if (r.case_name == spec.name && r.method == method && r.threads == threads && r.ok) return &r;
-            return nullptr;
-        };
+        auto find = [&](const std::string &method, int threads) { return find_row(all_rows, spec, method, threads); };
         auto ratio = [](const Row *ref, const Row *um) {
             char buf[32];
             if (ref && um && um->seconds > 0)
@@ -966,11 +903,7 @@ int main(int argc, char **argv) {
     std::printf("# %-10s %9s %22s %22s %22s\n", "case", "points", "xyz 1T/CGAL", "xyz 2T/CGAL",
                 "lonlat 2T/CGAL");
     for (const CaseSpec &spec : specs) {
-        auto find = [&](const std::string &method, int threads) -> const Row * {
-            for (const Row &r : all_rows)
-                if (r.case_name == spec.name && r.method == method && r.threads == threads && r.ok) return &r;
-            return nullptr;
-        };
+        auto find = [&](const std::string &method, int threads) { return find_row(all_rows, spec, method, threads); };
         const Row *cgal = find("cgal-dtos2", 1);
         auto spread = [cgal](const Row *um) {
             char buf[48];
