@@ -1,6 +1,7 @@
 // Compares builds of the library in one process: loads each given
 // libunimesh.so with dlopen (its own copy of every symbol) and times
-// um_triangulation_create_xyz on the same random points, alternating the
+// um_triangulation_create_xyz (with --lonlat: um_triangulation_create, the
+// same points in degrees) on the same random points, alternating the
 // builds call by call (the order rotating each round), after one warm-up
 // call each. Prints each build's least and median time and the median of
 // its per-round ratio to the first build.
@@ -19,7 +20,7 @@
 // time and page faults to the first build. (Fresh-process times spread
 // more: take more rounds.)
 //
-//   bench_ab [--fresh] POINTS THREADS ROUNDS LIB [LIB ...]
+//   bench_ab [--fresh] [--lonlat] POINTS THREADS ROUNDS LIB [LIB ...]
 //   e.g. bench_ab 1000000 1 16 /tmp/before/libunimesh.so.0 build/lib/libunimesh.so.0
 #include <dlfcn.h>
 
@@ -44,6 +45,7 @@ struct Build {
     int (*context_create)(void **) = nullptr;
     int (*set_threads)(void *, int32_t) = nullptr;
     int (*create_xyz)(void *, int64_t, const double *, const double *, void **) = nullptr;
+    int (*create_lonlat)(void *, int64_t, const double *, const double *, const double *, void **) = nullptr;
     void (*destroy)(void *) = nullptr;
     void *context = nullptr;
     std::vector<double> seconds;
@@ -65,6 +67,7 @@ bool load(Build &b, int threads) {
     if (!bind(handle, "um_context_create", b.context_create) ||
         !bind(handle, "um_context_set_threads", b.set_threads) ||
         !bind(handle, "um_triangulation_create_xyz", b.create_xyz) ||
+        !bind(handle, "um_triangulation_create", b.create_lonlat) ||
         !bind(handle, "um_triangulation_destroy", b.destroy))
         return false;
     if (b.context_create(&b.context) != 0 || b.set_threads(b.context, threads) != 0) {
@@ -74,11 +77,20 @@ bool load(Build &b, int threads) {
     return true;
 }
 
+// The points: unit vectors, and (for --lonlat) the same in degrees.
+struct Points {
+    std::vector<double> xyz, lon, lat;
+    int64_t size() const { return static_cast<int64_t>(xyz.size() / 3); }
+};
+
 // One construction; its time in seconds, or a negative number on failure.
-double construct(Build &b, const std::vector<double> &xyz) {
+double construct(Build &b, const Points &points) {
     void *tri = nullptr;
+    const int64_t n = points.size();
     const auto t0 = std::chrono::steady_clock::now();
-    const int status = b.create_xyz(b.context, static_cast<int64_t>(xyz.size() / 3), xyz.data(), nullptr, &tri);
+    const int status = points.lon.empty()
+                           ? b.create_xyz(b.context, n, points.xyz.data(), nullptr, &tri)
+                           : b.create_lonlat(b.context, n, points.lon.data(), points.lat.data(), nullptr, &tri);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (status != 0) return -1;
     b.destroy(tri);
@@ -94,18 +106,18 @@ struct Sample {
 // One construction by the build at `path`, in a child process that loads it
 // (bench::run_in_child): its measures, or seconds < 0 on failure. The parent
 // holds no threads (it loads no build in this mode), so fork() is safe.
-Sample construct_fresh(const std::string &path, int threads, const std::vector<double> &xyz) {
+Sample construct_fresh(const std::string &path, int threads, const Points &points) {
     auto in_child = [&] {
         Build b{path};
         Sample mine;
         if (!load(b, threads)) return mine;
         const bench::Usage before = bench::usage_now();
-        mine.seconds = construct(b, xyz);
+        mine.seconds = construct(b, points);
         const bench::Usage after = bench::usage_now();
         mine.user = after.user_s - before.user_s;
         mine.system = after.system_s - before.system_s;
         mine.faults = double(after.faults - before.faults);
-        mine.bytes_per_point = double(after.maxrss_kb - before.maxrss_kb) * 1024.0 / double(xyz.size() / 3);
+        mine.bytes_per_point = double(after.maxrss_kb - before.maxrss_kb) * 1024.0 / double(points.size());
         return mine;
     };
     Sample got;
@@ -130,16 +142,24 @@ long parse(const char *text, const char *what, long least) {
 }  // namespace
 
 int main(int argc, char **argv) {
-    const bool fresh = argc > 1 && std::strcmp(argv[1], "--fresh") == 0;
-    if (fresh) --argc, ++argv;
+    bool fresh = false, lonlat = false;
+    for (; argc > 1 && std::strncmp(argv[1], "--", 2) == 0; --argc, ++argv)
+        if (std::strcmp(argv[1], "--fresh") == 0)
+            fresh = true;
+        else if (std::strcmp(argv[1], "--lonlat") == 0)
+            lonlat = true;
+        else
+            argc = 0;  // unknown: the usage below
     if (argc < 5) {
-        std::fprintf(stderr, "usage: bench_ab [--fresh] POINTS THREADS ROUNDS LIB [LIB ...]\n");
+        std::fprintf(stderr, "usage: bench_ab [--fresh] [--lonlat] POINTS THREADS ROUNDS LIB [LIB ...]\n");
         return 2;
     }
     const long n = parse(argv[1], "POINTS", 4), threads = parse(argv[2], "THREADS", 1),
                rounds = parse(argv[3], "ROUNDS", 1);
     // Uniform random directions (normalised normal deviates, fixed seed).
-    std::vector<double> xyz(3 * static_cast<size_t>(n));
+    Points points;
+    std::vector<double> &xyz = points.xyz;
+    xyz.resize(3 * static_cast<size_t>(n));
     std::mt19937_64 random(0x756e696d657368);
     std::normal_distribution<double> normal;
     for (long i = 0; i < n; ++i) {
@@ -147,6 +167,11 @@ int main(int argc, char **argv) {
         do x = normal(random), y = normal(random), z = normal(random), r = std::sqrt(x * x + y * y + z * z);
         while (r == 0);
         xyz[3 * i] = x / r, xyz[3 * i + 1] = y / r, xyz[3 * i + 2] = z / r;
+        if (lonlat) {
+            constexpr double kDegreesPerRadian = 180.0 / M_PI;
+            points.lon.push_back(std::atan2(xyz[3 * i + 1], xyz[3 * i]) * kDegreesPerRadian);
+            points.lat.push_back(std::asin(std::clamp(xyz[3 * i + 2], -1.0, 1.0)) * kDegreesPerRadian);
+        }
     }
     std::vector<Build> builds;
     for (int i = 4; i < argc; ++i) builds.push_back(Build{argv[i]});
@@ -161,17 +186,17 @@ int main(int argc, char **argv) {
             Build &b = builds[at];
             Sample sample;
             if (fresh)
-                sample = construct_fresh(b.path, static_cast<int>(threads), xyz);
+                sample = construct_fresh(b.path, static_cast<int>(threads), points);
             else
-                sample.seconds = construct(b, xyz);
+                sample.seconds = construct(b, points);
             if (sample.seconds < 0) {
                 std::fprintf(stderr, "bench_ab: '%s' failed to triangulate\n", b.path.c_str());
                 return 1;
             }
             if (r > 0) b.seconds.push_back(sample.seconds), samples[at].push_back(sample);
         }
-    std::printf("# %ld points, %ld threads, %ld rounds (after one warm-up call each)%s\n", n, threads, rounds,
-                fresh ? ", every call in a fresh process" : "");
+    std::printf("# %ld points%s, %ld threads, %ld rounds (after one warm-up call each)%s\n", n,
+                lonlat ? " (lon/lat)" : "", threads, rounds, fresh ? ", every call in a fresh process" : "");
     // The median over the rounds of a measure, and of its ratio to the first build's.
     auto of = [&](size_t i, double Sample::*field) {
         std::vector<double> v;
