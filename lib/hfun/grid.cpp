@@ -167,17 +167,11 @@ SpacingPtr GridSpacing::gradient_limited(double g, double radius_km) const {
 // (value, then index) makes the result the same on every run.
 void GridSpacing::limit_gradient_in_place(double g, double radius_km) {
     const int64_t nx = n_lon(), ny = n_lat();
-    // Node positions from per-row and per-column factors; the poles come out
-    // exact (cos 90 = 0), as in unit_from_lonlat_deg.
+    // Node positions from per-row and per-column factors, as
+    // unit_from_lonlat_deg makes them (the poles exact: cos 90 = 0).
     std::vector<double> cos_lat(ny), sin_lat(ny), cos_lon(nx), sin_lon(nx);
-    for (int64_t j = 0; j < ny; ++j) {
-        geom::Vec3 u = geom::unit_from_lonlat_deg(0.0, lat_[j]);
-        cos_lat[j] = u.x, sin_lat[j] = u.z;
-    }
-    for (int64_t i = 0; i < nx; ++i) {
-        geom::Vec3 u = geom::unit_from_lonlat_deg(lon_[i], 0.0);
-        cos_lon[i] = u.x, sin_lon[i] = u.y;
-    }
+    for (int64_t j = 0; j < ny; ++j) geom::sincos_deg(lat_[j], sin_lat[j], cos_lat[j]);
+    for (int64_t i = 0; i < nx; ++i) geom::sincos_deg(lon_[i], sin_lon[i], cos_lon[i]);
     auto node = [&](int64_t j, int64_t i) {
         return geom::Vec3{cos_lat[j] * cos_lon[i], cos_lat[j] * sin_lon[i], sin_lat[j]};
     };
