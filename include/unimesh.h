@@ -263,7 +263,10 @@ UM_API um_status um_option_key(const char *name, um_option *key);
  *   sphere (all in one hemisphere or on one great circle:
  *   UM_ERR_DEGENERATE_INPUT), n above what int32 indices can address.
  * Ties (cocircular points) are broken by a symbolic perturbation keyed on the
- * input index, so the result is unique and the same for any thread count. */
+ * input index, so the result is unique and the same for any thread count.
+ * Degrees become unit vectors with sines and cosines reduced in degrees:
+ * multiples of 90 give exact axes, and a pole is (0, 0, +-1) at any
+ * longitude (two points at one pole are duplicates). */
 typedef struct um_triangulation um_triangulation;
 
 UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const double *lon_deg,
