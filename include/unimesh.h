@@ -265,8 +265,10 @@ UM_API um_status um_option_key(const char *name, um_option *key);
  * Ties (cocircular points) are broken by a symbolic perturbation keyed on the
  * input index, so the result is unique and the same for any thread count.
  * Degrees become unit vectors with sines and cosines reduced in degrees:
- * multiples of 90 give exact axes, and a pole is (0, 0, +-1) at any
- * longitude (two points at one pole are duplicates). */
+ * multiples of 90 give exact axes, a pole is (0, 0, +-1) at any longitude,
+ * and longitudes a whole turn apart give the same vector - so two points at
+ * one pole, or at longitudes -180 and 180 (0 and 360) with one latitude,
+ * are duplicates. */
 typedef struct um_triangulation um_triangulation;
 
 UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const double *lon_deg,

@@ -6,6 +6,12 @@
 
 #include "geom/expansion.hpp"
 
+// Error-free transformations (two-sum, two-product) and the filters' error
+// bounds assume IEEE arithmetic as written.
+#if defined(__FAST_MATH__)
+#error "unimesh needs IEEE arithmetic: build without -ffast-math / -Ofast"
+#endif
+
 namespace um::geom {
 
 namespace {

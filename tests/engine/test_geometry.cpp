@@ -209,9 +209,10 @@ void lonlat_round_trip_and_poles(void **) {
 }
 
 // sincos_deg against long double (64-bit significand) sin and cos of the
-// angle reduced exactly: within 2 units of 2^-53 (1.65 measured; glibc's
-// sin(deg * pi / 180) is up to 5 off), exact at the multiples of 90,
-// odd and even bit for bit, any finite angle.
+// angle reduced exactly: within 2 units of 2^-53 (1.69 the worst found over
+// 10^9 angles, about 1.75 by a rough analysis; glibc's sin(deg * pi / 180)
+// is up to 5 off within +-360, 10 within +-720), exact at the multiples of
+// 90, odd and even (==, so up to the sign of a zero), any finite angle.
 void sincos_in_degrees(void **) {
     const long double kRadiansPerDegree = 3.14159265358979323846264338327950288L / 180.0L;
     auto check = [&](double deg) {

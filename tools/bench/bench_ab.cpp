@@ -148,8 +148,11 @@ int main(int argc, char **argv) {
             fresh = true;
         else if (std::strcmp(argv[1], "--lonlat") == 0)
             lonlat = true;
-        else
-            argc = 0;  // unknown: the usage below
+        else {
+            std::fprintf(stderr, "bench_ab: unknown option '%s'\n", argv[1]);
+            argc = 0;  // the usage below
+            break;
+        }
     if (argc < 5) {
         std::fprintf(stderr, "usage: bench_ab [--fresh] [--lonlat] POINTS THREADS ROUNDS LIB [LIB ...]\n");
         return 2;
