@@ -6,8 +6,9 @@
 
 #include "geom/expansion.hpp"
 
-// Error-free transformations (two-sum, two-product) and the filters' error
-// bounds assume IEEE arithmetic as written.
+// Error-free transformations (two-sum, two-product), the filters' error
+// bounds and sincos_deg's reduction (geom/sphere.cpp) assume IEEE arithmetic
+// as written: this stops a build of the library with -ffast-math.
 #if defined(__FAST_MATH__)
 #error "unimesh needs IEEE arithmetic: build without -ffast-math / -Ofast"
 #endif

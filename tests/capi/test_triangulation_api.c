@@ -218,6 +218,16 @@ static void bad_input_is_rejected_with_the_index(void **state) {
     lat[60] = 90, lat[20] = 90, lon[60] = 10, lon[20] = -100;
     assert_int_equal(um_triangulation_create(ctx, 100, lon, lat, NULL, &t), UM_ERR_DUPLICATE_POINTS);
     um_context_clear_error(ctx);
+    /* and longitudes a whole turn apart at one latitude (unimesh.h) */
+    const double turn_apart[2][2] = {{-180, 180}, {0, 360}};
+    for (int k = 0; k < 2; ++k) {
+        lat[20] = lat[60] = 35, lon[20] = turn_apart[k][0], lon[60] = turn_apart[k][1];
+        assert_int_equal(um_triangulation_create(ctx, 100, lon, lat, NULL, &t), UM_ERR_DUPLICATE_POINTS);
+        assert_non_null(strstr(um_context_last_error(ctx), "20"));
+        assert_non_null(strstr(um_context_last_error(ctx), "60"));
+        um_context_clear_error(ctx);
+    }
+    lat[60] = 90, lon[60] = 10, lon[20] = -100;
     lat[20] = -90;
     /* one hemisphere */
     double hlon[100], hlat[100];
