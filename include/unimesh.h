@@ -258,17 +258,19 @@ UM_API um_status um_option_key(const char *name, um_option *key);
  *
  * Rejected input (the message names the argument, index and value):
  *   n < 4, NaN/Inf coordinates or weights, |lat| > 90, weights >= 2,
- *   exactly coincident points (UM_ERR_DUPLICATE_POINTS naming both indices;
- *   the caller removes one), points that do not surround the centre of the
- *   sphere (all in one hemisphere or on one great circle:
- *   UM_ERR_DEGENERATE_INPUT), n above what int32 indices can address.
+ *   exactly coincident points with equal weights (UM_ERR_DUPLICATE_POINTS
+ *   naming both indices; the caller removes one - with different weights
+ *   the lighter one is hidden, its power cell being empty), points that do
+ *   not surround the centre of the sphere (all in one hemisphere or on one
+ *   great circle: UM_ERR_DEGENERATE_INPUT), n above what int32 indices can
+ *   address.
  * Ties (cocircular points) are broken by a symbolic perturbation keyed on the
  * input index, so the result is unique and the same for any thread count.
  * Degrees become unit vectors with sines and cosines reduced in degrees:
  * multiples of 90 give exact axes, a pole is (0, 0, +-1) at any longitude,
  * and longitudes a whole turn apart give the same vector - so two points at
  * one pole, or at longitudes -180 and 180 (0 and 360) with one latitude,
- * are duplicates. */
+ * are at one place (duplicates, when their weights are equal). */
 typedef struct um_triangulation um_triangulation;
 
 UM_API um_status um_triangulation_create(um_context *ctx, int64_t n, const double *lon_deg,

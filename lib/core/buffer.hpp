@@ -7,7 +7,7 @@
 // first written by the parallel loop that fills it, so the faults are
 // spread over the threads, and a large one is aligned to 2 MiB and asks
 // for transparent huge pages (core/huge_pages.hpp), five times cheaper to
-// fault in there. Measured with bench_triangulation (README, Benchmarks).
+// fault in there. Measured with bench_triangulation (tools/bench/HISTORY.md).
 #pragma once
 
 #include <cstddef>

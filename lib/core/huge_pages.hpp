@@ -5,7 +5,7 @@
 // page faults, and the insertion's reads, which follow the mesh rather than
 // memory, miss the TLB often. Linux hands huge pages only to regions that
 // ask for them (madvise) on most distributions, Debian's included.
-// Measured with bench_triangulation (README, Benchmarks).
+// Measured with bench_triangulation (tools/bench/HISTORY.md).
 //
 // Who asks: the construction from many points (its arrays are sized once,
 // up front and exactly) and core/Buffer's temporaries of 2 MiB or more

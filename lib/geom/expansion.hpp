@@ -25,8 +25,21 @@ inline void two_product(double a, double b, double &hi, double &lo) {
 
 template <int Capacity>
 struct Expansion {
-    double c[Capacity];  // increasing magnitude, no zeros
+    double c[Capacity];  // increasing magnitude, no zeros; c[n..] unwritten
     int n = 0;
+
+    Expansion() = default;
+    // Copies the n components only: the capacities run to 192 doubles while
+    // the exact predicates' expansions mostly hold a few, and copying whole
+    // arrays was most of the cost of an exact sign.
+    Expansion(const Expansion &other) : n(other.n) {
+        for (int i = 0; i < n; ++i) c[i] = other.c[i];
+    }
+    Expansion &operator=(const Expansion &other) {
+        n = other.n;
+        for (int i = 0; i < n; ++i) c[i] = other.c[i];
+        return *this;
+    }
 
     static Expansion of(double v) {
         Expansion e;

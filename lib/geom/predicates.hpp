@@ -151,14 +151,19 @@ inline int orient_origin(const double *a, const double *b, const double *c) {
     return orient_origin_exact(a, b, c);
 }
 
+// The static filter of orient_origin alone: the sign of det[a, b, c] when
+// the bound decides it, 0 when it cannot (the exact sign may be any).
+inline int orient_origin_static_filter(const double *a, const double *b, const double *c, double bound) {
+    const double det = c[0] * (a[1] * b[2] - a[2] * b[1]) + c[1] * (a[2] * b[0] - a[0] * b[2]) +
+                       c[2] * (a[0] * b[1] - a[1] * b[0]);
+    return det > bound ? 1 : (det < -bound ? -1 : 0);
+}
+
 // orient_origin with a static filter first, as orient3d_static; the bound
 // from orient_origin_static_bound(largest coordinate magnitude).
 inline int orient_origin_static(const double *a, const double *b, const double *c, double bound) {
-    const double det = c[0] * (a[1] * b[2] - a[2] * b[1]) + c[1] * (a[2] * b[0] - a[0] * b[2]) +
-                       c[2] * (a[0] * b[1] - a[1] * b[0]);
-    if (det > bound) return 1;
-    if (det < -bound) return -1;
-    return orient_origin(a, b, c);
+    const int s = orient_origin_static_filter(a, b, c, bound);
+    return s != 0 ? s : orient_origin(a, b, c);
 }
 
 // Its permanent has six products of one x, one y and one z coordinate:

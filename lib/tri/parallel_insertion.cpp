@@ -272,16 +272,31 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
     if (g.hint == kNone) return RegionInsert::deferred;
     int zero_edges[3], n_zero = 0;
     int32_t last_owned = g.hint;
-    int32_t t = walk(q_[v], g.hint, zero_edges, n_zero, g.walk, kRegionWalkSteps, &g.keys,
-                     &last_owned);
+    // The filtered walk first (walk_filtered); the exact one from its end
+    // when that is not a start as it stands.
+    int32_t t = walk_filtered(q_[v], g.hint, zero_edges, n_zero, g.walk, kRegionWalkSteps, &g.keys,
+                              &last_owned);
     if (t == kNone && !g.start_near_each_point) {
         // The walk reached the border (deferred points leave the hint
         // behind them): start again from a vertex of the previous round
         // next to v along the curve.
         const int32_t restart = region_start(g, v);
         if (restart != kNone)
-            t = walk(q_[v], restart, zero_edges, n_zero, g.walk, kRegionWalkSteps, &g.keys,
-                     &last_owned);
+            t = walk_filtered(q_[v], restart, zero_edges, n_zero, g.walk, kRegionWalkSteps, &g.keys,
+                              &last_owned);
+    }
+    if (t != kNone && n_zero > 0) {
+        if (filtered_start(t, v, n_zero)) {
+            g.hint = last_owned;
+            if (!fill_cavity(v, t, g.scratch, &g.keys)) return RegionInsert::deferred;
+            if (g.scratch.cavity.size() + 2 == g.scratch.horizon.size()) {
+                stitch_new_triangles(v, g.scratch, g.pool);
+                g.hint = vertex_tri_[v];
+                return RegionInsert::inserted;
+            }
+            clear_cavity_marks(g.scratch);  // it buries a vertex: the exact path decides
+        }
+        t = walk(q_[v], t, zero_edges, n_zero, g.walk, kRegionWalkSteps, &g.keys, &last_owned);
     }
     g.hint = last_owned;  // even for a deferred point: the next ones are near it
     // On a vertex's direction (a duplicate, or a virtual vertex to bury):

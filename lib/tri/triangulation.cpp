@@ -131,14 +131,15 @@ void Triangulation::insert_all(Context &ctx) {
     compact_after_build(ctx);
 }
 
-// Points stored so far that share a direction, reported as the two smallest
-// input indices of the group with the smallest index: the same message
-// whatever the insertion order or thread count.
+// Points stored so far that share a lifted point (direction and weight),
+// reported as the two smallest input indices of the group with the smallest
+// index: the same message whatever the insertion order or thread count.
 void Triangulation::fail_on_duplicates() const {
     std::vector<int32_t> slots;
     for (int32_t v = 0; v < static_cast<int32_t>(q_.size()); ++v)
         if (id_[v] >= 0) slots.push_back(v);
-    auto dir = [&](int32_t v) { return geom::normalized(q_[v]); };
+    // Duplicates have equal lifted points (find_visible_start).
+    auto dir = [&](int32_t v) { return q_[v]; };
     std::sort(slots.begin(), slots.end(), [&](int32_t a, int32_t b) {
         Vec3 x = dir(a), y = dir(b);
         if (x.x != y.x) return x.x < y.x;
@@ -163,7 +164,7 @@ void Triangulation::fail_on_duplicates() const {
     if (best_i < 0)  // coinciding directions that are not bit-identical vectors
         fail(UM_ERR_DUPLICATE_POINTS, "two points are at exactly the same location");
     double lon, lat;
-    geom::lonlat_deg_from_unit(dir(best_v), lon, lat);
+    geom::lonlat_deg_from_unit(direction(best_v), lon, lat);
     fail(UM_ERR_DUPLICATE_POINTS, "points ", best_i, " and ", best_j,
          " are at the same location (lon ", lon, ", lat ", lat, " degrees); remove one of them");
 }
@@ -420,7 +421,7 @@ void Triangulation::set_neighbour(int32_t outer, int32_t from, int32_t to, int32
 Triangulation::InsertResult Triangulation::insert_slot(int32_t v, int32_t &hint,
                                                        int32_t *other) {
     int zero_edges[3], n_zero = 0;
-    int32_t t = locate(q_[v], hint, zero_edges, n_zero);
+    const int32_t t = locate(q_[v], hint, zero_edges, n_zero);
     int32_t coincident = kNone;
     int32_t start = find_visible_start(v, t, zero_edges, n_zero, &coincident);
     if (coincident != kNone) {
@@ -462,11 +463,18 @@ int32_t Triangulation::walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_
     // Two copies of the loop, so that neither asks at each test which filter
     // it uses (the static one decides nearly every test while building).
     return walk_bound_ < kNoBound
-               ? walk_with<true>(p, t, zero_edges, n_zero, counter, max_steps, owner, last_owned)
-               : walk_with<false>(p, t, zero_edges, n_zero, counter, max_steps, owner, last_owned);
+               ? walk_with<true, false>(p, t, zero_edges, n_zero, counter, max_steps, owner, last_owned)
+               : walk_with<false, false>(p, t, zero_edges, n_zero, counter, max_steps, owner, last_owned);
 }
 
-template <bool kStaticBound>
+int32_t Triangulation::walk_filtered(const Vec3 &p, int32_t t, int undecided[3], int &n_undecided,
+                                     uint32_t &counter, int64_t max_steps, const KeyRange *owner,
+                                     int32_t *last_owned) const {
+    if (!(walk_bound_ < kNoBound)) fail(UM_ERR_INTERNAL, "walk_filtered: no static bound (not building)");
+    return walk_with<true, true>(p, t, undecided, n_undecided, counter, max_steps, owner, last_owned);
+}
+
+template <bool kStaticBound, bool kFilterOnly>
 int32_t Triangulation::walk_with(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero,
                                  uint32_t &counter, int64_t max_steps, const KeyRange *owner,
                                  int32_t *last_owned) const {
@@ -482,12 +490,15 @@ int32_t Triangulation::walk_with(const Vec3 &p, int32_t t, int zero_edges[3], in
     // Edge k of tr: kNone if p is not strictly outside it (a zero is
     // listed), else the neighbour across it. The edge just crossed is not
     // tested: it had p strictly outside in the triangle before, and the
-    // exact sign is antisymmetric.
+    // exact sign is antisymmetric. kFilterOnly: an edge the static filter
+    // cannot decide is listed and not crossed.
     auto cross = [&](const Tri &tr, auto edge) -> int32_t {
         constexpr int k = decltype(edge)::value;
         if (tr.n[k] == from) return kNone;
         const double *a = q[tr.v[(k + 1) % 3]].data(), *b = q[tr.v[(k + 2) % 3]].data();
-        const int s = kStaticBound ? geom::orient_origin_static(a, b, pv, bound) : orient_origin(a, b, pv);
+        const int s = kFilterOnly    ? geom::orient_origin_static_filter(a, b, pv, bound)
+                      : kStaticBound ? geom::orient_origin_static(a, b, pv, bound)
+                                     : orient_origin(a, b, pv);
         if (s == 0) zeros[n++] = k;
         return s < 0 ? tr.n[k] : kNone;
     };
@@ -554,16 +565,20 @@ int32_t Triangulation::locate_brute_force(const Vec3 &p) const {
 
 // A point outside the hull sees the facet whose cone holds its direction.
 // On a cone boundary it may see only the facet across it; on a vertex's
-// direction it coincides with that vertex (a duplicate, unless the vertex
-// is virtual and about to be buried).
+// direction it coincides with that vertex when their lifted points are
+// equal (a duplicate: same direction, same weight), and otherwise buries it
+// or is hidden, as any heavier or lighter point near it would.
 int32_t Triangulation::find_visible_start(int32_t v, int32_t t, const int zero_edges[3],
                                           int n_zero, int32_t *coincident) {
     if (n_zero >= 2) {
         int32_t w = tris_[t].v[(3 - zero_edges[0] - zero_edges[1])];
-        if (id_[w] >= 0) {
+        const Vec3 &a = q_[w], &b = q_[v];
+        if (id_[w] >= 0 && a.x == b.x && a.y == b.y && a.z == b.z) {
             *coincident = w;
             return kNone;
         }
+        // Another weight on w's direction (or w virtual): v buries w when
+        // its lifted point lies farther out, and is hidden otherwise.
         for (int32_t u : star(w))
             if (visible(u, v)) return u;
         return kNone;

@@ -236,7 +236,9 @@ public:
     // Inserts a point (unit direction, weight < 2) with input index `id`;
     // returns its vertex slot. The slot is hidden (in_triangulation false)
     // when its power cell is empty; vertices it buries become hidden and are
-    // appended to *buried when given. Throws UM_ERR_DUPLICATE_POINTS.
+    // appended to *buried when given. Throws UM_ERR_DUPLICATE_POINTS when
+    // a vertex has its lifted point (direction and weight); on a vertex's
+    // direction with another weight, the lighter of the two is hidden.
     // `hint` is a triangle near the point, where the walk starts.
     int32_t insert(const Vec3 &direction, double weight, int32_t id,
                    std::vector<int32_t> *buried = nullptr, int32_t hint = 0);
@@ -367,10 +369,46 @@ private:
     // left). kNone when it gave up.
     int32_t walk(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero, uint32_t &counter,
                  int64_t max_steps, const KeyRange *owner, int32_t *last_owned) const;
-    template <bool kStaticBound>
+    // The first walk of the parallel rounds' insertions (insert_in_region;
+    // static bounds on): every edge decided by the static filter alone, and
+    // an edge it cannot decide not crossed but listed in undecided[]
+    // (n_undecided of them). It ends in a triangle whose cone holds p
+    // strictly when none is listed; else p may lie on or just beyond a
+    // listed edge, which only the exact walk (walk()) tells: most ends need
+    // no more (filtered_start). Points on or within rounding of the great
+    // circles of edges - longitude-latitude grids, icosahedral subdivisions -
+    // made the exact walk compute many exact signs on its way (bench_ab on
+    // ico-9 and grid-0.25: README, Benchmarks). The serial path (the first
+    // rounds, the points the regions deferred, small builds) keeps the exact
+    // walk: little time goes there, and a start other than the exact walk's
+    // - either triangle at an edge p lies on - numbers the same triangles
+    // differently, which would change what the refinement builds from its
+    // first twelve points.
+    int32_t walk_filtered(const Vec3 &p, int32_t t, int undecided[3], int &n_undecided,
+                          uint32_t &counter, int64_t max_steps, const KeyRange *owner,
+                          int32_t *last_owned) const;
+    template <bool kStaticBound, bool kFilterOnly>
     int32_t walk_with(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero,
                       uint32_t &counter, int64_t max_steps, const KeyRange *owner,
                       int32_t *last_owned) const;
+    // Whether the end t of walk_filtered() for slot v, with n_undecided
+    // edges listed, is the start of v's cavity as it stands: t is visible
+    // and either holds v strictly in its cone or has one listed edge and v's
+    // lifted point lies strictly beyond t's facet (an exact sign, not a
+    // tie). A facet v sees starts the cavity whichever cone near the edge
+    // holds v (the facets v sees are connected). A point on a vertex's
+    // direction, which only the exact walk reports as a duplicate, lists
+    // the two edges at the vertex when t is around it; any other facet it
+    // sees is one it sees only by a larger weight, and then its cavity
+    // buries the vertex: callers leave an insertion from a listed edge
+    // whose cavity buries a vertex (rare, weights only) to the exact path.
+    bool filtered_start(int32_t t, int32_t v, int n_undecided) const {
+        if (n_undecided == 0) return visible(t, v);
+        if (n_undecided > 1) return false;
+        const int32_t *tv = tris_[t].v;
+        return geom::orient3d_static(q_[tv[0]].data(), q_[tv[1]].data(), q_[tv[2]].data(), q_[v].data(),
+                                     build_bound_) > 0;
+    }
     // One unsigned comparison.
     static bool owns_vertex(const KeyRange &range, int32_t v) {
         return range.keys[v] - range.lo < range.hi - range.lo;

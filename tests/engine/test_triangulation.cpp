@@ -6,6 +6,7 @@
 #include <csetjmp>
 #include <random>
 #include <set>
+#include <string>
 #include <cstring>
 
 #include "core/error.hpp"
@@ -160,6 +161,36 @@ void exact_duplicates_in_parallel_rounds_are_named(void **) {
             assert_int_equal(e.status(), UM_ERR_DUPLICATE_POINTS);
             assert_non_null(strstr(e.what(), "points 4321 and 90000"));
         }
+    }
+}
+
+// Two points on one direction with different weights: their lifted points
+// differ, so they are not duplicates (exact_duplicates_are_named has equal
+// ones); the lighter one lies under the facets around the heavier and is
+// hidden, whichever comes first. (The build's filtered walk may start such a
+// cavity without the exact walk, which an insertion that buries a vertex
+// then redoes: walk_filtered.) Serial rounds only, then parallel rounds too;
+// the same for any thread count.
+void coincident_points_with_other_weights(void **) {
+    for (int64_t n : {3000, 100000}) {
+        auto pts = test::random_points(n, 37);
+        std::vector<double> w(pts.size(), 0.0);
+        const int64_t a = n / 3, b = n - 7, c = n / 2, d = n - 3;
+        // Weights far below the spacing squared: no neighbour is hidden.
+        pts[b] = pts[a], w[b] = 1e-9;   // the later point heavier
+        pts[d] = pts[c], w[d] = -1e-9;  // the later point lighter
+        // And at the north pole, where the lifted points are exactly
+        // parallel (0, 0, s): the exact walk meets the vertex there.
+        const int64_t e = n / 5, f = n - 11;
+        pts[e] = pts[f] = Vec3{0, 0, 1}, w[e] = 2e-9, w[f] = 0;
+        auto one = build(pts, &w, 1);
+        expect_valid(one);
+        auto hidden = one.hidden_ids();
+        std::vector<int32_t> lighter = {int32_t(a), int32_t(d), int32_t(f)};
+        std::sort(lighter.begin(), lighter.end());
+        assert_true(hidden == lighter);
+        assert_int_equal(one.vertex_count(), n - 3);
+        expect_identical(one, build(pts, &w, 2));
     }
 }
 
@@ -805,6 +836,7 @@ int main() {
         cmocka_unit_test(near_duplicates_are_distinct_vertices),
         cmocka_unit_test(exact_duplicates_are_named),
         cmocka_unit_test(exact_duplicates_in_parallel_rounds_are_named),
+        cmocka_unit_test(coincident_points_with_other_weights),
         cmocka_unit_test(clustered_points_in_parallel_rounds),
         cmocka_unit_test(one_hemisphere_or_great_circle_is_rejected),
         cmocka_unit_test(points_crowded_at_the_band_axis),
