@@ -22,6 +22,9 @@
 //
 //   bench_ab [--fresh] [--lonlat] POINTS THREADS ROUNDS LIB [LIB ...]
 //   e.g. bench_ab 1000000 1 16 /tmp/before/libunimesh.so.0 build/lib/libunimesh.so.0
+// POINTS: a number of random points, or a case of bench_triangulation's
+// (point_sets.hpp: random-1e6, ico-9, grid-0.25; --lonlat then passes the
+// case's degrees, a grid's as they are).
 #include <dlfcn.h>
 
 #include <algorithm>
@@ -33,9 +36,11 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <string>
 #include <vector>
 
 #include "child_process.hpp"
+#include "point_sets.hpp"
 
 namespace {
 
@@ -139,6 +144,26 @@ long parse(const char *text, const char *what, long least) {
     return v;
 }
 
+// n uniformly random directions (normalised normal deviates, fixed seed),
+// and with lonlat the same in degrees.
+void make_random(long n, bool lonlat, Points &points) {
+    std::vector<double> &xyz = points.xyz;
+    xyz.resize(3 * static_cast<size_t>(n));
+    std::mt19937_64 random(0x756e696d657368);
+    std::normal_distribution<double> normal;
+    for (long i = 0; i < n; ++i) {
+        double x, y, z, r;
+        do x = normal(random), y = normal(random), z = normal(random), r = std::sqrt(x * x + y * y + z * z);
+        while (r == 0);
+        xyz[3 * i] = x / r, xyz[3 * i + 1] = y / r, xyz[3 * i + 2] = z / r;
+        if (lonlat) {
+            constexpr double kDegreesPerRadian = 180.0 / M_PI;
+            points.lon.push_back(std::atan2(xyz[3 * i + 1], xyz[3 * i]) * kDegreesPerRadian);
+            points.lat.push_back(std::asin(std::clamp(xyz[3 * i + 2], -1.0, 1.0)) * kDegreesPerRadian);
+        }
+    }
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -157,25 +182,22 @@ int main(int argc, char **argv) {
         std::fprintf(stderr, "usage: bench_ab [--fresh] [--lonlat] POINTS THREADS ROUNDS LIB [LIB ...]\n");
         return 2;
     }
-    const long n = parse(argv[1], "POINTS", 4), threads = parse(argv[2], "THREADS", 1),
-               rounds = parse(argv[3], "ROUNDS", 1);
-    // Uniform random directions (normalised normal deviates, fixed seed).
+    const long threads = parse(argv[2], "THREADS", 1), rounds = parse(argv[3], "ROUNDS", 1);
     Points points;
-    std::vector<double> &xyz = points.xyz;
-    xyz.resize(3 * static_cast<size_t>(n));
-    std::mt19937_64 random(0x756e696d657368);
-    std::normal_distribution<double> normal;
-    for (long i = 0; i < n; ++i) {
-        double x, y, z, r;
-        do x = normal(random), y = normal(random), z = normal(random), r = std::sqrt(x * x + y * y + z * z);
-        while (r == 0);
-        xyz[3 * i] = x / r, xyz[3 * i + 1] = y / r, xyz[3 * i + 2] = z / r;
-        if (lonlat) {
-            constexpr double kDegreesPerRadian = 180.0 / M_PI;
-            points.lon.push_back(std::atan2(xyz[3 * i + 1], xyz[3 * i]) * kDegreesPerRadian);
-            points.lat.push_back(std::asin(std::clamp(xyz[3 * i + 2], -1.0, 1.0)) * kDegreesPerRadian);
+    bench::CaseSpec spec;
+    if (bench::parse_case(argv[1], spec)) {
+        bench::PointSet ps;
+        std::string error;
+        if (!bench::make_points(spec, ps, error)) {
+            std::fprintf(stderr, "bench_ab: %s\n", error.c_str());
+            return 1;
         }
+        points.xyz = std::move(ps.xyz);
+        if (lonlat) points.lon = std::move(ps.lon), points.lat = std::move(ps.lat);
+    } else {
+        make_random(parse(argv[1], "POINTS", 4), lonlat, points);
     }
+    const long n = static_cast<long>(points.size());
     std::vector<Build> builds;
     for (int i = 4; i < argc; ++i) builds.push_back(Build{argv[i]});
     if (!fresh)

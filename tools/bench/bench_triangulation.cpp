@@ -49,239 +49,14 @@ extern "C" {
 }
 
 #include "child_process.hpp"
+#include "point_sets.hpp"
 #include "unimesh.h"
 
 namespace {
 
-constexpr uint64_t kSeed = 0x756e696d657368ULL;  // fixed seed of the random cases
-constexpr double kPi = 3.14159265358979323846;
-
-// ------------------------------------------------------------------ inputs
-
-// A small self-contained generator (xoshiro256** seeded through splitmix64) so
-// the random cases are the same on every platform and standard library.
-class Rng {
-public:
-    explicit Rng(uint64_t seed) {
-        for (auto &word : s_) {
-            seed += 0x9e3779b97f4a7c15ULL;
-            uint64_t z = seed;
-            z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-            z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-            word = z ^ (z >> 31);
-        }
-    }
-    uint64_t next() {
-        const uint64_t result = rotl(s_[1] * 5, 7) * 9;
-        const uint64_t t = s_[1] << 17;
-        s_[2] ^= s_[0];
-        s_[3] ^= s_[1];
-        s_[1] ^= s_[2];
-        s_[0] ^= s_[3];
-        s_[2] ^= t;
-        s_[3] = rotl(s_[3], 45);
-        return result;
-    }
-    // Uniform in the open interval (0, 1).
-    double uniform_open() { return (double(next() >> 11) + 0.5) * 0x1.0p-53; }
-    // Standard normal deviate (Marsaglia's polar method, spare value cached).
-    double normal() {
-        if (has_spare_) {
-            has_spare_ = false;
-            return spare_;
-        }
-        double u, v, s;
-        do {
-            u = 2.0 * uniform_open() - 1.0;
-            v = 2.0 * uniform_open() - 1.0;
-            s = u * u + v * v;
-        } while (s >= 1.0 || s == 0.0);
-        const double f = std::sqrt(-2.0 * std::log(s) / s);
-        spare_ = v * f;
-        has_spare_ = true;
-        return u * f;
-    }
-
-private:
-    static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-    uint64_t s_[4];
-    double spare_ = 0.0;
-    bool has_spare_ = false;
-};
-
-struct PointSet {
-    std::vector<double> xyz;  // 3 per point, unit vectors
-    std::vector<double> lon;  // degrees
-    std::vector<double> lat;  // degrees
-    int64_t size() const { return int64_t(xyz.size() / 3); }
-};
-
-void normalise(double *p) {
-    const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-    p[0] /= r;
-    p[1] /= r;
-    p[2] /= r;
-}
-
-// Uniformly random points: normalised vectors of three independent normal deviates.
-std::vector<double> random_points(int64_t n, uint64_t seed) {
-    Rng rng(seed);
-    std::vector<double> xyz(size_t(3 * n));
-    for (int64_t i = 0; i < n; ++i) {
-        double *p = &xyz[size_t(3 * i)];
-        double r2;
-        do {
-            p[0] = rng.normal();
-            p[1] = rng.normal();
-            p[2] = rng.normal();
-            r2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-        } while (r2 < 1e-20);
-        normalise(p);
-    }
-    return xyz;
-}
-
-using Tri = std::array<int32_t, 3>;
-
-double det3(const double *a, const double *b, const double *c) {
-    return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-           a[2] * (b[0] * c[1] - b[1] * c[0]);
-}
-
-// The icosahedral grid of a level: the icosahedron, then `level` times every
-// triangle split into four by its edge midpoints pushed out to the sphere. Each
-// edge gets one midpoint shared by its two triangles, so the result is a proper
-// mesh. Fails (returns false, with a message) if a count is not as it must be.
-bool icosahedral_points(int level, std::vector<double> &xyz, std::string &error) {
-    const double phi = (1.0 + std::sqrt(5.0)) / 2.0;
-    xyz.clear();
-    // The 12 vertices: cyclic permutations of (0, +-1, +-phi).
-    for (int perm = 0; perm < 3; ++perm)
-        for (int s1 = -1; s1 <= 1; s1 += 2)
-            for (int s2 = -1; s2 <= 1; s2 += 2) {
-                double v[3];
-                v[perm] = 0.0;
-                v[(perm + 1) % 3] = s1;
-                v[(perm + 2) % 3] = s2 * phi;
-                normalise(v);
-                xyz.insert(xyz.end(), v, v + 3);
-            }
-    // The 20 faces: triples of mutually adjacent vertices (adjacent = at the
-    // edge length, the smallest distance), ordered counter-clockwise seen from outside.
-    auto d2 = [&](int a, int b) {
-        double s = 0;
-        for (int k = 0; k < 3; ++k) s += (xyz[3 * a + k] - xyz[3 * b + k]) * (xyz[3 * a + k] - xyz[3 * b + k]);
-        return s;
-    };
-    double min_d2 = 1e300;
-    for (int a = 0; a < 12; ++a)
-        for (int b = a + 1; b < 12; ++b) min_d2 = std::min(min_d2, d2(a, b));
-    auto adjacent = [&](int a, int b) { return d2(a, b) < min_d2 * 1.01; };
-    std::vector<Tri> tris;
-    for (int a = 0; a < 12; ++a)
-        for (int b = a + 1; b < 12; ++b)
-            for (int c = b + 1; c < 12; ++c)
-                if (adjacent(a, b) && adjacent(b, c) && adjacent(a, c)) {
-                    if (det3(&xyz[3 * a], &xyz[3 * b], &xyz[3 * c]) > 0)
-                        tris.push_back({a, b, c});
-                    else
-                        tris.push_back({a, c, b});
-                }
-    if (tris.size() != 20) {
-        error = "icosahedron has " + std::to_string(tris.size()) + " faces, not 20";
-        return false;
-    }
-
-    for (int l = 1; l <= level; ++l) {
-        std::unordered_map<uint64_t, int32_t> midpoint;
-        midpoint.reserve(tris.size() * 3 / 2);
-        xyz.reserve(xyz.size() + 3 * (tris.size() * 3 / 2));
-        auto mid = [&](int32_t a, int32_t b) -> int32_t {
-            const uint64_t key = (uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b));
-            auto found = midpoint.find(key);
-            if (found != midpoint.end()) return found->second;
-            const int32_t index = int32_t(xyz.size() / 3);
-            double m[3];
-            for (int k = 0; k < 3; ++k) m[k] = xyz[size_t(3 * a + k)] + xyz[size_t(3 * b + k)];
-            normalise(m);
-            xyz.insert(xyz.end(), m, m + 3);
-            midpoint.emplace(key, index);
-            return index;
-        };
-        std::vector<Tri> finer;
-        finer.reserve(tris.size() * 4);
-        for (const Tri &t : tris) {
-            const int32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
-            finer.push_back({t[0], ab, ca});
-            finer.push_back({t[1], bc, ab});
-            finer.push_back({t[2], ca, bc});
-            finer.push_back({ab, bc, ca});
-        }
-        // Every edge of a closed triangle mesh is shared by exactly two triangles.
-        if (midpoint.size() * 2 != tris.size() * 3) {
-            error = "level " + std::to_string(l) + ": " + std::to_string(midpoint.size()) +
-                    " edges for " + std::to_string(tris.size()) + " triangles (not a closed mesh)";
-            return false;
-        }
-        tris.swap(finer);
-    }
-    const int64_t expected = 10 * (int64_t(1) << (2 * level)) + 2;
-    const int64_t n = int64_t(xyz.size() / 3);
-    if (n != expected) {
-        error = "level " + std::to_string(level) + " grid has " + std::to_string(n) +
-                " points, expected 10*4^L+2 = " + std::to_string(expected);
-        return false;
-    }
-    if (int64_t(tris.size()) != 2 * n - 4) {
-        error = "level " + std::to_string(level) + " grid has " + std::to_string(tris.size()) +
-                " triangles, expected 2V-4 = " + std::to_string(2 * n - 4);
-        return false;
-    }
-    return true;
-}
-
-void fill_lonlat(PointSet &ps) {
-    const int64_t n = ps.size();
-    ps.lon.resize(size_t(n));
-    ps.lat.resize(size_t(n));
-    for (int64_t i = 0; i < n; ++i) {
-        const double *p = &ps.xyz[size_t(3 * i)];
-        ps.lon[size_t(i)] = std::atan2(p[1], p[0]) * (180.0 / kPi);
-        ps.lat[size_t(i)] = std::atan2(p[2], std::hypot(p[0], p[1])) * (180.0 / kPi);
-    }
-}
-
-// ------------------------------------------------------------------ cases
-
-struct CaseSpec {
-    std::string name;
-    bool random = true;
-    int64_t n = 0;   // points
-    int level = 0;   // icosahedral level
-};
-
-bool parse_case(const std::string &text, CaseSpec &spec) {
-    spec.name = text;
-    char *end = nullptr;
-    if (text.rfind("random-", 0) == 0) {
-        const char *num = text.c_str() + 7;
-        const double v = std::strtod(num, &end);
-        if (end == num || *end != '\0' || !(v >= 4) || v > 2e8 || v != std::floor(v)) return false;
-        spec.random = true;
-        spec.n = int64_t(v);
-        return true;
-    }
-    if (text.rfind("ico-", 0) == 0) {
-        const char *num = text.c_str() + 4;
-        const long v = std::strtol(num, &end, 10);
-        if (end == num || *end != '\0' || v < 0 || v > 11) return false;
-        spec.random = false;
-        spec.level = int(v);
-        spec.n = 10 * (int64_t(1) << (2 * v)) + 2;
-        return true;
-    }
-    return false;
-}
+using bench::CaseSpec;
+using bench::kSeed;
+using bench::PointSet;
 
 // ------------------------------------------------------------ measurement
 
@@ -294,6 +69,12 @@ struct ChildResult {
     int64_t faults = 0;       // page faults during the construction (ru_minflt + ru_majflt)
     double system_s = 0.0;    // system time during it, all threads (mostly first touches)
     double user_s = 0.0;      // user time during it, all threads
+    // unimesh: seconds from the call to the end of the first BRIO round (the
+    // library's first progress report), about the time to the first
+    // insertions: the input checks, the conversion, the ordering and the
+    // gather, and in a fresh process the threads' start and first touches.
+    // Negative for the references.
+    double setup_s = -1.0;
     int64_t n_vertices = 0;
     int64_t n_triangles = 0;
     int64_t n_hidden = 0;
@@ -371,6 +152,15 @@ ChildResult measure_unimesh(const PointSet &ps, int threads, bool from_lonlat) {
     struct Rounds {
         long long parallel = -1, deferred = -1;
     } rounds;
+    // The first progress report of the construction: the end of its first round.
+    struct FirstRound {
+        double at = -1.0;
+    } first_round;
+    um_context_set_progress(ctx, [](void *user, const char *, double) -> int32_t {
+        auto *f = static_cast<FirstRound *>(user);
+        if (f->at < 0) f->at = now_seconds();
+        return 0;
+    }, &first_round);
     um_context_set_log(ctx, [](void *user, int32_t, const char *msg) {
         auto *x = static_cast<Rounds *>(user);
         long long points = 0;
@@ -387,6 +177,7 @@ ChildResult measure_unimesh(const PointSet &ps, int threads, bool from_lonlat) {
     const double t1 = now_seconds();
     record_usage(r, before);
     r.seconds = t1 - t0;
+    if (first_round.at >= 0) r.setup_s = first_round.at - t0;
     if (st != UM_OK) {
         set_message(r, "status " + std::to_string(st) + ": " + um_context_last_error(ctx));
     } else if (um_triangulation_counts(tri, &r.n_vertices, &r.n_triangles, &r.n_hidden) != UM_OK) {
@@ -489,6 +280,7 @@ struct Row {
     double system_s = 0.0; // system time of the best run
     std::vector<double> times;  // every counted run's, in round order
     std::vector<double> user_times, system_times;  // their user and system times
+    std::vector<double> setup_times;               // their ChildResult::setup_s
     int64_t n_vertices = 0, n_triangles = 0, n_hidden = 0;
     std::string note;
 };
@@ -508,9 +300,10 @@ void usage(FILE *f) {
                  "usage: bench_triangulation [--quick] [--cases LIST] [--repeat R]\n"
                  "                           [--timeout S] [--qhull-limit S] [--no-qhull] [--cold]\n"
                  "  --quick          only random-1e5 and ico-6 (smoke test)\n"
-                 "  --cases LIST     comma-separated cases: random-<points> (e.g. random-1e6)\n"
-                 "                   and ico-<level> (0..11); default\n"
-                 "                   random-1e5,random-1e6,random-4e6,ico-9\n"
+                 "  --cases LIST     comma-separated cases: random-<points> (e.g. random-1e6),\n"
+                 "                   ico-<level> (0..11) and grid-<degrees> (a longitude-\n"
+                 "                   latitude grid, the step dividing 180); default\n"
+                 "                   random-1e5,random-1e6,random-4e6,ico-9,grid-0.25\n"
                  "  --repeat R       rounds of runs (every method once a round), best time\n"
                  "                   kept; default 5 (3 for cases of 3e6 points or more);\n"
                  "                   Qhull's runs: default 3 (1 from 3e6 points)\n"
@@ -610,6 +403,7 @@ std::vector<Row> measure_by_rounds(const CaseSpec &spec, const std::vector<Metho
         row.n_hidden = r.n_hidden;
         row.times.push_back(r.seconds);
         row.user_times.push_back(r.user_s);
+        row.setup_times.push_back(r.setup_s);
         row.system_times.push_back(r.system_s);
         ++row.runs;
         if (row.note.empty()) row.note = r.message;  // what the method adds (unimesh: deferrals)
@@ -705,13 +499,13 @@ int main(int argc, char **argv) {
     } else if (opt.quick) {
         opt.cases = {"random-1e5", "ico-6"};
     } else {
-        opt.cases = {"random-1e5", "random-1e6", "random-4e6", "ico-9"};
+        opt.cases = {"random-1e5", "random-1e6", "random-4e6", "ico-9", "grid-0.25"};
     }
     std::vector<CaseSpec> specs;
     for (const std::string &c : opt.cases) {
         CaseSpec spec;
-        if (!parse_case(c, spec)) {
-            std::fprintf(stderr, "bench_triangulation: bad case '%s' (random-<points> or ico-<level>)\n",
+        if (!bench::parse_case(c, spec)) {
+            std::fprintf(stderr, "bench_triangulation: bad case '%s' (random-<points>, ico-<level> or grid-<degrees>)\n",
                          c.c_str());
             return 2;
         }
@@ -735,7 +529,9 @@ int main(int argc, char **argv) {
                 "# round, the first one rotating; seconds = best of 'runs' (construction only);\n"
                 "# peak_MB = increase of the child's max RSS from when its input was ready to the end of\n"
                 "# the construction (largest over the runs); B/pt = that in bytes per input point;\n"
-                "# faults, sys_s = page faults and system time of the construction (the best run).\n");
+                "# faults, sys_s = page faults and system time of the construction (the best run);\n"
+                "# '# rounds' lines: every run's seconds (u user, s system; unimesh: r1 = seconds to\n"
+                "# the end of its first insertion round, the set-up before nearly all insertions).\n");
     if (opt.cold)
         std::printf("# --cold: no warm-up run (the first run of a case may meet memory the host took back)\n");
     else
@@ -756,22 +552,21 @@ int main(int argc, char **argv) {
     for (const CaseSpec &spec : specs) {
         PointSet ps;
         const double g0 = now_seconds();
-        if (spec.random) {
-            ps.xyz = random_points(spec.n, kSeed);
-        } else {
-            std::string error;
-            if (!icosahedral_points(spec.level, ps.xyz, error)) {
-                std::printf("%-12s FAILED to build the grid: %s\n", spec.name.c_str(), error.c_str());
-                any_failure = true;
-                continue;
-            }
+        std::string error;
+        if (!bench::make_points(spec, ps, error)) {
+            std::printf("%-12s FAILED to build the grid: %s\n", spec.name.c_str(), error.c_str());
+            any_failure = true;
+            continue;
         }
-        fill_lonlat(ps);
         const double g1 = now_seconds();
-        if (!spec.random)
+        if (spec.kind == CaseSpec::icosahedral)
             std::printf("# %s: icosahedral grid level %d, %" PRId64 " points = 10*4^%d+2 (verified), "
                         "%" PRId64 " triangles, made in %.2f s\n",
                         spec.name.c_str(), spec.level, ps.size(), spec.level, 2 * ps.size() - 4, g1 - g0);
+        if (spec.kind == CaseSpec::grid)
+            std::printf("# %s: longitude-latitude grid of %g degrees with both poles, %" PRId64
+                        " points, made in %.2f s (unimesh-lonlat gets the degrees as they are)\n",
+                        spec.name.c_str(), spec.step, ps.size(), g1 - g0);
         // Rounds of unimesh and CGAL; Qhull, minutes at 4*10^6 points and not a
         // target, keeps fewer runs.
         const int runs = opt.repeat > 0 ? opt.repeat : (spec.n >= 3000000 ? 3 : 5);
@@ -799,11 +594,16 @@ int main(int argc, char **argv) {
         for (const Row &row : by_rounds) add(row);
         // Every round's time (the rows show the best), with its user and
         // system time: a run slower than the others with as much user time
-        // waited on something else (the host, first touches).
+        // waited on something else (the host, first touches). For unimesh,
+        // r1 splits it: the seconds to the end of the first BRIO round, the
+        // set-up before nearly all insertions (ChildResult::setup_s).
         for (const Row &row : by_rounds) {
             std::printf("# rounds %s %s/%dT:", spec.name.c_str(), row.method.c_str(), row.threads);
-            for (size_t k = 0; k < row.times.size(); ++k)
-                std::printf(" %.4f (u %.3f s %.3f)", row.times[k], row.user_times[k], row.system_times[k]);
+            for (size_t k = 0; k < row.times.size(); ++k) {
+                std::printf(" %.4f (u %.3f s %.3f", row.times[k], row.user_times[k], row.system_times[k]);
+                if (row.setup_times[k] >= 0) std::printf(" r1 %.4f", row.setup_times[k]);
+                std::printf(")");
+            }
             std::printf("\n");
         }
 
