@@ -29,6 +29,9 @@ namespace um::geom {
 
 // Exact signs for the rare inputs the filters cannot decide (predicates.cpp).
 int orient3d_exact(const double *a, const double *b, const double *c, const double *d);
+// orient3d_exact without its fast path for exact differences (the tests'
+// reference for it).
+int orient3d_exact_general(const double *a, const double *b, const double *c, const double *d);
 int orient_origin_exact(const double *a, const double *b, const double *c);
 int orient3d_tie_break(const double *a, const double *b, const double *c, const double *d,
                        int64_t id_a, int64_t id_b, int64_t id_c, int64_t id_d);

@@ -14,6 +14,7 @@
 
 #include "core/radix_sort.hpp"
 #include "core/uninit_vector.hpp"
+#include "geom/expansion.hpp"
 #include "geom/predicates.hpp"
 #include "geom/sphere.hpp"
 #include "support/point_sets.hpp"
@@ -65,6 +66,63 @@ void filter_agrees_with_exact(void **) {
         decided_by_exact += e == 0;
     }
     (void)decided_by_exact;
+}
+
+// orient3d_exact's fast path (differences that are doubles) against the
+// general expansion path, and against integer arithmetic: nearby points
+// on a plane up to rounding, exactly coplanar ones (zeros), corners of
+// longitude-latitude cells (cocircular up to rounding), and integers below
+// 2^20 scaled by a power of two, whose determinant __int128 holds exactly.
+void exact_fast_path_agrees(void **) {
+    std::mt19937_64 rng(29);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::uniform_int_distribution<int64_t> small(-(1 << 20), 1 << 20);
+    int fast = 0, zeros = 0;
+    auto check = [&](const double p[4][3]) {
+        const int s = geom::orient3d_exact(p[0], p[1], p[2], p[3]);
+        assert_int_equal(s, geom::orient3d_exact_general(p[0], p[1], p[2], p[3]));
+        bool exact = true;
+        for (int r = 1; r < 4; ++r)
+            for (int k = 0; k < 3; ++k) {
+                double hi, lo;
+                geom::two_sum(p[r][k], -p[0][k], hi, lo);
+                exact &= lo == 0;
+            }
+        fast += exact, zeros += s == 0;
+    };
+    for (int i = 0; i < 100000; ++i) {
+        double p[4][3];
+        const double cx = u(rng), cy = u(rng), nx = u(rng) / 3, ny = u(rng) / 3, off = u(rng) / 3;
+        for (auto &q : p) {
+            q[0] = cx + 1e-3 * u(rng), q[1] = cy + 1e-3 * u(rng);
+            q[2] = off + nx * q[0] + ny * q[1];
+        }
+        check(p);
+        // A longitude-latitude cell's corners on the unit sphere.
+        const double lat0 = 80 * u(rng), lon0 = 180 * u(rng), step = 0.25;
+        for (int k = 0; k < 4; ++k) {
+            const double lat = (lat0 + step * (k / 2)) * M_PI / 180, lon = (lon0 + step * (k % 2)) * M_PI / 180;
+            p[k][0] = std::cos(lat) * std::cos(lon), p[k][1] = std::cos(lat) * std::sin(lon), p[k][2] = std::sin(lat);
+        }
+        check(p);
+        // Integers (exactly coplanar every other time), scaled by 2^-20.
+        int64_t m[4][3];
+        for (auto &row : m)
+            for (int64_t &x : row) x = small(rng);
+        if (i % 2)
+            for (int k = 0; k < 3; ++k) m[3][k] = m[1][k] + m[2][k] - m[0][k];  // a parallelogram
+        __int128 d[3][3];
+        for (int r = 0; r < 3; ++r)
+            for (int k = 0; k < 3; ++k) d[r][k] = m[r + 1][k] - m[0][k];
+        const __int128 det = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) -
+                             d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0]) +
+                             d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
+        for (int r = 0; r < 4; ++r)
+            for (int k = 0; k < 3; ++k) p[r][k] = std::ldexp(double(m[r][k]), -20);
+        check(p);
+        assert_int_equal(geom::orient3d_exact(p[0], p[1], p[2], p[3]), (det > 0) - (det < 0));
+    }
+    assert_true(fast > 200000 && zeros > 40000);  // both paths and many zeros were met
 }
 
 // Calls check(draw, largest, bound) 100000 times for each largest coordinate
@@ -376,6 +434,7 @@ int main() {
         cmocka_unit_test(static_filter_agrees_with_exact),
         cmocka_unit_test(static_origin_filter_agrees_with_exact),
         cmocka_unit_test(filter_agrees_with_exact),
+        cmocka_unit_test(exact_fast_path_agrees),
         cmocka_unit_test(orient_origin_is_exact),
         cmocka_unit_test(perturbed_orientation_breaks_ties_consistently),
         cmocka_unit_test(arc_length_and_areas),
