@@ -258,9 +258,10 @@ UM_API um_status um_option_key(const char *name, um_option *key);
  *
  * Rejected input (the message names the argument, index and value):
  *   n < 4, NaN/Inf coordinates or weights, |lat| > 90, weights >= 2,
- *   exactly coincident points with equal weights (UM_ERR_DUPLICATE_POINTS
- *   naming both indices; the caller removes one - with different weights
- *   the lighter one is hidden, its power cell being empty), points that do
+ *   exactly coincident points with equal lifted points x / (1 - w/2), so
+ *   equal weights (UM_ERR_DUPLICATE_POINTS naming both indices; the caller
+ *   removes one - where the weights differ by more than rounding the
+ *   lighter one is hidden, its power cell being empty), points that do
  *   not surround the centre of the sphere (all in one hemisphere or on one
  *   great circle: UM_ERR_DEGENERATE_INPUT), n above what int32 indices can
  *   address.

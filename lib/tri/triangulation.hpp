@@ -237,8 +237,9 @@ public:
     // returns its vertex slot. The slot is hidden (in_triangulation false)
     // when its power cell is empty; vertices it buries become hidden and are
     // appended to *buried when given. Throws UM_ERR_DUPLICATE_POINTS when
-    // a vertex has its lifted point (direction and weight); on a vertex's
-    // direction with another weight, the lighter of the two is hidden.
+    // a vertex has its lifted point (the same direction, and weights whose
+    // lifted lengths round alike); on a vertex's direction with another
+    // lifted point, the lighter of the two is hidden.
     // `hint` is a triangle near the point, where the walk starts.
     int32_t insert(const Vec3 &direction, double weight, int32_t id,
                    std::vector<int32_t> *buried = nullptr, int32_t hint = 0);

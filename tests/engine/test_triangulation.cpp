@@ -167,10 +167,11 @@ void exact_duplicates_in_parallel_rounds_are_named(void **) {
 // Two points on one direction with different weights: their lifted points
 // differ, so they are not duplicates (exact_duplicates_are_named has equal
 // ones); the lighter one lies under the facets around the heavier and is
-// hidden, whichever comes first. (The build's filtered walk may start such a
-// cavity without the exact walk, which an insertion that buries a vertex
-// then redoes: walk_filtered.) Serial rounds only, then parallel rounds too;
-// the same for any thread count.
+// hidden, whichever comes first. Serial rounds only, then parallel rounds
+// too; the same for any thread count. (A point on a vertex's direction ends
+// the parallel rounds' filtered walk beside two undecided edges, so the
+// exact path takes it; the filtered starts that bury vertices are met in
+// test_triangulation_api's weighted grid.)
 void coincident_points_with_other_weights(void **) {
     for (int64_t n : {3000, 100000}) {
         auto pts = test::random_points(n, 37);
