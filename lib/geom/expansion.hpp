@@ -1,7 +1,8 @@
 // Floating-point expansions: a real number held exactly as a sum of
 // non-overlapping doubles, with error-free transformations (Knuth's two-sum,
 // FMA-based two-product). Used only by the exact fallback of the predicates,
-// so it favours simplicity over speed; fixed-capacity storage avoids the heap.
+// which degenerate input (grids: cocircular cells) calls often; fixed-capacity
+// storage avoids the heap.
 #pragma once
 
 #include <cassert>
@@ -58,35 +59,50 @@ struct Expansion {
     int sign() const { return n == 0 ? 0 : (c[n - 1] > 0 ? 1 : -1); }
 };
 
-// Sum of two expansions (Shewchuk's grow-expansion applied term by term,
-// zero-eliminating): correct for any non-overlapping inputs.
-// The result has at most a.n + b.n components: callers size C for that.
+namespace detail {
+// a + sign b for sign 1 or -1 (negation is exact): Shewchuk's
+// fast-expansion-sum with zero elimination - the components of both merged
+// by magnitude, then summed in one pass of two-sums, O(a.n + b.n). It needs
+// strongly nonoverlapping inputs and round-to-nearest-even (Shewchuk 1997,
+// Theorem 13); every expansion here is (two-sum and two-product pairs are
+// nonadjacent, and this sum and scale keep the property), and IEEE
+// arithmetic rounds to even.
 template <int C, int A, int B>
-Expansion<C> add(const Expansion<A> &a, const Expansion<B> &b) {
+Expansion<C> signed_sum(const Expansion<A> &a, const Expansion<B> &b, double sign) {
     assert(a.n + b.n <= C);
     Expansion<C> out;
-    for (int i = 0; i < a.n; ++i) out.c[out.n++] = a.c[i];
-    for (int j = 0; j < b.n; ++j) {
-        // grow out by b.c[j]
-        double q = b.c[j];
-        int m = 0;
-        for (int i = 0; i < out.n; ++i) {
-            double hi, lo;
-            two_sum(q, out.c[i], hi, lo);
-            q = hi;
-            if (lo != 0) out.c[m++] = lo;
+    int i = 0, j = 0;
+    // The next component, the one of smaller magnitude first.
+    auto next = [&]() -> double {
+        if (j < b.n) {
+            const double bj = sign * b.c[j];
+            if (i == a.n || (bj > a.c[i]) != (bj > -a.c[i])) return ++j, bj;
         }
-        if (q != 0) out.c[m++] = q;
-        out.n = m;
+        return a.c[i++];
+    };
+    if (a.n + b.n == 0) return out;
+    double q = next();
+    while (i < a.n || j < b.n) {
+        double hi, lo;
+        two_sum(q, next(), hi, lo);
+        if (lo != 0) out.c[out.n++] = lo;
+        q = hi;
     }
+    if (q != 0) out.c[out.n++] = q;
     return out;
 }
+}  // namespace detail
 
+// a + b exactly; at most a.n + b.n components: callers size C for that.
+template <int C, int A, int B>
+Expansion<C> add(const Expansion<A> &a, const Expansion<B> &b) {
+    return detail::signed_sum<C>(a, b, 1.0);
+}
+
+// a - b exactly, the same way.
 template <int C, int A, int B>
 Expansion<C> subtract(const Expansion<A> &a, const Expansion<B> &b) {
-    Expansion<B> neg = b;
-    for (int i = 0; i < neg.n; ++i) neg.c[i] = -neg.c[i];
-    return add<C>(a, neg);
+    return detail::signed_sum<C>(a, b, -1.0);
 }
 
 // An expansion times a double, exactly (scale-expansion, zero-eliminating).

@@ -34,82 +34,28 @@ int det3_exact_sign(const Expansion<N> u[3], const Expansion<N> v[3], const Expa
     return add<3 * T>(add<2 * T>(t0, t1), t2).sign();
 }
 
-// The fast path of the exact orient3d, for rows that are doubles (the
-// differences of nearby points are exact: Sterbenz). Expansions as raw
-// arrays of increasing magnitude without zeros, summed by merging
-// (Shewchuk's fast-expansion-sum: linear, where Expansion's sum by growing
-// is quadratic), in straight-line code: the general path spent some 5,000
-// instructions on a sign, and a longitude-latitude grid asks for one in
-// about a fifth of its insertions (every cell's corners are cocircular).
-// The merge needs strongly nonoverlapping inputs and round-to-even (1997,
-// Theorem 13): two-sum's and two-product's pairs are, and the merge and
-// scale keep it.
-
-// h = e + f; returns h's length (at most ne + nf).
-int merge_sum(const double *e, int ne, const double *f, int nf, double *h) {
-    int i = 0, j = 0, nh = 0;
-    // The next component, the one of smaller magnitude first.
-    auto next = [&]() -> double {
-        if (j < nf && (i == ne || (f[j] > e[i]) != (f[j] > -e[i]))) return f[j++];
-        return e[i++];
-    };
-    if (ne + nf == 0) return 0;
-    double q = next();
-    while (i < ne || j < nf) {
-        double hi, lo;
-        two_sum(q, next(), hi, lo);
-        if (lo != 0) h[nh++] = lo;
-        q = hi;
-    }
-    if (q != 0) h[nh++] = q;
-    return nh;
-}
-
-// h = e b, as geom::scale; returns h's length (at most 2 ne).
-int scale_into(const double *e, int ne, double b, double *h) {
-    int nh = 0;
-    if (ne == 0 || b == 0) return 0;
-    double q, lo;
-    two_product(e[0], b, q, lo);
-    if (lo != 0) h[nh++] = lo;
-    for (int i = 1; i < ne; ++i) {
-        double p_hi, p_lo, s_hi, s_lo, t_hi, t_lo;
-        two_product(e[i], b, p_hi, p_lo);
-        two_sum(q, p_lo, s_hi, s_lo);
-        if (s_lo != 0) h[nh++] = s_lo;
-        two_sum(p_hi, s_hi, t_hi, t_lo);
-        if (t_lo != 0) h[nh++] = t_lo;
-        q = t_hi;
-    }
-    if (q != 0) h[nh++] = q;
-    return nh;
-}
-
-// The pair of x y exactly (lo, hi), zeros dropped; returns its length.
-int product_pair(double x, double y, double sign, double *h) {
+// x y exactly, as an expansion of at most two components.
+Expansion<2> product(double x, double y) {
+    Expansion<2> e;
     double hi, lo;
-    two_product(sign * x, y, hi, lo);
-    int n = 0;
-    if (lo != 0) h[n++] = lo;
-    if (hi != 0) h[n++] = hi;
-    return n;
+    two_product(x, y, hi, lo);
+    if (lo != 0) e.c[e.n++] = lo;
+    if (hi != 0) e.c[e.n++] = hi;
+    return e;
 }
 
-// r (x0 y1 - x1 y0), a term of the determinant, exactly; h holds up to 8.
-int minor_term(double r, double x0, double y1, double x1, double y0, double *h) {
-    double plus[2], minus[2], minor[4];
-    const int np = product_pair(x0, y1, 1.0, plus), nm = product_pair(x1, y0, -1.0, minus);
-    return scale_into(minor, merge_sum(plus, np, minus, nm, minor), r, h);
-}
-
-// Exact sign of det[u, v, w] = u . (v x w) for rows of doubles.
+// Exact sign of det[u, v, w] = u . (v x w) for rows of doubles: what
+// det3_exact_sign<1> computes, without multiply's loops over one-component
+// factors (through them, a 0.25-degree grid took 1.03-1.05x the time:
+// bench_ab).
+// orient3d_exact takes it when the differences of its points are doubles
+// (nearby points: Sterbenz), which a grid - every cell's corners
+// cocircular - asks for in about a fifth of its insertions.
 int det3_sign_of_doubles(const double u[3], const double v[3], const double w[3]) {
-    double t0[8], t1[8], t2[8], t01[16], sum[24];
-    const int n0 = minor_term(u[0], v[1], w[2], v[2], w[1], t0);
-    const int n1 = minor_term(u[1], v[2], w[0], v[0], w[2], t1);
-    const int n2 = minor_term(u[2], v[0], w[1], v[1], w[0], t2);
-    const int n = merge_sum(t01, merge_sum(t0, n0, t1, n1, t01), t2, n2, sum);
-    return n == 0 ? 0 : (sum[n - 1] > 0 ? 1 : -1);
+    auto term = [&](int r, int i, int j) {  // u_r (v_i w_j - v_j w_i)
+        return scale<8>(subtract<4>(product(v[i], w[j]), product(v[j], w[i])), u[r]);
+    };
+    return add<24>(add<16>(term(0, 1, 2), term(1, 2, 0)), term(2, 0, 1)).sign();
 }
 
 }  // namespace
@@ -125,8 +71,7 @@ int orient3d_exact(const double *a, const double *b, const double *c, const doub
             exact &= lo == 0;
         }
     }
-    if (exact) return det3_sign_of_doubles(rows[0], rows[1], rows[2]);
-    return orient3d_exact_general(a, b, c, d);
+    return exact ? det3_sign_of_doubles(rows[0], rows[1], rows[2]) : orient3d_exact_general(a, b, c, d);
 }
 
 int orient3d_exact_general(const double *a, const double *b, const double *c, const double *d) {

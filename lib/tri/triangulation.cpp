@@ -139,9 +139,8 @@ void Triangulation::fail_on_duplicates() const {
     for (int32_t v = 0; v < static_cast<int32_t>(q_.size()); ++v)
         if (id_[v] >= 0) slots.push_back(v);
     // Duplicates have equal lifted points (find_visible_start).
-    auto dir = [&](int32_t v) { return q_[v]; };
     std::sort(slots.begin(), slots.end(), [&](int32_t a, int32_t b) {
-        Vec3 x = dir(a), y = dir(b);
+        const Vec3 &x = q_[a], &y = q_[b];
         if (x.x != y.x) return x.x < y.x;
         if (x.y != y.y) return x.y < y.y;
         if (x.z != y.z) return x.z < y.z;
@@ -149,12 +148,12 @@ void Triangulation::fail_on_duplicates() const {
     });
     int32_t best_i = -1, best_j = -1, best_v = -1;
     for (size_t k = 1; k < slots.size(); ++k) {
-        Vec3 x = dir(slots[k - 1]), y = dir(slots[k]);
+        const Vec3 &x = q_[slots[k - 1]], &y = q_[slots[k]];
         if (x.x != y.x || x.y != y.y || x.z != y.z) continue;
         // The group's first member is its smallest index (sorted by id last).
         size_t g = k - 1;
         while (g > 0) {
-            Vec3 z = dir(slots[g - 1]);
+            const Vec3 &z = q_[slots[g - 1]];
             if (z.x != x.x || z.y != x.y || z.z != x.z) break;
             --g;
         }

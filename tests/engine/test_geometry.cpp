@@ -68,6 +68,71 @@ void filter_agrees_with_exact(void **) {
     (void)decided_by_exact;
 }
 
+// The sum by growing (Shewchuk's grow-expansion, one component of b at a
+// time): quadratic, and correct for any nonoverlapping inputs - the
+// reference for geom::add and subtract, which merge.
+template <int C, int A, int B>
+geom::Expansion<C> sum_by_growing(const geom::Expansion<A> &a, const geom::Expansion<B> &b) {
+    geom::Expansion<C> out;
+    for (int i = 0; i < a.n; ++i) out.c[out.n++] = a.c[i];
+    for (int j = 0; j < b.n; ++j) {
+        double q = b.c[j];
+        int m = 0;
+        for (int i = 0; i < out.n; ++i) {
+            double hi, lo;
+            geom::two_sum(q, out.c[i], hi, lo);
+            q = hi;
+            if (lo != 0) out.c[m++] = lo;
+        }
+        if (q != 0) out.c[m++] = q;
+        out.n = m;
+    }
+    return out;
+}
+
+// The value of the lowest set bit of x (x != 0).
+double lowest_bit(double x) {
+    int exponent;
+    const double mantissa = std::frexp(std::fabs(x), &exponent);  // [0.5, 1)
+    auto bits = static_cast<uint64_t>(std::ldexp(mantissa, 53));
+    int shift = 0;
+    while (!(bits & 1)) bits >>= 1, ++shift;
+    return std::ldexp(1.0, exponent - 53 + shift);
+}
+
+// geom::add and subtract give the exact sum and difference of expansions
+// made as the predicates make them (differences, their products), with
+// components nonzero, of increasing magnitude and nonoverlapping: minus the
+// growing sum's, exactly zero. Exponents over 2^-60 .. 2^60, and every third
+// case shares values so that terms cancel exactly.
+void expansion_sums_are_exact(void **) {
+    std::mt19937_64 rng(23);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::uniform_int_distribution<int> exponent(-60, 60);
+    auto draw = [&] { return std::ldexp(u(rng), exponent(rng)); };
+    using E2 = geom::Expansion<2>;
+    auto negated = [](auto e) {
+        for (int k = 0; k < e.n; ++k) e.c[k] = -e.c[k];
+        return e;
+    };
+    for (int i = 0; i < 200000; ++i) {
+        const double x = draw(), y = draw(), z = draw(), w = draw();
+        const E2 d1 = E2::difference(x, y), d2 = E2::difference(z, i % 3 ? w : x);
+        const auto p1 = geom::multiply<8>(d1, d2);
+        const auto p2 = geom::multiply<8>(d2, i % 3 == 1 ? d1 : E2::difference(w, y));
+        const geom::Expansion<16> sums[2][2] = {{geom::add<16>(p1, p2), sum_by_growing<16>(p1, p2)},
+                                                {geom::subtract<16>(p1, p2), sum_by_growing<16>(p1, negated(p2))}};
+        for (const auto &pair : sums) {
+            const geom::Expansion<16> &s = pair[0];
+            assert_int_equal(sum_by_growing<32>(s, negated(pair[1])).sign(), 0);
+            for (int k = 0; k < s.n; ++k) {
+                assert_true(s.c[k] != 0);
+                if (k + 1 < s.n) assert_true(std::fabs(s.c[k]) < lowest_bit(s.c[k + 1]));
+            }
+        }
+    }
+}
+
 // orient3d_exact's fast path (differences that are doubles) against the
 // general expansion path, and against integer arithmetic: nearby points
 // on a plane up to rounding, exactly coplanar ones (zeros), corners of
@@ -434,6 +499,7 @@ int main() {
         cmocka_unit_test(static_filter_agrees_with_exact),
         cmocka_unit_test(static_origin_filter_agrees_with_exact),
         cmocka_unit_test(filter_agrees_with_exact),
+        cmocka_unit_test(expansion_sums_are_exact),
         cmocka_unit_test(exact_fast_path_agrees),
         cmocka_unit_test(orient_origin_is_exact),
         cmocka_unit_test(perturbed_orientation_breaks_ties_consistently),

@@ -24,7 +24,8 @@
 //   e.g. bench_ab 1000000 1 16 /tmp/before/libunimesh.so.0 build/lib/libunimesh.so.0
 // POINTS: a number of random points, or a case of bench_triangulation's
 // (point_sets.hpp: random-1e6, ico-9, grid-0.25; --lonlat then passes the
-// case's degrees, a grid's as they are).
+// case's degrees, a grid's as they are). The points are bench_triangulation's
+// for the same case.
 #include <dlfcn.h>
 
 #include <algorithm>
@@ -34,8 +35,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <random>
-#include <string>
 #include <string>
 #include <vector>
 
@@ -144,26 +143,6 @@ long parse(const char *text, const char *what, long least) {
     return v;
 }
 
-// n uniformly random directions (normalised normal deviates, fixed seed),
-// and with lonlat the same in degrees.
-void make_random(long n, bool lonlat, Points &points) {
-    std::vector<double> &xyz = points.xyz;
-    xyz.resize(3 * static_cast<size_t>(n));
-    std::mt19937_64 random(0x756e696d657368);
-    std::normal_distribution<double> normal;
-    for (long i = 0; i < n; ++i) {
-        double x, y, z, r;
-        do x = normal(random), y = normal(random), z = normal(random), r = std::sqrt(x * x + y * y + z * z);
-        while (r == 0);
-        xyz[3 * i] = x / r, xyz[3 * i + 1] = y / r, xyz[3 * i + 2] = z / r;
-        if (lonlat) {
-            constexpr double kDegreesPerRadian = 180.0 / M_PI;
-            points.lon.push_back(std::atan2(xyz[3 * i + 1], xyz[3 * i]) * kDegreesPerRadian);
-            points.lat.push_back(std::asin(std::clamp(xyz[3 * i + 2], -1.0, 1.0)) * kDegreesPerRadian);
-        }
-    }
-}
-
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -183,20 +162,20 @@ int main(int argc, char **argv) {
         return 2;
     }
     const long threads = parse(argv[2], "THREADS", 1), rounds = parse(argv[3], "ROUNDS", 1);
-    Points points;
+    // A count is the case random-<count>.
+    const std::string name = std::strchr(argv[1], '-') ? std::string(argv[1])
+                                                        : "random-" + std::to_string(parse(argv[1], "POINTS", 4));
     bench::CaseSpec spec;
-    if (bench::parse_case(argv[1], spec)) {
-        bench::PointSet ps;
-        std::string error;
-        if (!bench::make_points(spec, ps, error)) {
-            std::fprintf(stderr, "bench_ab: %s\n", error.c_str());
-            return 1;
-        }
-        points.xyz = std::move(ps.xyz);
-        if (lonlat) points.lon = std::move(ps.lon), points.lat = std::move(ps.lat);
-    } else {
-        make_random(parse(argv[1], "POINTS", 4), lonlat, points);
+    bench::PointSet ps;
+    std::string error;
+    if (!bench::parse_case(name, spec) || !bench::make_points(spec, ps, error)) {
+        std::fprintf(stderr, "bench_ab: POINTS '%s': %s\n", argv[1],
+                     error.empty() ? "not a count or a case (random-1e6, ico-9, grid-0.25)" : error.c_str());
+        return 2;
     }
+    Points points;
+    points.xyz = std::move(ps.xyz);
+    if (lonlat) points.lon = std::move(ps.lon), points.lat = std::move(ps.lat);
     const long n = static_cast<long>(points.size());
     std::vector<Build> builds;
     for (int i = 4; i < argc; ++i) builds.push_back(Build{argv[i]});
