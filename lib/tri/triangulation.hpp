@@ -139,7 +139,7 @@ public:
     // restore() runs out of memory, it leaves the triangulation empty (and
     // throws): consistent, if not what it was.
     struct Snapshot {
-        UninitVector<Vec3> q;
+        HugePageVector<Vec3> q;
         UninitVector<int32_t> id, vertex_tri;
         std::vector<int32_t> free;
         std::vector<std::array<int32_t, 3>> triangles;  // kNone for a free slot
@@ -486,8 +486,9 @@ private:
     void compact_after_build(Context &ctx);
     [[noreturn]] void fail_on_duplicates() const;
 
-    // (UninitVector: the construction writes each element once, in parallel.)
-    UninitVector<Vec3> q_;            // lifted point per vertex slot
+    // (UninitVector: the construction writes each element once, in parallel;
+    // HugePageVector: and advises its pages.)
+    HugePageVector<Vec3> q_;            // lifted point per vertex slot
     UninitVector<int32_t> id_;        // input index; < 0 for the virtual octahedron
     UninitVector<int32_t> vertex_tri_;  // a triangle incident to the vertex; kNone hidden, kRemoved
     // One record per triangle so that a visit touches one cache line.
@@ -495,7 +496,7 @@ private:
         int32_t v[3];  // vertices; v[0] == kNone for a free slot
         int32_t n[3];  // neighbours across the edges opposite v[k]
     };
-    UninitVector<Tri> tris_;
+    HugePageVector<Tri> tris_;
     // A triangle's state during one insertion. Not a plain byte: stores
     // through a character type may alias anything, so after each mark
     // written the compiler would reload every pointer and bound the

@@ -293,6 +293,31 @@ void same_result_for_any_thread_count(void **) {
     expect_identical(ione, build(ico, nullptr, 2));
 }
 
+// The triangulation's big arrays (HugePageVector) start on a huge page
+// from 2 MiB on, through every way a vector gets a new buffer, and free
+// them as they were allocated (AddressSanitizer checks the pairing).
+void big_arrays_start_on_huge_pages(void **) {
+    constexpr size_t kBig = kHugePageMinBytes / sizeof(Vec3) + 1, kSmall = 1000;
+    auto on_huge_page = [](const void *p) { return reinterpret_cast<uintptr_t>(p) % kHugePageBytes == 0; };
+    HugePageVector<Vec3> big;
+    big.reserve(kBig);
+    assert_true(on_huge_page(big.data()));
+    HugePageVector<Vec3> grown;  // by push_back, through both sizes
+    for (size_t i = 0; i < 2 * kBig; ++i) grown.push_back(Vec3{double(i), 0, 0});
+    assert_true(on_huge_page(grown.data()));
+    assert_true(grown[kBig].x == double(kBig));
+    HugePageVector<Vec3> copy = grown;  // copied, then shrunk below the threshold
+    assert_true(on_huge_page(copy.data()));
+    copy.resize(kSmall);
+    copy.shrink_to_fit();
+    assert_int_equal(copy.capacity(), kSmall);
+    assert_true(copy[kSmall - 1].x == double(kSmall - 1));
+    big.swap(copy);
+    assert_int_equal(big.size(), kSmall);
+    HugePageVector<int32_t> few(kSmall, 7);  // below the threshold: as std::vector
+    assert_int_equal(few.back(), 7);
+}
+
 // A caller's temporaries in the build's room (as the C API's unit vectors
 // from lon/lat are) leave the triangulation as build() makes it; the room
 // is bounded, and ends with prepare().
@@ -844,6 +869,7 @@ int main() {
         cmocka_unit_test(weights_hide_points),
         cmocka_unit_test(same_result_for_any_thread_count),
         cmocka_unit_test(build_room_holds_a_callers_temporaries),
+        cmocka_unit_test(big_arrays_start_on_huge_pages),
         cmocka_unit_test(insertion_order_does_not_change_the_triangles),
         cmocka_unit_test(territories_insert_as_the_serial_path_would),
         cmocka_unit_test(territory_insertion_refuses_without_changes),
