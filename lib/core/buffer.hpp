@@ -32,7 +32,7 @@ public:
         if (size > size_t(-1) / sizeof(T)) throw std::bad_array_new_length();
         const size_t bytes = size * sizeof(T);
         if (bytes >= kHugePageMinBytes) {
-            data_ = static_cast<T *>(::operator new(bytes, std::align_val_t(kHugePageBytes)));
+            data_ = static_cast<T *>(allocate_huge_aligned(bytes));
             aligned_ = true;
             advise_huge_pages(data_, bytes);
         } else {
@@ -57,7 +57,7 @@ public:
         if (!owned_)
             return;
         if (aligned_)
-            ::operator delete(data_, std::align_val_t(kHugePageBytes));
+            free_huge_aligned(data_, size_ * sizeof(T));
         else
             ::operator delete(data_);
     }

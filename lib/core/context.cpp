@@ -28,12 +28,6 @@ void Context::set_threads(int32_t n_threads) {
     // It never asks for more threads than the machine has (TBB would warn on
     // stderr); results do not depend on the number of threads anyway.
     auto arena = std::make_unique<oneapi::tbb::task_arena>(std::min(resolved, all_cores()));
-    // Made now, not by the first parallel loop: what that takes (the arena's
-    // memory, and once per process oneTBB's start-up, about 0.7 ms on the
-    // benchmark machine) then fails here, and is not paid inside the first
-    // call that computes. (Its worker threads still start with the first
-    // parallel loop: nothing runs in the background of an idle context.)
-    if (resolved > 1) arena->initialize();
     arena_ = std::move(arena);
     threads_ = resolved;
 }

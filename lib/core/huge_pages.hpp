@@ -27,4 +27,20 @@ constexpr size_t kHugePageMinBytes = kHugePageBytes;
 // the system has no transparent huge pages, and nothing to undo.
 void advise_huge_pages(const void *data, size_t bytes) noexcept;
 
+// `bytes` (> 0) of memory starting on a 2 MiB boundary, so that the advice
+// above covers all of it; throws std::bad_alloc. Freed by
+// free_huge_aligned with the same `bytes`. For core/Buffer's large
+// temporaries and the arrays of a construction from many points
+// (HugePageVector).
+// On Linux these are mappings of their own (mmap), given back whole when
+// freed. Aligned requests to glibc's heap - which serves large ones once
+// its mmap threshold has risen, as it does after the first large free -
+// leave up to 2 MiB of slack beside each, which other requests then reuse
+// and keep resident: with the triangulation's arrays there, the whole
+// pipeline's peak rose from 306 to 357 bytes per cell on coast-rivers-60km
+// (bench_refine); with mappings it was 290. (AddressSanitizer builds use
+// the heap, which it guards.)
+void *allocate_huge_aligned(size_t bytes);
+void free_huge_aligned(void *data, size_t bytes) noexcept;
+
 }  // namespace um

@@ -4,17 +4,23 @@
 // element in a parallel loop; a plain resize would first write them all on
 // one thread, and that first write takes the page faults (0.6 ms per MB on
 // the benchmark machine). Allocation is std::allocator's, so memory use is
-// that of a std::vector. (Aligning all of them, 2 MiB or more, to huge
-// pages raised the whole pipeline's peak from 243 to 293 bytes per cell at
-// 671,000 cells, with no gain measured at 10^5 points.)
+// that of a std::vector.
 //
-// HugePageVector: the same, but a buffer of 2 MiB or more starts on a
-// 2 MiB boundary, so that huge-page advice (core/huge_pages.hpp) covers all
-// of it instead of the whole huge pages that happen to fall inside. For the
-// triangulation's lifted points and triangles, which a construction from
-// many points sizes once and advises: at 10^5 points they are 2.4 and 4.8
-// MB, and unaligned only one huge page of the two arrays was covered
-// (bench_triangulation, tools/bench/HISTORY.md).
+// HugePageVector: the same, but once reset_on_huge_pages() set it so, a
+// buffer of 2 MiB or more starts on a 2 MiB boundary (allocate_huge_aligned:
+// a mapping of its own, given back when freed), so that huge-page advice
+// (core/huge_pages.hpp) covers all of it instead of the whole huge pages
+// that happen to fall inside. For the triangulation's lifted points and
+// triangles when a construction from many points sizes them once and
+// advises them: at 10^5 points they are 2.4 and 4.8 MB, and unaligned only
+// one huge page of the two was covered; aligned, a construction takes about
+// 1,000 page faults fewer there (1,880 -> 862 on two threads) and up to 500
+// fewer from 10^6 points on, in the same memory (bench_triangulation,
+// tools/bench/HISTORY.md). Only there: the refinement's and optimisation's
+// triangulations, which grow and are copied, keep heap memory (with every
+// buffer of theirs of 2 MiB or more mapped so, the whole pipeline's peak rose
+// from 243 to 282 bytes per cell on the uniform 30 km case, bench_refine:
+// a fresh mapping cannot reuse the heap's freed pages).
 #pragma once
 
 #include <cstddef>
@@ -39,25 +45,15 @@ namespace um {
 template <class T>
 struct LeftUnwritten : std::is_trivially_default_constructible<T> {};
 
-template <class T, bool kHugePageAligned = false>
+template <class T>
 struct UninitAllocator : std::allocator<T> {
     UninitAllocator() = default;
     template <class U>
-    UninitAllocator(const UninitAllocator<U, kHugePageAligned> &) noexcept {}
+    UninitAllocator(const UninitAllocator<U> &) noexcept {}
     template <class U>
     struct rebind {
-        using other = UninitAllocator<U, kHugePageAligned>;
+        using other = UninitAllocator<U>;
     };
-    T *allocate(size_t n) {
-        if (!huge(n)) return std::allocator<T>::allocate(n);
-        return static_cast<T *>(::operator new(n * sizeof(T), std::align_val_t(kHugePageBytes)));
-    }
-    void deallocate(T *p, size_t n) noexcept {
-        if (!huge(n))
-            std::allocator<T>::deallocate(p, n);
-        else
-            ::operator delete(p, std::align_val_t(kHugePageBytes));
-    }
     // Leaves LeftUnwritten values unwritten where std::allocator would
     // value-initialise them (zero), and default-initialises the others.
     // (An opted-in type is trivially copyable and destructible: its values
@@ -76,27 +72,79 @@ struct UninitAllocator : std::allocator<T> {
     void construct(U *p, Args &&...args) {
         ::new (static_cast<void *>(p)) U(std::forward<Args>(args)...);
     }
-
-private:
-    // (Counts too large for the bytes to be counted are left to
-    // std::allocator, which throws.)
-    static bool huge(size_t n) noexcept {
-        return kHugePageAligned && n <= size_t(-1) / sizeof(T) && n * sizeof(T) >= kHugePageMinBytes;
-    }
 };
 
-template <class T, class U, bool A>
-bool operator==(const UninitAllocator<T, A> &, const UninitAllocator<U, A> &) noexcept {
+template <class T, class U>
+bool operator==(const UninitAllocator<T> &, const UninitAllocator<U> &) noexcept {
     return true;
 }
-template <class T, class U, bool A>
-bool operator!=(const UninitAllocator<T, A> &, const UninitAllocator<U, A> &) noexcept {
+template <class T, class U>
+bool operator!=(const UninitAllocator<T> &, const UninitAllocator<U> &) noexcept {
     return false;
 }
 
 template <class T>
 using UninitVector = std::vector<T, UninitAllocator<T>>;
+
+// HugePageVector's allocator: with `on_huge_pages`, buffers of 2 MiB or more
+// come from allocate_huge_aligned. The setting belongs to the container: it
+// moves and swaps with the buffer (which it freed as it allocated), and a
+// copy starts without it, so that only the vectors a caller sets up so are
+// placed so, and their copies are ordinary heap memory.
 template <class T>
-using HugePageVector = std::vector<T, UninitAllocator<T, true>>;
+struct HugePageAllocator : UninitAllocator<T> {
+    bool on_huge_pages = false;
+
+    HugePageAllocator() = default;
+    explicit HugePageAllocator(bool on) noexcept : on_huge_pages(on) {}
+    template <class U>
+    HugePageAllocator(const HugePageAllocator<U> &other) noexcept : on_huge_pages(other.on_huge_pages) {}
+    template <class U>
+    struct rebind {
+        using other = HugePageAllocator<U>;
+    };
+    using propagate_on_container_move_assignment = std::true_type;
+    using propagate_on_container_swap = std::true_type;
+    using propagate_on_container_copy_assignment = std::false_type;
+    using is_always_equal = std::false_type;
+    HugePageAllocator select_on_container_copy_construction() const noexcept { return {}; }
+
+    T *allocate(size_t n) {
+        if (!huge(n)) return std::allocator<T>::allocate(n);
+        return static_cast<T *>(allocate_huge_aligned(n * sizeof(T)));
+    }
+    void deallocate(T *p, size_t n) noexcept {
+        if (!huge(n))
+            std::allocator<T>::deallocate(p, n);
+        else
+            free_huge_aligned(p, n * sizeof(T));
+    }
+
+private:
+    // (Counts too large for the bytes to be counted are left to
+    // std::allocator, which throws.)
+    bool huge(size_t n) const noexcept {
+        return on_huge_pages && n <= size_t(-1) / sizeof(T) && n * sizeof(T) >= kHugePageMinBytes;
+    }
+};
+
+template <class T, class U>
+bool operator==(const HugePageAllocator<T> &a, const HugePageAllocator<U> &b) noexcept {
+    return a.on_huge_pages == b.on_huge_pages;
+}
+template <class T, class U>
+bool operator!=(const HugePageAllocator<T> &a, const HugePageAllocator<U> &b) noexcept {
+    return !(a == b);
+}
+
+template <class T>
+using HugePageVector = std::vector<T, HugePageAllocator<T>>;
+
+// Empties v and sets whether its buffers of 2 MiB or more start on a huge
+// page, from its next allocation on.
+template <class T>
+void reset_on_huge_pages(HugePageVector<T> &v, bool on_huge_pages) {
+    HugePageVector<T>(HugePageAllocator<T>(on_huge_pages)).swap(v);
+}
 
 }  // namespace um

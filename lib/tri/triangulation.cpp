@@ -58,7 +58,8 @@ Triangulation::BuildRoom &Triangulation::reserve_build(int64_t n) {
     // insertion starts with clear().
     const size_t max_triangles = 2 * (static_cast<size_t>(n) + kVirtual);
     room_.close();
-    tris_.clear();
+    // On huge pages when they fill one: only a build from many points.
+    reset_on_huge_pages(tris_, max_triangles * sizeof(Tri) >= kHugePageMinBytes);
     tris_.reserve(max_triangles);
     advise_huge_pages(tris_.data(), tris_.capacity() * sizeof(Tri));
     tris_.resize(max_triangles);

@@ -487,7 +487,7 @@ private:
     [[noreturn]] void fail_on_duplicates() const;
 
     // (UninitVector: the construction writes each element once, in parallel;
-    // HugePageVector: and advises its pages.)
+    // HugePageVector: and from many points places them on huge pages.)
     HugePageVector<Vec3> q_;            // lifted point per vertex slot
     UninitVector<int32_t> id_;        // input index; < 0 for the virtual octahedron
     UninitVector<int32_t> vertex_tri_;  // a triangle incident to the vertex; kNone hidden, kRemoved
@@ -578,6 +578,7 @@ void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, cons
         advise_huge_pages(values.data(), values.capacity() * sizeof(values[0]));
         values.resize(slots);
     };
+    reset_on_huge_pages(q_, slots * sizeof(Vec3) >= kHugePageMinBytes);  // as the triangles (reserve_build)
     size_for_gather(q_), size_for_gather(id_), size_for_gather(key_), size_for_gather(vertex_tri_);
     std::fill_n(key_.begin(), kVirtual, ~uint32_t(0));  // the virtual vertices: owned by no region
     std::fill_n(vertex_tri_.begin(), kVirtual, kNone);

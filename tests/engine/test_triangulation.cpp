@@ -293,29 +293,44 @@ void same_result_for_any_thread_count(void **) {
     expect_identical(ione, build(ico, nullptr, 2));
 }
 
-// The triangulation's big arrays (HugePageVector) start on a huge page
-// from 2 MiB on, through every way a vector gets a new buffer, and free
-// them as they were allocated (AddressSanitizer checks the pairing).
+// The big arrays of a construction from many points (HugePageVector, set
+// by reset_on_huge_pages) start on a huge page from 2 MiB on, through every
+// way a vector gets a new buffer, and free them as they were allocated
+// (AddressSanitizer checks the pairing); the setting moves with the buffer,
+// and copies are ordinary vectors.
 void big_arrays_start_on_huge_pages(void **) {
     constexpr size_t kBig = kHugePageMinBytes / sizeof(Vec3) + 1, kSmall = 1000;
     auto on_huge_page = [](const void *p) { return reinterpret_cast<uintptr_t>(p) % kHugePageBytes == 0; };
+    auto placed = [](const auto &v) { return v.get_allocator().on_huge_pages; };
     HugePageVector<Vec3> big;
-    big.reserve(kBig);
+    assert_false(placed(big));
+    reset_on_huge_pages(big, true);
+    big.assign(kBig, Vec3{1, 2, 3});
     assert_true(on_huge_page(big.data()));
     HugePageVector<Vec3> grown;  // by push_back, through both sizes
+    reset_on_huge_pages(grown, true);
     for (size_t i = 0; i < 2 * kBig; ++i) grown.push_back(Vec3{double(i), 0, 0});
     assert_true(on_huge_page(grown.data()));
     assert_true(grown[kBig].x == double(kBig));
-    HugePageVector<Vec3> copy = grown;  // copied, then shrunk below the threshold
-    assert_true(on_huge_page(copy.data()));
-    copy.resize(kSmall);
-    copy.shrink_to_fit();
-    assert_int_equal(copy.capacity(), kSmall);
-    assert_true(copy[kSmall - 1].x == double(kSmall - 1));
-    big.swap(copy);
-    assert_int_equal(big.size(), kSmall);
-    HugePageVector<int32_t> few(kSmall, 7);  // below the threshold: as std::vector
-    assert_int_equal(few.back(), 7);
+    HugePageVector<Vec3> copy = grown;
+    assert_false(placed(copy));
+    assert_true(copy[kBig].x == double(kBig));
+    grown.resize(kSmall);  // shrunk below the threshold
+    grown.shrink_to_fit();
+    assert_int_equal(grown.capacity(), kSmall);
+    assert_true(grown[kSmall - 1].x == double(kSmall - 1));
+    copy.swap(big);  // the setting goes with the buffer
+    assert_true(placed(copy) && on_huge_page(copy.data()));
+    assert_false(placed(big));
+    big = std::move(copy);
+    assert_true(placed(big) && on_huge_page(big.data()));
+    HugePageVector<Vec3> assigned;
+    assigned = big;  // keeps its own setting
+    assert_false(placed(assigned));
+    assert_int_equal(assigned.size(), kBig);
+    assert_true(assigned[kBig - 1].z == 3);
+    reset_on_huge_pages(big, false);
+    assert_true(big.empty() && !placed(big));
 }
 
 // A caller's temporaries in the build's room (as the C API's unit vectors
