@@ -56,6 +56,15 @@ struct Expansion {
         if (hi != 0) e.c[e.n++] = hi;
         return e;
     }
+    // a b exactly.
+    static Expansion product(double a, double b) {
+        Expansion e;
+        double hi, lo;
+        two_product(a, b, hi, lo);
+        if (lo != 0) e.c[e.n++] = lo;
+        if (hi != 0) e.c[e.n++] = hi;
+        return e;
+    }
     int sign() const { return n == 0 ? 0 : (c[n - 1] > 0 ? 1 : -1); }
 };
 

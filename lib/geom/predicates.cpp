@@ -34,16 +34,6 @@ int det3_exact_sign(const Expansion<N> u[3], const Expansion<N> v[3], const Expa
     return add<3 * T>(add<2 * T>(t0, t1), t2).sign();
 }
 
-// x y exactly, as an expansion of at most two components.
-Expansion<2> product(double x, double y) {
-    Expansion<2> e;
-    double hi, lo;
-    two_product(x, y, hi, lo);
-    if (lo != 0) e.c[e.n++] = lo;
-    if (hi != 0) e.c[e.n++] = hi;
-    return e;
-}
-
 // Exact sign of det[u, v, w] = u . (v x w) for rows of doubles: what
 // det3_exact_sign<1> computes, without multiply's loops over one-component
 // factors (through them, a 0.25-degree grid took 1.03-1.05x the time:
@@ -53,7 +43,7 @@ Expansion<2> product(double x, double y) {
 // cocircular - asks for in about a fifth of its insertions.
 int det3_sign_of_doubles(const double u[3], const double v[3], const double w[3]) {
     auto term = [&](int r, int i, int j) {  // u_r (v_i w_j - v_j w_i)
-        return scale<8>(subtract<4>(product(v[i], w[j]), product(v[j], w[i])), u[r]);
+        return scale<8>(subtract<4>(E2::product(v[i], w[j]), E2::product(v[j], w[i])), u[r]);
     };
     return add<24>(add<16>(term(0, 1, 2), term(1, 2, 0)), term(2, 0, 1)).sign();
 }

@@ -285,16 +285,14 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
             t = walk_filtered(q_[v], restart, zero_edges, n_zero, g.walk, kRegionWalkSteps, &g.keys,
                               &last_owned);
     }
+    // With no edge listed t holds v strictly in its cone, as the exact walk
+    // would have ended (the common path below).
     if (t != kNone && n_zero > 0) {
-        if (filtered_start(t, v, n_zero)) {
+        if (n_zero == 1 && filtered_start(t, v)) {
             g.hint = last_owned;
             if (!fill_cavity(v, t, g.scratch, &g.keys)) return RegionInsert::deferred;
-            if (g.scratch.cavity.size() + 2 == g.scratch.horizon.size()) {
-                stitch_new_triangles(v, g.scratch, g.pool);
-                g.hint = vertex_tri_[v];
-                return RegionInsert::inserted;
-            }
-            clear_cavity_marks(g.scratch);  // it buries a vertex: the exact path decides
+            if (!g.scratch.cavity_buries()) return stitch_in_region(v, g);
+            clear_cavity_marks(g.scratch);  // the exact path decides
         }
         t = walk(q_[v], t, zero_edges, n_zero, g.walk, kRegionWalkSteps, &g.keys, &last_owned);
     }
@@ -313,6 +311,10 @@ Triangulation::RegionInsert Triangulation::insert_in_region(int32_t v, Region &g
     if (start == kNone) return RegionInsert::hidden;  // the hull only grows: hidden for good
     if (!fill_cavity(v, start, g.scratch, &g.keys))
         return RegionInsert::deferred;
+    return stitch_in_region(v, g);
+}
+
+Triangulation::RegionInsert Triangulation::stitch_in_region(int32_t v, Region &g) {
     stitch_new_triangles(v, g.scratch, g.pool);
     // The next walk starts from the new fan, which the region owns (v and
     // the horizon vertices are its own).

@@ -168,7 +168,7 @@ Triangulation::TerritoryInsert Triangulation::insert_in(Territory &g, const Vec3
     Scratch &s = g.scratch_;
     if (!fill_cavity(v, t, s, &g.keys_)) return TerritoryInsert::deferred;
     // Weights are 0: a cavity with a vertex inside would mean a duplicate.
-    const bool buries = s.cavity.size() + 2 != s.horizon.size();
+    const bool buries = s.cavity_buries();
     const size_t room = g.reuse_.size() + s.cavity.size() + static_cast<size_t>(g.pool_.fresh_end - g.pool_.fresh);
     if (buries || room < s.horizon.size()) {
         clear_cavity_marks(s);

@@ -671,11 +671,10 @@ int32_t Triangulation::new_triangle_slot_slow(SlotPool &pool) {
 }
 
 void Triangulation::stitch_new_triangles(int32_t v, Scratch &s, SlotPool &pool) {
-    // A cavity of k triangles bounded by m edges has (k - m + 2) / 2 vertices
-    // inside it; those are buried (hidden) by v. Only then do the cavity's
+    // Only when v buries vertices (Scratch::cavity_buries) do the cavity's
     // vertices need a fresh incident triangle from the new fan.
     const size_t k = s.cavity.size(), m = s.horizon.size();
-    const bool buries = k + 2 != m;
+    const bool buries = s.cavity_buries();
     s.cavity_vertices.clear();
     if (buries)
         for (int32_t t : s.cavity)

@@ -341,6 +341,9 @@ private:
         std::vector<int32_t> cavity;  // after stitching, its first horizon.size() are the new fan
         std::vector<int32_t> cavity_vertices;  // filled only when an insertion buries vertices
         std::vector<HorizonEdge> horizon;
+        // A cavity of k triangles bounded by m edges has (k - m + 2) / 2
+        // vertices inside it, which the new point buries (hides).
+        bool cavity_buries() const { return cavity.size() + 2 != horizon.size(); }
     };
     // Where an insertion's new triangle slots come from: `reuse` first (last
     // in, first out: the cavity's own slots), then [fresh, fresh_end), then
@@ -392,20 +395,18 @@ private:
     int32_t walk_with(const Vec3 &p, int32_t t, int zero_edges[3], int &n_zero,
                       uint32_t &counter, int64_t max_steps, const KeyRange *owner,
                       int32_t *last_owned) const;
-    // Whether the end t of walk_filtered() for slot v, with n_undecided
-    // edges listed, is the start of v's cavity as it stands: t is visible
-    // and either holds v strictly in its cone or has one listed edge and v's
-    // lifted point lies strictly beyond t's facet (an exact sign, not a
-    // tie). A facet v sees starts the cavity whichever cone near the edge
-    // holds v (the facets v sees are connected). A point on a vertex's
+    // Whether the end t of walk_filtered() for slot v, with one edge
+    // listed, is the start of v's cavity as it stands: v's lifted point
+    // lies strictly beyond t's facet (an exact sign, not a tie). (With none
+    // listed t holds v strictly in its cone, and the visibility test of the
+    // exact walk's end decides.) A facet v sees starts the cavity whichever
+    // cone near the edge holds v (the facets v sees are connected). A point on a vertex's
     // direction, which only the exact walk reports as a duplicate, lists
     // the two edges at the vertex when t is around it; any other facet it
     // sees is one it sees only by a larger weight, and then its cavity
     // buries the vertex: callers leave an insertion from a listed edge
     // whose cavity buries a vertex (rare, weights only) to the exact path.
-    bool filtered_start(int32_t t, int32_t v, int n_undecided) const {
-        if (n_undecided == 0) return visible(t, v);
-        if (n_undecided > 1) return false;
+    bool filtered_start(int32_t t, int32_t v) const {
         const int32_t *tv = tris_[t].v;
         return geom::orient3d_static(q_[tv[0]].data(), q_[tv[1]].data(), q_[tv[2]].data(), q_[v].data(),
                                      build_bound_) > 0;
@@ -435,6 +436,8 @@ private:
     std::vector<int32_t> run_regions(Context &ctx, std::vector<Region> &regions);
     enum class RegionInsert { inserted, hidden, deferred };
     RegionInsert insert_in_region(int32_t v, Region &region);
+    // The cavity filled in region.scratch made v's fan.
+    RegionInsert stitch_in_region(int32_t v, Region &region);
     int32_t region_start(const Region &region, int32_t v) const;
     int32_t vertex_near_key(int32_t v, int32_t begin, int32_t end) const;
     int32_t first_slot_with_key(uint32_t key, int32_t begin, int32_t end) const;
