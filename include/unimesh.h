@@ -32,6 +32,13 @@
  *     callback are only ever called from the host thread that made the call, never
  *     from a worker thread. A spacing (user) callback may be called from worker
  *     threads concurrently and must be thread-safe.
+ *   - While a call runs in parallel (Linux), the workers that ran parts of the
+ *     context's calls are kept off the CPU the calling thread is on: each one's
+ *     affinity mask loses that CPU for the length of the call and gets it back
+ *     when the call returns (a mask of one CPU is never changed). Why: a worker
+ *     woken by a busy thread may otherwise wait behind it on its CPU for
+ *     milliseconds (on virtual machines whose kernel packs threads onto few
+ *     CPUs, 3-6 ms), which is the whole of a short call.
  *
  * Errors
  *   - Status codes come in numbered bands (see um_status); um_status_class()

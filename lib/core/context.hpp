@@ -18,6 +18,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include "core/growth.hpp"
+#include "core/worker_placement.hpp"
 #include "unimesh.h"
 
 namespace um {
@@ -29,20 +30,6 @@ public:
     // Threads ------------------------------------------------------------
     void set_threads(int32_t n_threads);  // 0 = all cores
     int32_t threads() const { return threads_; }
-    // Runs fn inside this context's arena (serially when threads() == 1).
-    template <class Fn>
-    void run(Fn &&fn) {
-#ifdef UNIMESH_PLAIN_THREADS
-        fn();
-#else
-        if (threads_ == 1) {
-            fn();
-        } else {
-            arena_->execute(fn);
-        }
-#endif
-    }
-
     // Calls fn(begin, end) over chunks of [0, n) in parallel in this context's
     // arena; serially when n <= grain or with one thread. fn must not depend
     // on how the range is split (that is what keeps results deterministic).
@@ -60,9 +47,11 @@ public:
         // edges and still run the same bodies concurrently.
         plain_threads_for(n, fn);
 #else
+        WorkerPlacement::Scope placed(placement_);  // (worker_placement.hpp)
         arena_->execute([&] {
             oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<int64_t>(0, n, grain),
                                       [&](const oneapi::tbb::blocked_range<int64_t> &r) {
+                                          placement_.note_part_runner();
                                           fn(r.begin(), r.end());
                                       });
         });
@@ -147,6 +136,7 @@ public:
 private:
     int32_t threads_ = 1;
     std::unique_ptr<oneapi::tbb::task_arena> arena_;
+    WorkerPlacement placement_;  // the workers that ran parts of its calls
 
     um_progress_fn progress_fn_ = nullptr;
     void *progress_user_ = nullptr;

@@ -69,6 +69,7 @@ struct ChildResult {
     int64_t faults = 0;       // page faults during the construction (ru_minflt + ru_majflt)
     double system_s = 0.0;    // system time during it, all threads (mostly first touches)
     double user_s = 0.0;      // user time during it, all threads
+    double wait_s = 0.0;      // run-queue wait during it, all threads (Usage::runqueue_wait_s)
     // unimesh: seconds from the call to the end of the first BRIO round (the
     // library's first progress report), about the time to the first
     // insertions: the input checks, the conversion, the ordering and the
@@ -93,6 +94,7 @@ void record_usage(ChildResult &r, const Usage &before) {
     r.faults = after.faults - before.faults;
     r.system_s = after.system_s - before.system_s;
     r.user_s = after.user_s - before.user_s;
+    r.wait_s = after.runqueue_wait_s - before.runqueue_wait_s;
 }
 
 void set_message(ChildResult &r, const std::string &text) {
@@ -281,6 +283,7 @@ struct Row {
     std::vector<double> times;  // every counted run's, in round order
     std::vector<double> user_times, system_times;  // their user and system times
     std::vector<double> setup_times;               // their ChildResult::setup_s
+    std::vector<double> wait_times;                // their ChildResult::wait_s
     int64_t n_vertices = 0, n_triangles = 0, n_hidden = 0;
     std::string note;
 };
@@ -404,6 +407,7 @@ std::vector<Row> measure_by_rounds(const CaseSpec &spec, const std::vector<Metho
         row.times.push_back(r.seconds);
         row.user_times.push_back(r.user_s);
         row.setup_times.push_back(r.setup_s);
+        row.wait_times.push_back(r.wait_s);
         row.system_times.push_back(r.system_s);
         ++row.runs;
         if (row.note.empty()) row.note = r.message;  // what the method adds (unimesh: deferrals)
@@ -530,8 +534,9 @@ int main(int argc, char **argv) {
                 "# peak_MB = increase of the child's max RSS from when its input was ready to the end of\n"
                 "# the construction (largest over the runs); B/pt = that in bytes per input point;\n"
                 "# faults, sys_s = page faults and system time of the construction (the best run);\n"
-                "# '# rounds' lines: every run's seconds (u user, s system; unimesh: r1 = seconds to\n"
-                "# the end of its first insertion round, the set-up before nearly all insertions).\n");
+                "# '# rounds' lines: every run's seconds (u user, s system, qw the threads' wait for a\n"
+                "# CPU while ready to run; unimesh: r1 = seconds to the end of its first insertion\n"
+                "# round, the set-up before nearly all insertions).\n");
     if (opt.cold)
         std::printf("# --cold: no warm-up run (the first run of a case may meet memory the host took back)\n");
     else
@@ -600,7 +605,8 @@ int main(int argc, char **argv) {
         for (const Row &row : by_rounds) {
             std::printf("# rounds %s %s/%dT:", spec.name.c_str(), row.method.c_str(), row.threads);
             for (size_t k = 0; k < row.times.size(); ++k) {
-                std::printf(" %.4f (u %.3f s %.3f", row.times[k], row.user_times[k], row.system_times[k]);
+                std::printf(" %.4f (u %.3f s %.3f qw %.4f", row.times[k], row.user_times[k],
+                            row.system_times[k], row.wait_times[k]);
                 if (row.setup_times[k] >= 0) std::printf(" r1 %.4f", row.setup_times[k]);
                 std::printf(")");
             }

@@ -3,6 +3,7 @@
 // process's resource use. Header-only; each benchmark is one program.
 #pragma once
 
+#include <dirent.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/resource.h>
@@ -27,7 +28,30 @@ inline double now_seconds() {
 struct Usage {
     int64_t maxrss_kb = 0, faults = 0;  // peak resident size (kB on Linux); minor + major faults
     double system_s = 0.0, user_s = 0.0;
+    // Time its threads (those alive now) spent ready to run but waiting for a
+    // CPU (Linux schedstat): a worker queued behind a busy thread shows here.
+    double runqueue_wait_s = 0.0;
 };
+
+// The run-queue wait of the process's live threads, summed; 0 where
+// /proc/self/task/<tid>/schedstat cannot be read.
+inline double runqueue_wait_now() {
+    double total_ns = 0.0;
+    DIR *dir = opendir("/proc/self/task");
+    if (!dir) return 0.0;
+    while (const dirent *entry = readdir(dir)) {
+        if (entry->d_name[0] == '.') continue;
+        char path[64];
+        std::snprintf(path, sizeof path, "/proc/self/task/%.20s/schedstat", entry->d_name);
+        if (FILE *f = std::fopen(path, "r")) {
+            unsigned long long run_ns = 0, wait_ns = 0;
+            if (std::fscanf(f, "%llu %llu", &run_ns, &wait_ns) == 2) total_ns += double(wait_ns);
+            std::fclose(f);
+        }
+    }
+    closedir(dir);
+    return 1e-9 * total_ns;
+}
 
 inline Usage usage_now() {
     rusage ru{};
@@ -37,6 +61,7 @@ inline Usage usage_now() {
     u.faults = int64_t(ru.ru_minflt) + int64_t(ru.ru_majflt);
     u.system_s = double(ru.ru_stime.tv_sec) + 1e-6 * double(ru.ru_stime.tv_usec);
     u.user_s = double(ru.ru_utime.tv_sec) + 1e-6 * double(ru.ru_utime.tv_usec);
+    u.runqueue_wait_s = runqueue_wait_now();
     return u;
 }
 

@@ -1,0 +1,91 @@
+// Keeps a context's worker threads off the host thread's CPU while a
+// parallel call runs, so that a worker woken for the call starts on another
+// CPU at once.
+//
+// Why: Linux wakes a sleeping thread on the CPU of the thread that woke it
+// when it judges that CPU's cache worth more than an idle one, and some
+// kernels pack tasks onto few CPUs on purpose (this project's virtual
+// machines: sched_vcpu_pack). oneTBB's workers sleep between parallel loops,
+// and the host thread wakes them, then keeps working: the worker waits in
+// that CPU's queue, behind the host, until the load balancer moves it, while
+// the other CPU idles. On this machine that took 3-6 ms in a fresh process
+// (schedstat: the worker waited 5-11 ms of a 15-24 ms construction from
+// 10^5 points on two threads); with the worker kept off the host's CPU it
+// waits 0.1-0.4 ms and the construction takes 12-15 ms.
+//
+// How: every thread that runs a part of one of the context's parallel calls
+// other than the host is recorded (its thread id) the first time. For the
+// length of one parallel call from the host thread, each recorded worker's
+// affinity mask loses the host's current CPU (when it has others), and gets
+// it back when the call returns; a worker that runs its first part on the
+// host's CPU, before being recorded, moves itself the same way. So nothing
+// is pinned: between calls every mask is as it was, and a mask that allows
+// one CPU only is never touched. Best effort: a failed system call leaves
+// that worker where the kernel puts it.
+//
+// (Workers are recorded from the parts they run, not by a oneTBB
+// task_scheduler_observer: an observer initialises the arena, which made
+// with the context raised the pipeline's peak memory by 4-6 MB, and oneTBB
+// frees an observer's record only when the workers that saw it leave the
+// arena, after the context may be gone: LeakSanitizer reported it.)
+//
+// Linux only; elsewhere the placement does nothing.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+
+namespace um {
+
+class WorkerPlacement {
+public:
+    WorkerPlacement();
+    WorkerPlacement(const WorkerPlacement &) = delete;
+    WorkerPlacement &operator=(const WorkerPlacement &) = delete;
+
+    // One parallel call: recorded workers off the calling thread's CPU from
+    // construction to destruction. Does nothing when the call is nested in
+    // another (made from a part of one, on the host or on a worker) or the
+    // CPU is unknown.
+    class Scope {
+    public:
+        explicit Scope(WorkerPlacement &placement);
+        ~Scope();
+        Scope(const Scope &) = delete;
+        Scope &operator=(const Scope &) = delete;
+
+    private:
+        WorkerPlacement *placement_ = nullptr;  // null: nothing to undo
+    };
+
+    // Called at the start of every part of a parallel call, by the thread
+    // that runs it: records a worker the first time.
+    void note_part_runner();
+
+    // For tests: the CPU kept free for the host during a call (else -1), and
+    // how many workers were recorded.
+    int32_t host_cpu() const { return host_cpu_.load(std::memory_order_acquire); }
+    int recorded_workers() const;
+
+private:
+    // More workers than this are not placed. Each placed worker costs a
+    // parallel call about 3 us of system calls (restrict and give back, a
+    // sleeping thread, this machine): some 870 calls of the coast-rivers-60km
+    // pipeline pay 2.8 ms a worker. What a packed worker costs is a share of
+    // the machine that shrinks as it has more CPUs, so past a few workers
+    // the placement would cost more than it saves.
+    static constexpr int kMaxWorkers = 8;
+    struct Worker {
+        std::atomic<int32_t> tid{0};           // 0: the slot is not filled yet
+        std::atomic<int32_t> removed_cpu{-1};  // the CPU its mask lost, -1: none
+    };
+    bool is_recorded(int32_t tid) const;
+    void record(int32_t tid);
+    const uint64_t id_;  // unique in the process (a thread's last placement)
+    std::array<Worker, kMaxWorkers> workers_;
+    std::atomic<int> claimed_{0};          // slots claimed (may pass kMaxWorkers)
+    std::atomic<int32_t> host_cpu_{-1};    // the host's CPU during a call, else -1
+};
+
+}  // namespace um
