@@ -32,13 +32,18 @@
  *     callback are only ever called from the host thread that made the call, never
  *     from a worker thread. A spacing (user) callback may be called from worker
  *     threads concurrently and must be thread-safe.
- *   - While a call runs in parallel (Linux), the workers that ran parts of the
- *     context's calls are kept off the CPU the calling thread is on: each one's
- *     affinity mask loses that CPU for the length of the call and gets it back
- *     when the call returns (a mask of one CPU is never changed). Why: a worker
- *     woken by a busy thread may otherwise wait behind it on its CPU for
- *     milliseconds (on virtual machines whose kernel packs threads onto few
- *     CPUs, 3-6 ms), which is the whole of a short call.
+ *   - While a call runs in parallel (Linux), up to 8 of the worker threads that
+ *     ran parts of the context's calls are kept off the CPU the calling thread
+ *     is on: their affinity mask loses that CPU for the length of the call and
+ *     gets it back when the last call holding it off returns, unless someone
+ *     else changed the mask meanwhile (then it is left as they set it); a mask
+ *     of one CPU is never narrowed. Best effort: a worker the system refuses
+ *     to move stays where it is. Why: a worker woken by a busy thread may otherwise wait behind
+ *     it on its CPU for milliseconds (on virtual machines whose kernel packs
+ *     threads onto few CPUs, 3-6 ms), which is the whole of a short call. The
+ *     workers are oneTBB's, shared by everything in the process that uses
+ *     oneTBB: the environment variable UNIMESH_WORKER_PLACEMENT=off (read once
+ *     per process) turns this off.
  *
  * Errors
  *   - Status codes come in numbered bands (see um_status); um_status_class()

@@ -30,6 +30,8 @@ public:
     // Threads ------------------------------------------------------------
     void set_threads(int32_t n_threads);  // 0 = all cores
     int32_t threads() const { return threads_; }
+    // Where its workers may run during its calls (tests).
+    const WorkerPlacement &worker_placement() const { return placement_; }
     // Calls fn(begin, end) over chunks of [0, n) in parallel in this context's
     // arena; serially when n <= grain or with one thread. fn must not depend
     // on how the range is split (that is what keeps results deterministic).

@@ -1,6 +1,9 @@
 #include "core/worker_placement.hpp"
 
 #include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
 
 #if defined(__linux__)
 #include <sched.h>
@@ -21,6 +24,21 @@ thread_local uint64_t t_recorded_by = 0;
 
 std::atomic<uint64_t> next_placement_id{1};
 
+// UNIMESH_WORKER_PLACEMENT=off (or 0, no, false) turns the placement off for
+// the process: the workers are oneTBB's, shared by everything in it that uses
+// oneTBB, and an application that places its threads itself may not want a
+// library to touch them. Read once.
+bool placement_enabled() {
+    static const bool enabled = [] {
+        const char *v = std::getenv("UNIMESH_WORKER_PLACEMENT");
+        if (!v) return true;
+        for (const char *off : {"off", "0", "no", "false", "OFF", "NO", "FALSE"})
+            if (std::strcmp(v, off) == 0) return false;
+        return true;
+    }();
+    return enabled;
+}
+
 #if defined(__linux__)
 int32_t this_thread_id() { return static_cast<int32_t>(syscall(SYS_gettid)); }
 
@@ -31,22 +49,140 @@ bool is_our_thread(int32_t tid) {
     return syscall(SYS_tgkill, static_cast<int>(getpid()), tid, 0) == 0;
 }
 
-// Takes `cpu` out of the thread's mask when the mask holds it and others.
-bool remove_cpu(int32_t tid, int32_t cpu) {
-    cpu_set_t mask;
+bool mask_of(int32_t tid, cpu_set_t &mask) {
     CPU_ZERO(&mask);
-    if (sched_getaffinity(tid, sizeof mask, &mask) != 0) return false;
-    if (cpu >= CPU_SETSIZE || !CPU_ISSET(cpu, &mask) || CPU_COUNT(&mask) < 2) return false;
-    CPU_CLR(cpu, &mask);
-    return sched_setaffinity(tid, sizeof mask, &mask) == 0;
+    return sched_getaffinity(tid, sizeof mask, &mask) == 0;
 }
 
-void give_back_cpu(int32_t tid, int32_t cpu) {
-    cpu_set_t mask;
-    CPU_ZERO(&mask);
-    if (sched_getaffinity(tid, sizeof mask, &mask) != 0) return;
-    CPU_SET(cpu, &mask);
-    sched_setaffinity(tid, sizeof mask, &mask);
+bool set_mask(int32_t tid, const cpu_set_t &mask) { return sched_setaffinity(tid, sizeof mask, &mask) == 0; }
+
+// The masks narrowed by any placement in the process, by thread: every
+// change goes through here under one lock, so that two contexts used at once
+// from two host threads (sharing oneTBB's workers) cannot lose each other's
+// updates, and a CPU goes back only when no call holds it off any more, and
+// only to a mask still as set here. A mask that someone else changed
+// meanwhile is left as they set it, with one exception: a mask that is the
+// one before our first narrowing less only CPUs we took off is ours, put back
+// by a thread that saved it during a call and restored it after our
+// give-back (oneTBB does so around launching a thread); the next hold
+// restores it first.
+class NarrowedMasks {
+public:
+    // Keeps `cpu` off the thread's mask (one hold more); false if it cannot
+    // (the mask lacks it, or allows only it, or no room is left).
+    bool hold_off(int32_t tid, int32_t cpu) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        cpu_set_t now;
+        if (cpu < 0 || cpu >= CPU_SETSIZE || !mask_of(tid, now)) return false;
+        Entry *e = find(tid);
+        if (e && e->holds_in_all() == 0) {
+            if (e->is_ours_put_back(now) && set_mask(tid, e->original)) now = e->original;
+            e->start_from(now);
+        } else if (e && !CPU_EQUAL(&now, &e->ours)) {
+            e->forget();  // changed by someone else while held: the holds lapse
+            e->start_from(now);
+        }
+        if (e && e->holds_in_all() > 0) {
+            if (Hold *h = e->hold_on(cpu)) return ++h->count, true;
+        }
+        if (!CPU_ISSET(cpu, &now) || CPU_COUNT(&now) < 2) return false;
+        if (!e && (e = add(tid)) != nullptr) e->start_from(now);
+        Hold *h = e ? e->new_hold(cpu) : nullptr;
+        if (!h) return false;
+        cpu_set_t narrowed = now;
+        CPU_CLR(cpu, &narrowed);
+        if (!set_mask(tid, narrowed)) return false;
+        e->ours = narrowed;
+        CPU_SET(cpu, &e->taken);
+        h->cpu = cpu, h->count = 1;
+        return true;
+    }
+
+    // One hold of `cpu` fewer; the last gives the CPU back, if the mask is
+    // still the one set here. (The entry stays: see is_ours_put_back.)
+    void release(int32_t tid, int32_t cpu) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        Entry *e = find(tid);
+        Hold *h = e ? e->hold_on(cpu) : nullptr;
+        if (!h || --h->count > 0) return;
+        cpu_set_t now;
+        if (!mask_of(tid, now) || !CPU_EQUAL(&now, &e->ours)) return e->forget();
+        CPU_SET(cpu, &now);
+        if (!set_mask(tid, now)) return e->forget();
+        e->ours = now;
+    }
+
+    // A thread that ended: its entry goes (its number may come back).
+    void drop(int32_t tid) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (Entry *e = find(tid)) *e = Entry();
+    }
+
+private:
+    static constexpr int kEntries = 64, kHolds = 8;
+    struct Hold {
+        int32_t cpu = -1, count = 0;
+    };
+    struct Entry {
+        int32_t tid = 0;
+        cpu_set_t original{};  // the mask before the holds since start_from
+        cpu_set_t taken{};     // the CPUs taken off it since
+        cpu_set_t ours{};      // the mask as last set here
+        Hold holds[kHolds];
+
+        void start_from(const cpu_set_t &now) {
+            original = ours = now;
+            CPU_ZERO(&taken);
+        }
+        // `now` is `original` less some of the CPUs taken off it (not all of
+        // it: that is no narrowing).
+        bool is_ours_put_back(const cpu_set_t &now) const {
+            cpu_set_t within, lost, lost_taken;
+            CPU_AND(&within, &now, &original);
+            CPU_XOR(&lost, &original, &now);
+            CPU_AND(&lost_taken, &lost, &taken);
+            return CPU_EQUAL(&within, &now) && CPU_EQUAL(&lost_taken, &lost) && CPU_COUNT(&lost) > 0;
+        }
+        int holds_in_all() const {
+            int n = 0;
+            for (const Hold &h : holds) n += h.count;
+            return n;
+        }
+        Hold *hold_on(int32_t cpu) {
+            for (Hold &h : holds)
+                if (h.count > 0 && h.cpu == cpu) return &h;
+            return nullptr;
+        }
+        Hold *new_hold(int32_t cpu) {
+            for (Hold &h : holds)
+                if (h.count == 0) return h.cpu = cpu, &h;
+            return nullptr;
+        }
+        void forget() {
+            for (Hold &h : holds) h = Hold();
+        }
+    };
+    Entry *find(int32_t tid) {
+        for (Entry &e : entries_)
+            if (e.tid == tid) return &e;
+        return nullptr;
+    }
+    // A free entry, else one that holds nothing now (its thread may have
+    // ended unseen: oneTBB starts new workers when host threads come and go).
+    Entry *add(int32_t tid) {
+        Entry *e = find(0);
+        for (int i = 0; !e && i < kEntries; ++i)
+            if (entries_[i].holds_in_all() == 0) e = &entries_[i];
+        if (e) *e = Entry(), e->tid = tid;
+        return e;
+    }
+    std::mutex mutex_;
+    Entry entries_[kEntries];
+};
+
+NarrowedMasks &narrowed_masks() {
+    static NarrowedMasks masks;  // (constant-initialised, nothing to destroy)
+    return masks;
 }
 #endif
 }  // namespace
@@ -55,7 +191,7 @@ WorkerPlacement::WorkerPlacement() : id_(next_placement_id.fetch_add(1, std::mem
 
 int WorkerPlacement::recorded_workers() const {
     int n = 0;
-    for (const Worker &w : workers_) n += w.tid.load(std::memory_order_acquire) != 0;
+    for (const Worker &w : workers_) n += w.tid.load(std::memory_order_acquire) > 0;
     return n;
 }
 
@@ -68,7 +204,7 @@ bool WorkerPlacement::is_recorded(int32_t tid) const {
 
 void WorkerPlacement::note_part_runner() {
 #if defined(__linux__)
-    if (t_hosting || t_recorded_by == id_) return;  // the host, or recorded here
+    if (t_hosting || t_recorded_by == id_ || !placement_enabled()) return;  // the host, or recorded here
     t_worker = true;
     t_recorded_by = id_;
     const int32_t tid = this_thread_id();
@@ -78,14 +214,25 @@ void WorkerPlacement::note_part_runner() {
 
 void WorkerPlacement::record(int32_t tid) {
 #if defined(__linux__)
-    const int slot = claimed_.fetch_add(1, std::memory_order_acq_rel);
-    if (slot >= kMaxWorkers) return;
-    Worker &w = workers_[static_cast<size_t>(slot)];
+    // A slot whose thread ended (kDeadTid), else a new one.
+    Worker *w = nullptr;
+    const int n = std::min(claimed_.load(std::memory_order_acquire), kMaxWorkers);
+    for (int i = 0; !w && i < n; ++i) {
+        int32_t dead = kDeadTid;
+        if (workers_[i].tid.compare_exchange_strong(dead, tid, std::memory_order_acq_rel)) w = &workers_[i];
+    }
+    if (!w) {
+        int slot = claimed_.load(std::memory_order_acquire);
+        do {
+            if (slot >= kMaxWorkers) return;  // full: this one is not placed
+        } while (!claimed_.compare_exchange_weak(slot, slot + 1, std::memory_order_acq_rel));
+        w = &workers_[static_cast<size_t>(slot)];
+        w->tid.store(tid, std::memory_order_release);
+    }
     // Woken onto the host's CPU before anyone could keep it off: move now.
     const int32_t host_cpu = host_cpu_.load(std::memory_order_acquire);
-    if (host_cpu >= 0 && sched_getcpu() == host_cpu && remove_cpu(tid, host_cpu))
-        w.removed_cpu.store(host_cpu, std::memory_order_release);
-    w.tid.store(tid, std::memory_order_release);
+    if (host_cpu >= 0 && sched_getcpu() == host_cpu && narrowed_masks().hold_off(tid, host_cpu))
+        w->removed_cpu.store(host_cpu, std::memory_order_release);
 #else
     (void)tid;
 #endif
@@ -93,18 +240,26 @@ void WorkerPlacement::record(int32_t tid) {
 
 WorkerPlacement::Scope::Scope(WorkerPlacement &placement) {
 #if defined(__linux__)
-    if (t_hosting || t_worker) return;  // nested: the outer call placed the workers
+    if (t_hosting || t_worker || !placement_enabled()) return;  // nested, or off
+    t_hosting = true;  // (before anything else: the host's parts must not record it)
+    placement_ = &placement;
     const int32_t cpu = static_cast<int32_t>(sched_getcpu());
     if (cpu < 0) return;
-    placement_ = &placement;
-    t_hosting = true;
     placement.host_cpu_.store(cpu, std::memory_order_release);
     const int n = std::min(placement.claimed_.load(std::memory_order_acquire), kMaxWorkers);
-    for (int i = 0; i < n; ++i) {
-        Worker &w = placement.workers_[static_cast<size_t>(i)];
-        const int32_t tid = w.tid.load(std::memory_order_acquire);
-        if (tid == 0 || w.removed_cpu.load(std::memory_order_acquire) >= 0) continue;
-        if (is_our_thread(tid) && remove_cpu(tid, cpu)) w.removed_cpu.store(cpu, std::memory_order_release);
+    try {
+        for (int i = 0; i < n; ++i) {
+            Worker &w = placement.workers_[static_cast<size_t>(i)];
+            const int32_t tid = w.tid.load(std::memory_order_acquire);
+            if (tid <= 0 || w.removed_cpu.load(std::memory_order_acquire) >= 0) continue;
+            if (!is_our_thread(tid)) {  // it ended: its slot is free again
+                narrowed_masks().drop(tid);
+                w.tid.store(kDeadTid, std::memory_order_release);
+                continue;
+            }
+            if (narrowed_masks().hold_off(tid, cpu)) w.removed_cpu.store(cpu, std::memory_order_release);
+        }
+    } catch (...) {  // (a lock that fails: the rest are not placed; the destructor gives back)
     }
 #else
     (void)placement;
@@ -120,9 +275,12 @@ WorkerPlacement::Scope::~Scope() {
     for (int i = 0; i < n; ++i) {
         Worker &w = placement_->workers_[static_cast<size_t>(i)];
         const int32_t tid = w.tid.load(std::memory_order_acquire);
-        if (tid == 0) continue;
         const int32_t cpu = w.removed_cpu.exchange(-1, std::memory_order_acq_rel);
-        if (cpu >= 0 && is_our_thread(tid)) give_back_cpu(tid, cpu);
+        if (tid <= 0 || cpu < 0) continue;
+        try {
+            narrowed_masks().release(tid, cpu);
+        } catch (...) {  // (a lock that fails: the mask stays narrowed)
+        }
     }
 #endif
 }

@@ -18,10 +18,24 @@
 // length of one parallel call from the host thread, each recorded worker's
 // affinity mask loses the host's current CPU (when it has others), and gets
 // it back when the call returns; a worker that runs its first part on the
-// host's CPU, before being recorded, moves itself the same way. So nothing
-// is pinned: between calls every mask is as it was, and a mask that allows
-// one CPU only is never touched. Best effort: a failed system call leaves
-// that worker where the kernel puts it.
+// host's CPU, before being recorded, moves itself the same way. Every mask
+// change in the process goes through one record under one lock (oneTBB's
+// workers are shared, and two contexts may run calls at once from two host
+// threads): a CPU goes back when no call holds it off any more, and only to
+// a mask that is still the one set here; a mask someone else changed
+// meanwhile is left as they set it, unless it is our narrowing put back (a
+// thread that saved the mask during a call and restored it after our
+// give-back: the next call undoes it). So nothing is pinned between calls.
+// Best effort: a failed system call leaves that worker where the kernel puts
+// it. UNIMESH_WORKER_PLACEMENT=off in the environment turns it all off.
+//
+// Known limits: on kernels that keep a requested mask across cpuset changes
+// (6.2 and later), a worker once narrowed no longer follows a cpuset that
+// grows; a process forked from a worker during a call (a spacing callback)
+// inherits the narrowed mask; a worker that ended, whose thread id another
+// thread of the process took before the next call, lends that thread its
+// place (oneTBB's workers live as long as the pool, so this takes a pool
+// shut down and restarted while a context lives).
 //
 // (Workers are recorded from the parts they run, not by a oneTBB
 // task_scheduler_observer: an observer initialises the arena, which made
@@ -76,15 +90,16 @@ private:
     // the machine that shrinks as it has more CPUs, so past a few workers
     // the placement would cost more than it saves.
     static constexpr int kMaxWorkers = 8;
+    static constexpr int32_t kDeadTid = -1;  // a slot whose thread ended
     struct Worker {
-        std::atomic<int32_t> tid{0};           // 0: the slot is not filled yet
+        std::atomic<int32_t> tid{0};           // 0: not filled yet; kDeadTid
         std::atomic<int32_t> removed_cpu{-1};  // the CPU its mask lost, -1: none
     };
     bool is_recorded(int32_t tid) const;
     void record(int32_t tid);
     const uint64_t id_;  // unique in the process (a thread's last placement)
     std::array<Worker, kMaxWorkers> workers_;
-    std::atomic<int> claimed_{0};          // slots claimed (may pass kMaxWorkers)
+    std::atomic<int> claimed_{0};          // slots claimed (at most kMaxWorkers)
     std::atomic<int32_t> host_cpu_{-1};    // the host's CPU during a call, else -1
 };
 

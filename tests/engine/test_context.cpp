@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <initializer_list>
 #include <condition_variable>
 #include <functional>
 #include <mutex>
@@ -148,25 +151,129 @@ void workers_stay_off_the_host_cpu_during_a_call(void **) {
     assert_true(same(mask_of(0), original));
 }
 
-#ifndef UNIMESH_PLAIN_THREADS
-// The context places its workers for its own parallel calls and leaves
-// their masks as they were, with calls nested in them (which place nothing)
-// among its calls.
-void a_context_gives_its_workers_back(void **) {
+void set_mask(pid_t tid, const cpu_set_t &mask) { assert_int_equal(sched_setaffinity(tid, sizeof mask, &mask), 0); }
+
+// The helper's thread id, recording it as a worker of each placement given.
+pid_t record_helper(Helper &helper, std::initializer_list<WorkerPlacement *> placements) {
+    pid_t tid = 0;
+    helper.run([&](int64_t part) {
+        if (part != 0) return;
+        for (WorkerPlacement *p : placements) p->note_part_runner();
+        tid = this_tid();
+    });
+    return tid;
+}
+
+// Two contexts used at once from two host threads on two CPUs share the
+// pool's workers: each call holds one CPU off a worker, and every CPU comes
+// back when the calls are done. (Changed by read-modify-write without a
+// common lock, the masks lost updates and a worker was left on one CPU.)
+void two_hosts_at_once_give_every_cpu_back(void **) {
     const cpu_set_t original = mask_of(0);
+    if (CPU_COUNT(&original) < 2) skip();
+    int cpus[2], found = 0;
+    for (int c = 0; c < CPU_SETSIZE && found < 2; ++c)
+        if (CPU_ISSET(c, &original)) cpus[found++] = c;
+    WorkerPlacement a, b;
+    Helper helper;
+    const pid_t worker = record_helper(helper, {&a, &b});
+    assert_int_equal(a.recorded_workers(), 1);
+    assert_int_equal(b.recorded_workers(), 1);
+    std::atomic<int> pinned{0};
+    auto host = [&pinned](WorkerPlacement *p, int cpu) {
+        cpu_set_t one;
+        CPU_ZERO(&one);
+        CPU_SET(cpu, &one);
+        if (sched_setaffinity(0, sizeof one, &one) != 0) return;
+        ++pinned;
+        for (int i = 0; i < 50000; ++i) WorkerPlacement::Scope scope(*p);
+    };
+    std::thread host_a(host, &a, cpus[0]), host_b(host, &b, cpus[1]);
+    host_a.join();
+    host_b.join();
+    assert_int_equal(pinned.load(), 2);
+    assert_true(same(mask_of(worker), original));
+}
+
+// A thread that saves a worker's mask during a call and restores it after
+// (oneTBB does so around launching a thread) puts our narrowing back: the
+// next call undoes it, whether the other thread widened the mask before our
+// give-back (which then leaves it alone) or not.
+void a_narrowing_put_back_by_another_is_undone(void **) {
+    const cpu_set_t original = mask_of(0);
+    if (CPU_COUNT(&original) < 2) skip();
+    WorkerPlacement placement;
+    Helper helper;
+    const pid_t worker = record_helper(helper, {&placement});
+    for (bool widened_first : {true, false}) {
+        cpu_set_t saved;
+        {
+            WorkerPlacement::Scope scope(placement);
+            saved = mask_of(worker);
+            assert_false(same(saved, original));     // narrowed
+            if (widened_first) set_mask(worker, original);  // the other thread widens it...
+        }  // (a mask not set here is left as it is; ours gets its CPU back)
+        assert_true(same(mask_of(worker), original));
+        set_mask(worker, saved);  // ...and restores what it saved
+        for (int call = 0; call < 3; ++call) {
+            { WorkerPlacement::Scope scope(placement); }
+            assert_true(same(mask_of(worker), original));
+        }
+    }
+}
+
+// UNIMESH_WORKER_PLACEMENT=off (ctest engine.test_context_off): nothing is
+// recorded or narrowed.
+void the_switch_turns_it_off(void **) {
+    const cpu_set_t original = mask_of(0);
+    WorkerPlacement placement;
+    Helper helper;
+    const pid_t worker = record_helper(helper, {&placement});
+    assert_int_equal(placement.recorded_workers(), 0);
+    WorkerPlacement::Scope scope(placement);
+    assert_int_equal(placement.host_cpu(), -1);
+    assert_true(same(mask_of(worker), original));
+}
+
+#ifndef UNIMESH_PLAIN_THREADS
+// The context places its workers for its own parallel calls (a worker that
+// ran a part of an earlier call is off the host's CPU, also after a call
+// nested in the part, which places nothing) and gives their CPU back.
+void a_context_places_its_workers_and_gives_them_back(void **) {
+    const cpu_set_t original = mask_of(0);
+    if (CPU_COUNT(&original) < 2) skip();
     Context ctx;
     ctx.set_threads(2);
-    std::vector<pid_t> workers;
-    for (int round = 0; round < 4; ++round) {
-        Seen seen = run_two_parts([&](auto body) {
-            ctx.parallel_for(2, 1, [&](int64_t b, int64_t e) {
-                body(b, e);
+    const pid_t host = this_tid();
+    std::vector<pid_t> earlier;
+    int checked = 0;
+    for (int round = 0; round < 8; ++round) {
+        std::atomic<int> started{0};
+        pid_t worker = 0;
+        int32_t host_cpu = -1;
+        cpu_set_t during;
+        CPU_ZERO(&during);
+        ctx.parallel_for(2, 1, [&](int64_t b, int64_t e) {
+            for (int64_t i = b; i < e; ++i) {
+                ++started;
+                const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+                while (started.load() < 2 && std::chrono::steady_clock::now() < give_up) std::this_thread::yield();
                 ctx.parallel_for(4, 1, [](int64_t, int64_t) {});  // nested
-            });
+                if (this_tid() != host)
+                    worker = this_tid(), during = mask_of(0), host_cpu = ctx.worker_placement().host_cpu();
+            }
         });
-        if (seen.tid != 0) workers.push_back(seen.tid);
-        for (pid_t w : workers) assert_true(same(mask_of(w), original));
+        assert_int_equal(ctx.worker_placement().host_cpu(), -1);
+        if (worker == 0) continue;  // no worker came this time
+        if (std::find(earlier.begin(), earlier.end(), worker) != earlier.end()) {
+            assert_true(host_cpu >= 0);
+            assert_false(CPU_ISSET(host_cpu, &during));
+            ++checked;
+        }
+        earlier.push_back(worker);
+        assert_true(same(mask_of(worker), original));
     }
+    assert_true(checked > 0);
     assert_true(same(mask_of(0), original));
 }
 #endif
@@ -174,10 +281,17 @@ void a_context_gives_its_workers_back(void **) {
 }  // namespace
 
 int main() {
+    const char *placement = std::getenv("UNIMESH_WORKER_PLACEMENT");
+    if (placement && std::strcmp(placement, "off") == 0) {
+        const struct CMUnitTest off[] = {cmocka_unit_test(the_switch_turns_it_off)};
+        return cmocka_run_group_tests_name("context (placement off)", off, nullptr, nullptr);
+    }
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(workers_stay_off_the_host_cpu_during_a_call),
+        cmocka_unit_test(two_hosts_at_once_give_every_cpu_back),
+        cmocka_unit_test(a_narrowing_put_back_by_another_is_undone),
 #ifndef UNIMESH_PLAIN_THREADS
-        cmocka_unit_test(a_context_gives_its_workers_back),
+        cmocka_unit_test(a_context_places_its_workers_and_gives_them_back),
 #endif
     };
     return cmocka_run_group_tests_name("context", tests, nullptr, nullptr);
