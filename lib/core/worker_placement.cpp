@@ -1,6 +1,5 @@
 #include "core/worker_placement.hpp"
 
-#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
@@ -82,9 +81,7 @@ public:
             e->forget();  // changed by someone else while held: the holds lapse
             e->start_from(now);
         }
-        if (e && e->holds_in_all() > 0) {
-            if (Hold *h = e->hold_on(cpu)) return ++h->count, true;
-        }
+        if (Hold *h = e ? e->hold_on(cpu) : nullptr) return ++h->count, true;  // held already
         if (!CPU_ISSET(cpu, &now) || CPU_COUNT(&now) < 2) return false;
         if (!e && (e = add(tid)) != nullptr) e->start_from(now);
         Hold *h = e ? e->new_hold(cpu) : nullptr;
@@ -196,7 +193,7 @@ int WorkerPlacement::recorded_workers() const {
 }
 
 bool WorkerPlacement::is_recorded(int32_t tid) const {
-    const int n = std::min(claimed_.load(std::memory_order_acquire), kMaxWorkers);
+    const int n = claimed_.load(std::memory_order_acquire);
     for (int i = 0; i < n; ++i)
         if (workers_[i].tid.load(std::memory_order_acquire) == tid) return true;
     return false;
@@ -216,7 +213,7 @@ void WorkerPlacement::record(int32_t tid) {
 #if defined(__linux__)
     // A slot whose thread ended (kDeadTid), else a new one.
     Worker *w = nullptr;
-    const int n = std::min(claimed_.load(std::memory_order_acquire), kMaxWorkers);
+    const int n = claimed_.load(std::memory_order_acquire);
     for (int i = 0; !w && i < n; ++i) {
         int32_t dead = kDeadTid;
         if (workers_[i].tid.compare_exchange_strong(dead, tid, std::memory_order_acq_rel)) w = &workers_[i];
@@ -246,7 +243,7 @@ WorkerPlacement::Scope::Scope(WorkerPlacement &placement) {
     const int32_t cpu = static_cast<int32_t>(sched_getcpu());
     if (cpu < 0) return;
     placement.host_cpu_.store(cpu, std::memory_order_release);
-    const int n = std::min(placement.claimed_.load(std::memory_order_acquire), kMaxWorkers);
+    const int n = placement.claimed_.load(std::memory_order_acquire);
     try {
         for (int i = 0; i < n; ++i) {
             Worker &w = placement.workers_[static_cast<size_t>(i)];
@@ -271,7 +268,7 @@ WorkerPlacement::Scope::~Scope() {
     if (!placement_) return;
     t_hosting = false;
     placement_->host_cpu_.store(-1, std::memory_order_release);
-    const int n = std::min(placement_->claimed_.load(std::memory_order_acquire), kMaxWorkers);
+    const int n = placement_->claimed_.load(std::memory_order_acquire);
     for (int i = 0; i < n; ++i) {
         Worker &w = placement_->workers_[static_cast<size_t>(i)];
         const int32_t tid = w.tid.load(std::memory_order_acquire);

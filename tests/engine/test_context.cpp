@@ -3,23 +3,22 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstdlib>
-#include <cstring>
-#include <initializer_list>
 #include <condition_variable>
-#include <functional>
-#include <mutex>
 #include <csetjmp>
 #include <cstdarg>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <initializer_list>
+#include <mutex>
 #include <thread>
 #include <vector>
 
 #include <sched.h>
 #include <sys/syscall.h>
 #include <unistd.h>
-
 
 #include "core/context.hpp"
 #include "core/worker_placement.hpp"

@@ -14,7 +14,6 @@
 //    recorded, sleeping worker, per call, in microseconds.
 #include <sched.h>
 #include <sys/syscall.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -28,6 +27,7 @@
 #include <thread>
 #include <vector>
 
+#include "child_process.hpp"
 #include "core/worker_placement.hpp"
 
 namespace {
@@ -101,20 +101,8 @@ Sample one_wake(bool placed) {
 }
 
 Sample in_child(bool placed) {
-    int fds[2];
-    if (pipe(fds) != 0) return {-1, -1};
-    const pid_t pid = fork();
-    if (pid == 0) {
-        close(fds[0]);
-        const Sample s = one_wake(placed);
-        const ssize_t n = write(fds[1], &s, sizeof s);
-        _exit(n == sizeof s ? 0 : 1);
-    }
-    close(fds[1]);
     Sample s{-1, -1};
-    if (read(fds[0], &s, sizeof s) != sizeof s) s = {-1, -1};
-    close(fds[0]);
-    waitpid(pid, nullptr, 0);
+    if (bench::run_in_child([placed] { return one_wake(placed); }, s) != bench::ChildOutcome::ok) s = {-1, -1};
     return s;
 }
 
