@@ -225,8 +225,10 @@ enum {
     UM_OPT_OPTIM_FIX_BOUNDARY = 204,     /* int 0/1; vertices on features stay fixed, default 0 */
     UM_OPT_OPTIM_COLLAPSE_RATIO = 205,   /* real; collapse edges shorter than r*h, default 0.5 */
     UM_OPT_OPTIM_SPLIT_RATIO = 206,      /* real; split edges longer than r*h, default 1.6 */
-    UM_OPT_OPTIM_CORNER_VERTICES = 207   /* int 0/1/2; vertices for obtuse corners on features (2: only where
+    UM_OPT_OPTIM_CORNER_VERTICES = 207,  /* int 0/1/2; vertices for obtuse corners on features (2: only where
                                             their cells stay clear of the features), default 1 */
+    UM_OPT_OPTIM_CENTROIDAL_SWEEPS = 208 /* int; Lloyd sweeps towards the power cells' centroids
+                                            after the shape iterations, default 8 (0: none) */
 };
 enum {
     UM_OPTION_TYPE_INT = 1,
@@ -549,8 +551,16 @@ UM_API void um_mesh_destroy(um_mesh *m); /* NULL-safe */
  * quality of its triangles improves (or stays, and their mean improves), a
  * weight only if it leaves every adjacent dual edge crossing its primal edge
  * (no vertex can become hidden). Stops early when an outer iteration changes
- * no quality summary by more than UM_OPT_OPTIM_TOLERANCE. After the
- * iterations, two serial joint searches: each triangle not containing its
+ * no quality summary by more than UM_OPT_OPTIM_TOLERANCE. The first half of
+ * the outer iterations moves vertices and holds the weights; then
+ * UM_OPT_OPTIM_CENTROIDAL_SWEEPS Lloyd sweeps move every vertex towards the
+ * centroid of its power cell under the density h^-4 (a centroidal Voronoi
+ * tessellation: what makes the MPAS operators accurate), each step only as
+ * far as it keeps its triangles' worst shape above the mesh's worst (at most
+ * 0.95) and lets the features into no more cells; the second half then
+ * changes only weights, and only around triangles whose Q^P is below 0.99
+ * (weights move xEdge off the primal edge's midpoint, which costs the curl
+ * accuracy). After the iterations, two serial joint searches: each triangle not containing its
  * orthocentre gets the weights (and, on the features, the slides) of its
  * vertices searched together, and then each obtuse triangle the positions of
  * its three vertices; a combination is taken only if it leaves fewer such

@@ -28,6 +28,7 @@ const OptionSpec kSpecs[] = {
     {UM_OPT_OPTIM_COLLAPSE_RATIO, "optim_collapse_ratio", UM_OPTION_TYPE_REAL, 0.0, 1.0, 0.5},
     {UM_OPT_OPTIM_SPLIT_RATIO, "optim_split_ratio", UM_OPTION_TYPE_REAL, 1.0, kBig, 1.6},
     {UM_OPT_OPTIM_CORNER_VERTICES, "optim_corner_vertices", UM_OPTION_TYPE_INT, 0, 2, 1},
+    {UM_OPT_OPTIM_CENTROIDAL_SWEEPS, "optim_centroidal_sweeps", UM_OPTION_TYPE_INT, 0, 1000, 8},
 };
 constexpr size_t kCount = sizeof kSpecs / sizeof kSpecs[0];
 

@@ -23,13 +23,11 @@ namespace um::optim {
 
 namespace detail {
 
-using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
 constexpr int kHalvings = 5;  // line searches try steps 1, 1/2, ..., 1/32
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Edge orthocentres must stay this far inside their primal edge (as a share
 // of it): the generator stays in its own power cell and no weight can hide
 // a vertex (issue "Weighted primal-dual optimisation", item 3).
@@ -38,6 +36,9 @@ constexpr double kCrossingMargin = 0.05;
 // An update must raise its star's worst (or mean) quality by this many
 // tolerances: smaller gains cost a sweep each and change no summary.
 constexpr double kGainOverTolerance = 10;
+
+// Stars whose worst staggering score is at least this keep their weights.
+constexpr double kWeightedBelow = 0.99;
 
 // Targets closer than this (in units of h) are not searched towards.
 constexpr double kShortestMove = 1e-4;
@@ -73,43 +74,6 @@ std::pair<double, double> compass_direction(int d) {
     return table[d];
 }
 constexpr int kCompassSteps = 5;  // h / 4, h / 8, ...: the compass step halved
-
-// Worst and mean of a star's triangle scores, and which triangle (k: the
-// one between link vertices k and k + 1) is the worst.
-struct LocalQuality {
-    double worst = std::numeric_limits<double>::infinity();
-    double mean = 0;
-    int worst_k = 0;
-};
-
-// Worst and mean score of the star of a vertex at `centre` with link
-// `ring`: the shape score for moves, the staggering score for weights.
-// Stops (mean unset) as soon as a triangle scores below `floor`: such a
-// star cannot be BETTER than one whose worst is `floor`. The triangle at
-// `first` is scored first (a trial's old worst is the likeliest to fail);
-// the mean is summed in link order all the same.
-template <bool kShape>
-LocalQuality ring_quality(const Ring &ring, const Generator &centre, double floor, int first = 0) {
-    LocalQuality q;
-    double score[Ring::kMax];
-    for (int i = 0, k = first; i < ring.m; ++i, k = k + 1 == ring.m ? 0 : k + 1) {
-        const Generator &a = ring.at(k), &b = ring.after(k);
-        score[k] = kShape ? shape_score(centre.x, a.x, b.x) : staggering_score(centre, a, b);
-        if (score[k] < q.worst) q.worst = score[k], q.worst_k = k;
-        if (q.worst < floor) return q;
-    }
-    double sum = 0;
-    for (int k = 0; k < ring.m; ++k) sum += score[k];
-    q.mean = sum / ring.m;
-    return q;
-}
-
-// BETTER of Algorithm 1: the worst local quality improves, or stays and the
-// mean improves, each by more than the tolerance.
-bool better(const LocalQuality &now, const LocalQuality &before, double tolerance) {
-    if (now.worst > before.worst + tolerance) return true;
-    return now.worst >= before.worst && now.mean > before.mean + tolerance;
-}
 
 // ----------------------------------------------------------- per-slot state
 
@@ -164,7 +128,9 @@ int64_t Optimiser::sweep(const StarGraph &g, Sweep kind, bool forward,
         std::vector<uint8_t> took(list->size(), 0);
         ctx_.parallel_for(static_cast<int64_t>(list->size()), 256, [&](int64_t b, int64_t e) {
             for (int64_t k = b; k < e; ++k)
-                took[k] = kind == Sweep::moves ? update_position(g, (*list)[k]) : update_weight(g, (*list)[k]);
+                took[k] = kind == Sweep::moves     ? update_position(g, (*list)[k])
+                          : kind == Sweep::weights ? update_weight(g, (*list)[k])
+                                                   : update_centroidal(g, (*list)[k]);
         });
         for (uint8_t t : took) accepted += t;
         ++clock_;  // the next colour sees this one's changes as newer than its failures
@@ -431,6 +397,14 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
         sum += q, sum_qp += qp;
     }
     before.mean = sum / m;
+    // Weights move xEdge off the primal midpoint, which the curl feels, and
+    // gain the divergence little: only stars whose worst triangle stagers
+    // poorly get them; the bulk stays a Voronoi (power with equal weights)
+    // diagram of centroidal generators.
+    if (before.worst >= kWeightedBelow) {
+        weight_failed_at_[v] = clock_;
+        return false;
+    }
     const double slope =
         primal_dual_weight_derivative(here, ring.at(worst_k), ring.after(worst_k));
     const double gain = sum_qp / m - worst_qp;
@@ -1296,14 +1270,18 @@ OptimiseStats Optimiser::run() {
     for (int n = 0; n < o_.outer_iterations; ++n) {
         ctx_.progress("optimise", double(n) / o_.outer_iterations);
         const bool shape_phase = n < shape_iterations;
-        if (!shape_phase && !weighing_) weighing_ = true, grow_slots();
+        if (!shape_phase && !weighing_) {
+            stats_.moves += relax_to_centroids(graph);
+            weighing_ = true, grow_slots();
+        }
         flag_near_gamma();
         const int32_t outer_start = clock_;
         int64_t changes = 0;
         for (int m = 0; m < o_.inner_iterations; ++m) {
             const bool forward = m % 2 == 0;
             auto t0 = Clock::now();
-            int64_t moved = sweep(*graph, Sweep::moves, forward);
+            // After the shape phase the centroidal pass places the generators.
+            int64_t moved = shape_phase ? sweep(*graph, Sweep::moves, forward) : 0;
             stats_.seconds_moves += seconds_since(t0);
             t0 = Clock::now();
             int64_t weighted = o_.weights && !shape_phase ? sweep(*graph, Sweep::weights, forward) : 0;
@@ -1359,6 +1337,7 @@ OptimiseStats Optimiser::run() {
             break;
         }
     }
+    if (!weighing_ && o_.outer_iterations > 0) stats_.moves += relax_to_centroids(graph);
     int64_t off_centre_left = 0;
     if (o_.weights && o_.outer_iterations > 0) {
         auto t0 = Clock::now();

@@ -9,8 +9,12 @@
 //
 // The first half of the outer iterations holds the weights (shape phase):
 // weights tuned early keep badly shaped triangles regular and would lock
-// the topology in. The second half adds the weight ascent, scored by Q^P
-// less a penalty for a triangle that does not hold its orthocentre.
+// the topology in. Then the centroidal pass (centroidal.cpp) takes the
+// generators to their power cells' centroids, and the second half runs the
+// weight ascent alone (no more moves, which would undo the centroids), on
+// the stars whose worst triangle scores below 0.99 only, scored by Q^P less
+// a penalty for a triangle that does not hold its orthocentre: the bulk
+// keeps equal weights, where xEdge is the primal edge's midpoint.
 //
 // Sweeps are graph-coloured (optim/star_graph.hpp): the vertices of one
 // colour update in parallel with the topology held fixed, colours in
@@ -43,6 +47,9 @@ struct OptimiseOptions {
     double split_ratio = 1.6;    // split edges longer than this times h
     bool corner_vertices = true; // vertices for obtuse corners on Gamma (support_gamma_corners)
     bool corner_cells_clear = false;  // ... only where the new cell stays clear of Gamma
+    // Lloyd sweeps towards the power cells' centroids after the shape phase
+    // (centroidal.cpp; 0: none).
+    int centroidal_sweeps = 8;
     // The boundary refinement's bounds (refine_alpha, refine_beta): where a
     // vertex on Gamma at an obtuse corner is taken out, the restricted edge
     // left in its place must meet them.

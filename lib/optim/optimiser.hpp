@@ -4,9 +4,11 @@
 // optimise.hpp is the stage's interface.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -42,6 +44,51 @@ struct Ring {
 // stays inside it.
 bool star_is_valid(const Ring &ring, const Generator &at);
 
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0);
+// A fingerprint of every vertex's link, to tell after a topology change
+// which links changed (Optimiser::mark_changed_links).
+std::vector<uint32_t> link_fingerprints(Context &ctx, const StarGraph &g);
+
+// Worst and mean of a star's triangle scores, and which triangle (k: the
+// one between link vertices k and k + 1) is the worst.
+struct LocalQuality {
+    double worst = std::numeric_limits<double>::infinity();
+    double mean = 0;
+    int worst_k = 0;
+};
+
+// Worst and mean score of the star of a vertex at `centre` with link
+// `ring`: the shape score for moves, the staggering score for weights.
+// Stops (mean unset) as soon as a triangle scores below `floor`: such a
+// star cannot be BETTER than one whose worst is `floor`. The triangle at
+// `first` is scored first (a trial's old worst is the likeliest to fail);
+// the mean is summed in link order all the same.
+template <bool kShape>
+LocalQuality ring_quality(const Ring &ring, const Generator &centre, double floor, int first = 0) {
+    LocalQuality q;
+    double score[Ring::kMax];
+    for (int i = 0, k = first; i < ring.m; ++i, k = k + 1 == ring.m ? 0 : k + 1) {
+        const Generator &a = ring.at(k), &b = ring.after(k);
+        score[k] = kShape ? shape_score(centre.x, a.x, b.x) : staggering_score(centre, a, b);
+        if (score[k] < q.worst) q.worst = score[k], q.worst_k = k;
+        if (q.worst < floor) return q;
+    }
+    double sum = 0;
+    for (int k = 0; k < ring.m; ++k) sum += score[k];
+    q.mean = sum / ring.m;
+    return q;
+}
+
+// BETTER of Algorithm 1: the worst local quality improves, or stays and the
+// mean improves, each by more than the tolerance.
+inline bool better(const LocalQuality &now, const LocalQuality &before, double tolerance) {
+    if (now.worst > before.worst + tolerance) return true;
+    return now.worst >= before.worst && now.mean > before.mean + tolerance;
+}
+
 class Optimiser {
 public:
     Optimiser(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
@@ -57,12 +104,17 @@ private:
     void grow_slots();
 
     // Sweeps ---------------------------------------------------------------
-    enum class Sweep { moves, weights };
+    enum class Sweep { moves, weights, centroidal };
     // Over every vertex, or only over those flagged in *only.
     int64_t sweep(const StarGraph &g, Sweep kind, bool forward,
                   const std::vector<uint8_t> *only = nullptr);
     bool update_position(const StarGraph &g, int32_t v);
     bool update_weight(const StarGraph &g, int32_t v);
+    // The centroidal pass (centroidal.cpp): Lloyd sweeps with flips between
+    // them, until the generators stop moving or kCentroidalSweeps.
+    int64_t relax_to_centroids(std::unique_ptr<StarGraph> &graph);
+    bool update_centroidal(const StarGraph &g, int32_t v);
+    Vec3 centroid_target(const StarGraph &g, int32_t v, const Generator &here, const Ring &ring) const;
     bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
     int64_t polish_poor_stars(const StarGraph &g);
     // What a mend met and mended (slid: of those, with a vertex sliding

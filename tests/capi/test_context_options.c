@@ -236,7 +236,8 @@ static void option_names_round_trip(void **state) {
     (void)state;
     const um_option keys[] = {UM_OPT_SPHERE_RADIUS, UM_OPT_REFINE_ALPHA, UM_OPT_REFINE_BETA,
                               UM_OPT_REFINE_RHO, UM_OPT_OPTIM_OUTER_ITERATIONS,
-                              UM_OPT_OPTIM_SPLIT_RATIO, UM_OPT_OPTIM_CORNER_VERTICES};
+                              UM_OPT_OPTIM_SPLIT_RATIO, UM_OPT_OPTIM_CORNER_VERTICES,
+                              UM_OPT_OPTIM_CENTROIDAL_SWEEPS};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i) {
         char name[64];
         int64_t needed = 0;
@@ -257,6 +258,11 @@ static void option_names_round_trip(void **state) {
     int64_t value = 0;
     assert_int_equal(um_options_get_int(o, UM_OPT_OPTIM_CORNER_VERTICES, &value), UM_OK);
     assert_int_equal(value, 2);
+    /* optim_centroidal_sweeps: 8 by default, 0 turns the centroidal pass off */
+    assert_int_equal(um_options_get_int(o, UM_OPT_OPTIM_CENTROIDAL_SWEEPS, &value), UM_OK);
+    assert_int_equal(value, 8);
+    assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_CENTROIDAL_SWEEPS, 0), UM_OK);
+    assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_CENTROIDAL_SWEEPS, -1), UM_ERR_INVALID_ARGUMENT);
     um_options_destroy(o);
     um_context_destroy(ctx);
 }

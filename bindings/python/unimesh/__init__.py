@@ -95,6 +95,7 @@ class Option(enum.IntEnum):
     OPTIM_COLLAPSE_RATIO = 205
     OPTIM_SPLIT_RATIO = 206
     OPTIM_CORNER_VERTICES = 207
+    OPTIM_CENTROIDAL_SWEEPS = 208
 
 
 class OptionType(enum.IntEnum):

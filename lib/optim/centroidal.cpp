@@ -1,0 +1,144 @@
+// The centroidal pass (issue "Meshes that make the MPAS operators accurate"):
+// Lloyd iterations that move every generator to the centroid of its power
+// cell under the density rho = h^-4 (the spacing of a centroidal Voronoi
+// tessellation, Du, Faber and Gunzburger 1999; Ringler et al. 2008 for MPAS).
+// The MPAS operators' errors sit where cells are far from centroidal: the
+// divergence and kinetic energy feel how far xEdge is from the middle of the
+// dual edge, and TRSK how far the generators are from the cells' centroids.
+//
+// Unlike the shape sweeps, a Lloyd step is taken whenever it keeps the star
+// valid and does not make its worst triangle worse than a floor: the bulk
+// keeps converging instead of freezing once the worst star is good.
+#include <algorithm>
+#include <cmath>
+
+#include "core/text.hpp"
+
+#include "geom/predicates.hpp"
+#include "optim/optimiser.hpp"
+
+namespace um::optim::detail {
+
+namespace {
+
+// Flips restore regularity after every kCentroidalFlipEvery Lloyd sweeps
+// (alternately forward and backward over the colours). The sweeps' number
+// is an option (optim_centroidal_sweeps): on the uniform 120 km mesh 8 take
+// the centroid offset where 128 do (tools/bench/HISTORY.md); Lloyd's slow
+// global drift after that changes no operator error.
+constexpr int kCentroidalFlipEvery = 4;
+// A generator this close to its centroid (in h) counts as still.
+constexpr double kCentroidalStill = 1e-4;
+// A step may lower its star's worst shape score to this, not below (nor
+// below what it was, when lower already): every triangle keeps Q^T >= 0.95
+// and its angles below 81 degrees, or what it had.
+constexpr double kCentroidalFloor = 0.95;
+constexpr int kCentroidalHalvings = 6;
+
+// The integral of X over the spherical triangle's part that the edge (p, q)
+// closes, as in the vector-area identity: for a spherical polygon, the
+// integral of X over it is half the sum over its edges of the arc length
+// times the unit normal of the edge's plane.
+Vec3 edge_moment(const Vec3 &p, const Vec3 &q) {
+    const Vec3 n = geom::cross(p, q);
+    const double len = geom::norm(n);
+    if (!(len > 0)) return {};
+    return (0.5 * std::atan2(len, geom::dot(p, q)) / len) * n;
+}
+
+}  // namespace
+
+// The centroid of v's power cell (the polygon of its star's orthocentres),
+// fanned from the generator, each fan triangle weighted by the density at
+// its spoke: rho = (mean h of v and the spoke's far end)^-4. Exact on the
+// sphere for a constant density (the spokes' moments cancel).
+Vec3 Optimiser::centroid_target(const StarGraph &g, int32_t v, const Generator &c, const Ring &ring) const {
+    const int32_t *link = g.link(v);
+    const int m = ring.m;
+    const Vec3 q = c.lifted();
+    Vec3 ortho[Ring::kMax];
+    for (int k = 0; k < m; ++k)
+        ortho[k] = geom::normalized(geom::cross(ring.q[k] - q, ring.q[k + 1 == m ? 0 : k + 1] - q));
+    // Fan triangle k: (x, ortho[k - 1], ortho[k]) around the spoke to link[k].
+    Vec3 sum{};
+    Vec3 spoke_prev = edge_moment(c.x, ortho[m - 1]);
+    for (int k = 0; k < m; ++k) {
+        const Vec3 spoke = edge_moment(c.x, ortho[k]);
+        const Vec3 moment = spoke_prev + edge_moment(ortho[k == 0 ? m - 1 : k - 1], ortho[k]) - spoke;
+        const double h = 0.5 * (static_cast<double>(h_at_[v]) + static_cast<double>(h_at_[link[k]]));
+        const double h2 = h * h;
+        sum = sum + (1.0 / (h2 * h2)) * moment;
+        spoke_prev = spoke;
+    }
+    return geom::normalized(sum);
+}
+
+// A Lloyd step of v, halved until the star stays
+// valid, keeps Gamma where it was and its worst shape score stays above
+// min(as it was, kCentroidalFloor). True when v moved by more than
+// kCentroidalStill h.
+bool Optimiser::update_centroidal(const StarGraph &g, int32_t v) {
+    // Vertices on Gamma stay where the shape phase put them: they carry the
+    // restricted edges, and a cell cut by a coastline is not meant to be
+    // centroidal.
+    if (g.degree(v) < 3 || on_segment_[v] >= 0) return false;
+    Ring ring;
+    if (!gather_ring(g, v, ring)) return false;
+    const Generator here = generator(v);
+    const Vec3 target = centroid_target(g, v, here, ring);
+    const double still = kCentroidalStill * static_cast<double>(h_at_[v]);
+    if (!(geom::norm(target - here.x) > still)) return false;
+    const LocalQuality before = ring_quality<true>(ring, here, -kInfinity);
+    const double floor = std::min(before.worst, kCentroidalFloor);
+    const bool guarded = !near_gamma_.empty() && near_gamma_[v];
+    int crossings = -1;
+    double step = 1;
+    for (int i = 0; i <= kCentroidalHalvings; ++i, step *= 0.5) {
+        Generator moved = here;
+        moved.x = geom::normalized((1 - step) * here.x + step * target);
+        if (ring_quality<true>(ring, moved, floor, before.worst_k).worst < floor) continue;
+        if (!star_is_valid(ring, moved)) continue;
+        if (guarded) {
+            if (crossings < 0) crossings = gamma_crossings(v, ring, g.link(v), here);
+            if (gamma_crossings(v, ring, g.link(v), moved) > crossings) continue;
+        }
+        set_generator(v, moved);
+        h_at_[v] = static_cast<float>(h_(moved.x));
+        changed_at_[v] = clock_;
+        return geom::norm(moved.x - here.x) > still;
+    }
+    return false;
+}
+
+int64_t Optimiser::relax_to_centroids(std::unique_ptr<StarGraph> &graph) {
+    int64_t total = 0;
+    int32_t since = clock_;
+    for (int i = 0; i < o_.centroidal_sweeps; ++i) {
+        if (i % kCentroidalFlipEvery == 0) flag_near_gamma();
+        auto t0 = Clock::now();
+        const int64_t moved = sweep(*graph, Sweep::centroidal, i % 2 == 0);
+        stats_.seconds_moves += seconds_since(t0);
+        total += moved;
+        const bool last = moved == 0 || i + 1 == o_.centroidal_sweeps;
+        if (i % kCentroidalFlipEvery == kCentroidalFlipEvery - 1 || last) {
+            t0 = Clock::now();
+            int64_t flips = restore_regularity(since);
+            stats_.flips += flips;
+            if (flips > 0) {
+                load_spacing();
+                const std::vector<uint32_t> links_before = link_fingerprints(ctx_, *graph);
+                graph.reset();
+                graph = std::make_unique<StarGraph>(ctx_, tri_);
+                mark_changed_links(links_before, *graph);
+            }
+            ++clock_;
+            since = clock_;
+            stats_.seconds_topology += seconds_since(t0);
+            ctx_.log(UM_LOG_DEBUG, concat("optimise: centroidal sweep ", i + 1, ": ", moved, " moved, ", flips, " flips"));
+        }
+        if (moved == 0) break;
+    }
+    return total;
+}
+
+}  // namespace um::optim::detail
