@@ -605,9 +605,24 @@ UM_API um_status um_mesh_copy_triangle_sides(const um_mesh *m, int32_t *out, int
  * the sphere. The JSON report holds, for each metric, min / 1st percentile /
  * mean / max and a 50-bin histogram, and the counts of obtuse triangles and
  * of triangles that do not contain their orthocentre; it is copied out as
- * strings are. The summary takes a metric name: "area_length_ratio",
- * "primal_dual", "angle_min_deg", "angle_max_deg" or "edge_spacing_ratio"
- * (out-pointers may be NULL). */
+ * strings are.
+ * Its "operator_diagnostics" certify the mesh for the MPAS operators, whose
+ * errors these offsets drive (divergence and kinetic energy: the dual-edge
+ * offset; curl: the primal-edge offset; TRSK: the centroid offset). With
+ * xEdge where the dual arc of an edge crosses its primal arc:
+ *   "centroid_offset"     per cell, arc(xCell, centroid of the cell) /
+ *                         sqrt(areaCell): rms and max;
+ *   "dual_edge_offset"    per edge, arc(xEdge, midpoint of the dual arc) /
+ *                         dvEdge: rms and max (a dual edge of no length
+ *                         counts as 2^-52 rad long: an offset of ~1e16);
+ *   "primal_edge_offset"  per edge, arc(xEdge, midpoint of the primal arc) /
+ *                         dcEdge: rms and max (0 on a Voronoi mesh);
+ *   "cell_spacing_ratio"  per edge, dcEdge / h(xEdge): min, max, mean, std.
+ * The summary takes a metric name: "area_length_ratio", "primal_dual",
+ * "angle_min_deg", "angle_max_deg", "edge_spacing_ratio", or one of the four
+ * operator diagnostics above, and gives its min, 1st percentile (over the
+ * cells, or the edges), mean and max; the rms and std are in the JSON report
+ * only (out-pointers may be NULL). */
 UM_API um_status um_mesh_quality_json(const um_mesh *m, char *buf, int64_t capacity,
                                       int64_t *needed);
 UM_API um_status um_mesh_quality_summary(const um_mesh *m, const char *metric, double *min,

@@ -1356,8 +1356,10 @@ contains
   end function size_problem
 
   !> min / 1st percentile / mean / max of a quality metric of the mesh:
-  !> 'area_length_ratio', 'primal_dual', 'angle_min_deg', 'angle_max_deg' or
-  !> 'edge_spacing_ratio' (see um_mesh_quality_summary in unimesh.h).
+  !> 'area_length_ratio', 'primal_dual', 'angle_min_deg', 'angle_max_deg',
+  !> 'edge_spacing_ratio', or an operator diagnostic: 'centroid_offset',
+  !> 'dual_edge_offset', 'primal_edge_offset' or 'cell_spacing_ratio'
+  !> (see um_mesh_quality_summary in unimesh.h; rms and std are in the JSON).
   subroutine um_mesh_quality_summary(mesh, metric, min, p1, mean, max, ierr)
     type(um_mesh_t), intent(in) :: mesh
     character(len=*), intent(in) :: metric

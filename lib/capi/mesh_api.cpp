@@ -218,10 +218,15 @@ UM_API um_status um_mesh_quality_summary(const um_mesh *m, const char *metric, d
                                     : name == "angle_min_deg"      ? &r.angle_min
                                     : name == "angle_max_deg"      ? &r.angle_max
                                     : name == "edge_spacing_ratio" ? &r.spacing_ratio
+                                    : name == "centroid_offset"    ? &r.centroid_offset
+                                    : name == "dual_edge_offset"   ? &r.dual_edge_offset
+                                    : name == "primal_edge_offset" ? &r.primal_edge_offset
+                                    : name == "cell_spacing_ratio" ? &r.cell_spacing_ratio
                                                                    : nullptr;
     if (!s)
         fail(UM_ERR_INVALID_ARGUMENT, "metric = '", name, "' is not one of area_length_ratio, "
-             "primal_dual, angle_min_deg, angle_max_deg, edge_spacing_ratio");
+             "primal_dual, angle_min_deg, angle_max_deg, edge_spacing_ratio, centroid_offset, "
+             "dual_edge_offset, primal_edge_offset, cell_spacing_ratio");
     if (min) *min = s->min;
     if (p1) *p1 = s->p1;
     if (mean) *mean = s->mean;

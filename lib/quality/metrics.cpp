@@ -6,6 +6,7 @@
 
 #include "core/growth.hpp"
 #include "core/text.hpp"
+#include "dual/spherical.hpp"
 #include "geom/predicates.hpp"
 
 namespace um::quality {
@@ -27,6 +28,26 @@ std::string json_summary(const Summary &s) {
     for (size_t i = 0; i < s.histogram.size(); ++i) h += (i ? "," : "") + to_text(s.histogram[i]);
     return concat("{\"min\": ", s.min, ", \"p1\": ", s.p1, ", \"mean\": ", s.mean, ", \"max\": ", s.max,
                   ", \"histogram\": {\"lo\": ", s.lo, ", \"hi\": ", s.hi, ", \"counts\": ", h, "]}}");
+}
+
+// JSON has no inf or nan: null stands for them.
+std::string json_number(double v) { return std::isfinite(v) ? to_text(v) : "null"; }
+
+std::string json_offset(const Summary &s) {
+    return concat("{\"rms\": ", json_number(s.rms), ", \"max\": ", json_number(s.max), "}");
+}
+
+// The operator diagnostics, one line each after `nl`: what certifies a mesh
+// for the MPAS operators (metrics.hpp).
+std::string json_operator_diagnostics(const Report &r, const std::string &nl) {
+    const std::string in = nl + "  ";
+    const Summary &c = r.cell_spacing_ratio;
+    return concat("{", in, "\"centroid_offset\": ", json_offset(r.centroid_offset),
+                  ",", in, "\"dual_edge_offset\": ", json_offset(r.dual_edge_offset),
+                  ",", in, "\"primal_edge_offset\": ", json_offset(r.primal_edge_offset),
+                  ",", in, "\"cell_spacing_ratio\": {\"min\": ", json_number(c.min), ", \"max\": ",
+                  json_number(c.max), ", \"mean\": ", json_number(c.mean), ", \"std\": ", json_number(c.std),
+                  "}", nl, "}");
 }
 
 }  // namespace
@@ -66,68 +87,255 @@ TriangleQuality triangle_quality(const tri::Triangulation &tri, int32_t t) {
 
 namespace {
 
-// The five metrics of a report: four per triangle, one per edge.
-enum Metric { kAreaLength, kPrimalDual, kAngleMin, kAngleMax, kSpacingRatio, kMetrics };
-constexpr int kValuesPerTriangle = kSpacingRatio + 3;  // the spacing ratio of up to 3 edges
-constexpr uint16_t kNoBin = 0xffff;
-constexpr double kLo[kMetrics] = {0, 0, 0, 0, 0}, kHi[kMetrics] = {1, 1, 180, 180, 2};
+// Lengths below the rounding of unit vectors count as that long: a dual
+// edge of no length (four cocircular generators) or a cell of no area gets
+// a finite offset, ~1e16, which flags it, and no floating-point exception
+// (hosts may trap them).
+constexpr double kRoundingArc = 0x1p-52;
 
-// One metric streamed over a block: min, max, sum, the report's histogram,
-// and a finer one (with a bin below lo and one above hi) that tells which
-// fine bin holds the 1st percentile, so that a second pass need keep only
-// the values in that bin (and, from the bins measure() notes per triangle,
-// recompute only the triangles that have one). Keeping every value instead
-// would hold ~150 bytes per cell on top of the mesh while the report is
-// made; the bins are 14.
+// edge_offsets, given o1, the orthocentre of t (a pass over the triangles
+// computes it once for their three edges).
+EdgeOffsets edge_offsets(const tri::Triangulation &tri, int32_t t, int k, const Vec3 &o1) {
+    const int32_t i = tri.vertex(t, (k + 1) % 3), j = tri.vertex(t, (k + 2) % 3);
+    const Vec3 xi = tri.direction(i), xj = tri.direction(j), o2 = tri.orthocentre(tri.neighbour(t, k));
+    EdgeOffsets e;
+    // The edge orthocentre as the MPAS writer places it, accurate on small cells.
+    e.x_edge = dual::edge_point(tri.lifted(i), tri.lifted(j));
+    e.dc_edge = dual::arc(xi, xj);
+    e.primal = dual::arc(e.x_edge, geom::normalized(xi + xj)) / e.dc_edge;
+    const double dv_edge = dual::arc(o1, o2);
+    e.dual = dual::arc(e.x_edge, geom::normalized(o1 + o2)) / std::max(dv_edge, kRoundingArc);
+    return e;
+}
+
+}  // namespace
+
+EdgeOffsets edge_offsets(const tri::Triangulation &tri, int32_t t, int k) {
+    return edge_offsets(tri, t, k, tri.orthocentre(t));
+}
+
+// The polygon of the power cell is the orthocentres of v's star,
+// counter-clockwise. The centroid direction is exact: the integral of x
+// over the cell is half the sum, over the polygon's edges (p, q), of
+// arc(p, q) times the unit normal of p x q (a signed sum, right even for a
+// cell that does not hold its generator); the area is the fan of signed
+// triangles from the generator.
+double centroid_offset(const tri::Triangulation &tri, int32_t v) {
+    const Vec3 x = tri.direction(v);
+    Vec3 moment, first, prev;
+    double area = 0;
+    bool started = false;
+    auto edge = [&](const Vec3 &p, const Vec3 &q) {
+        area += dual::signed_area(x, p, q);
+        const Vec3 normal = dual::arc_normal(p, q);  // p x q, accurate on short arcs
+        const double length = geom::norm(normal);
+        if (length > 0) moment = moment + (dual::arc(p, q) / length) * normal;
+    };
+    tri.for_each_in_star(v, [&](int32_t t) {
+        const Vec3 o = tri.orthocentre(t);
+        if (started) edge(prev, o);
+        else first = o, started = true;
+        prev = o;
+    });
+    edge(prev, first);
+    const double length = geom::norm(moment);  // 0 only for a cell shrunk to a point
+    const Vec3 centroid = length > 0 ? (1.0 / length) * moment : prev;
+    return dual::arc(x, centroid) / std::max(std::sqrt(std::max(area, 0.0)), kRoundingArc);
+}
+
+namespace {
+
+// The metrics of a report: four per triangle and one per edge (Figure 10),
+// then the operator diagnostics, three per edge and one per cell.
+enum Metric {
+    kAreaLength, kPrimalDual, kAngleMin, kAngleMax, kSpacingRatio,
+    kDualEdgeOffset, kPrimalEdgeOffset, kCellSpacingRatio, kCentroidOffset, kMetrics
+};
+constexpr uint16_t kNoBin = 0xffff;
+// Histogram ranges. An offset past 1/2 puts xEdge off its dual (or primal)
+// arc; centroid offsets of usable cells are a few hundredths.
+constexpr double kLo[kMetrics] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+constexpr double kHi[kMetrics] = {1, 1, 180, 180, 2, 0.5, 0.5, 2, 0.25};
+
+// One metric streamed over a block: min, max, sum, sum of squares, the
+// report's histogram, and a finer one (with a bin below lo and one above
+// hi) that tells which fine bin holds the 1st percentile, so that a second
+// pass need keep only the values in that bin (and, from the bins measure()
+// notes per item, recompute only the items that have one). Keeping every
+// value instead would hold ~150 bytes per cell on top of the mesh while the
+// report is made; the bins are 14 to 18 bytes per triangle.
 constexpr int kFine = 2048;
 struct Stream {
-    double min = HUGE_VAL, max = -HUGE_VAL, sum = 0;
+    double min = HUGE_VAL, max = -HUGE_VAL, sum = 0, sum_sq = 0;
+    // Welford's running mean and sum of squared deviations: the standard
+    // deviation without the cancellation of sum_sq / n - mean^2 when the
+    // spread is small against the mean (dcEdge / h is 1 give or take 1e-3).
+    double centre = 0, m2 = 0;
     int64_t n = 0;
     std::vector<int64_t> coarse = std::vector<int64_t>(kBins, 0), fine = std::vector<int64_t>(kFine + 2, 0);
 };
 
+// Offsets crowd near 0 (a Voronoi mesh's primal-edge offsets are all about
+// 1e-13): their fine bins are logarithmic from kLogFloor to hi, so that the
+// 1st percentile's bin stays small (linear, it would hold every value, and
+// the second pass recompute every edge).
+constexpr bool kLogFine[kMetrics] = {false, false, false, false, false, true, true, false, true};
+constexpr double kLogFloor = 1e-16;
+
 int fine_bin(double v, Metric m) {
-    const double x = (v - kLo[m]) / (kHi[m] - kLo[m]);
+    if (kLogFine[m] && !(v > kLogFloor)) return 0;  // (no log of 0: hosts may trap its exception)
+    const double x = kLogFine[m] ? std::log(v / kLogFloor) / std::log(kHi[m] / kLogFloor)
+                                 : (v - kLo[m]) / (kHi[m] - kLo[m]);
     if (!(x >= 0)) return 0;  // below lo (or NaN)
     if (x >= 1) return kFine + 1;
     return 1 + std::min(kFine - 1, static_cast<int>(x * kFine));
 }
 
 void add(Stream &s, double v, Metric m) {
-    s.min = std::min(s.min, v), s.max = std::max(s.max, v), s.sum += v, ++s.n;
-    const int b = static_cast<int>((v - kLo[m]) / (kHi[m] - kLo[m]) * kBins);
-    ++s.coarse[std::clamp(b, 0, kBins - 1)];
+    s.min = std::min(s.min, v), s.max = std::max(s.max, v), s.sum += v, s.sum_sq += v * v, ++s.n;
+    const double d = v - s.centre;
+    s.centre += d / double(s.n), s.m2 += d * (v - s.centre);
+    const double x = (v - kLo[m]) / (kHi[m] - kLo[m]) * kBins;  // clamped before the cast: v may be ~1e16
+    ++s.coarse[x >= 0 ? static_cast<size_t>(std::min(x, double(kBins - 1))) : 0];
     ++s.fine[fine_bin(v, m)];
 }
 
-// Calls fn(metric, value) for every value of triangle t (each edge once).
-template <class Fn>
-void for_each_value(const tri::Triangulation &tri, const refine::SpacingRadians &h, int32_t t,
-                    TriangleQuality &q, Fn &&fn) {
-    q = triangle_quality(tri, t);
-    fn(kAreaLength, q.area_length), fn(kPrimalDual, q.primal_dual);
-    fn(kAngleMin, q.angle_min), fn(kAngleMax, q.angle_max);
-    if (!h) return;
-    for (int k = 0; k < 3; ++k) {
-        if (tri.neighbour(t, k) < t) continue;
-        const Vec3 a = tri.direction(tri.vertex(t, (k + 1) % 3)), c = tri.direction(tri.vertex(t, (k + 2) % 3));
-        fn(kSpacingRatio, geom::arc_length(a, c) / h(geom::normalized(a + c)));
-    }
+// s into the total a (Chan, Golub and LeVeque's update for the deviations),
+// block after block in a fixed order.
+void merge(Stream &a, const Stream &s) {
+    if (s.n == 0) return;
+    const double n = double(a.n + s.n), d = s.centre - a.centre;
+    a.m2 += s.m2 + d * d * double(a.n) * double(s.n) / n;
+    a.centre += d * double(s.n) / n;
+    a.min = std::min(a.min, s.min), a.max = std::max(a.max, s.max);
+    a.sum += s.sum, a.sum_sq += s.sum_sq, a.n += s.n;
+    for (int i = 0; i < kBins; ++i) a.coarse[i] += s.coarse[i];
+    for (int i = 0; i < kFine + 2; ++i) a.fine[i] += s.fine[i];
 }
+
+// What the triangle pass counts besides its metrics.
+struct Counts {
+    int64_t triangles = 0, obtuse = 0, not_well_centred = 0, not_well_centred_off_gamma = 0;
+    void operator+=(const Counts &c) {
+        triangles += c.triangles, obtuse += c.obtuse, not_well_centred += c.not_well_centred;
+        not_well_centred_off_gamma += c.not_well_centred_off_gamma;
+    }
+};
+
+// The summary of a metric from its total stream and the values of its
+// 1st-percentile fine bin (rank: the 1st percentile's rank in that bin).
+void finish(Summary &s, Metric m, const Stream &all, std::vector<double> &in_bin, int64_t rank) {
+    s.lo = kLo[m], s.hi = kHi[m];
+    s.histogram = all.coarse;
+    if (all.n == 0) return;  // an empty mesh (or no h): zeros
+    const double n = double(all.n);
+    s.min = all.min, s.max = all.max, s.mean = all.sum / n;
+    s.rms = std::sqrt(all.sum_sq / n), s.std = std::sqrt(all.m2 / n);
+    // The two passes see the same values unless h is not reproducible
+    // (a user callback): then the nearest the bin allows.
+    if (in_bin.empty()) {
+        s.p1 = s.min;
+        return;
+    }
+    auto at = in_bin.begin() + static_cast<std::ptrdiff_t>(std::min<int64_t>(rank, in_bin.size() - 1));
+    std::nth_element(in_bin.begin(), at, in_bin.end());
+    s.p1 = *at;
+}
+
+// The summaries of the metrics of items 0..n-1 (triangles, or vertex
+// slots): values(i, counts, emit) calls emit(slot, value) for every value
+// of item i, each slot (< kSlots) at most once, the value being of metric
+// slot_metric[slot]; those metrics are consecutive. Fixed blocks, combined
+// in block order: the same summaries for any thread count.
+template <size_t kSlots, class Values>
+Counts summarise(Context &ctx, int64_t n, const std::array<Metric, kSlots> &slot_metric, Values &&values,
+                 Summary *const summary[kMetrics]) {
+    constexpr int64_t kBlock = 32768;
+    const int first = *std::min_element(slot_metric.begin(), slot_metric.end());
+    const int count = *std::max_element(slot_metric.begin(), slot_metric.end()) + 1 - first;
+    const int64_t n_blocks = (n + kBlock - 1) / kBlock;
+    struct Block {
+        std::vector<Stream> metric;
+        Counts counts;
+    };
+    std::vector<Block> blocks(static_cast<size_t>(n_blocks));
+    // Each value's fine bin, per item and slot: the second pass then
+    // recomputes only the items with a value in a 1st-percentile bin.
+    std::vector<std::array<uint16_t, kSlots>> bins(static_cast<size_t>(n));
+    ctx.parallel_for(n_blocks, 1, [&](int64_t b0, int64_t b1) {
+        for (int64_t blk = b0; blk < b1; ++blk) {
+            Block &bl = blocks[blk];
+            bl.metric.resize(static_cast<size_t>(count));
+            for (int64_t i = blk * kBlock; i < std::min(n, (blk + 1) * kBlock); ++i) {
+                auto &bin = bins[i];
+                bin.fill(kNoBin);
+                values(i, bl.counts, [&](int slot, double v) {
+                    const Metric m = slot_metric[slot];
+                    add(bl.metric[m - first], v, m);
+                    bin[slot] = static_cast<uint16_t>(fine_bin(v, m));
+                });
+            }
+        }
+    });
+    Counts counts;
+    std::vector<Stream> all(static_cast<size_t>(count));
+    for (const Block &bl : blocks) {
+        counts += bl.counts;
+        for (int m = 0; m < count; ++m) merge(all[m], bl.metric[m]);
+    }
+    release(blocks);
+    // The 1st percentile (the value a full sort puts at n / 100): its fine
+    // bin and rank there, then the values of that bin only.
+    std::vector<int> p1_bin(static_cast<size_t>(count));
+    std::vector<int64_t> p1_rank(static_cast<size_t>(count));
+    for (int m = 0; m < count; ++m) {
+        int64_t rank = all[m].n / 100, i = 0;
+        while (i < kFine + 1 && rank >= all[m].fine[i]) rank -= all[m].fine[i++];
+        p1_bin[m] = static_cast<int>(i), p1_rank[m] = rank;
+    }
+    std::array<uint16_t, kSlots> wanted_bin;
+    for (size_t s = 0; s < kSlots; ++s) wanted_bin[s] = static_cast<uint16_t>(p1_bin[slot_metric[s] - first]);
+    std::vector<std::vector<std::vector<double>>> in_bin(
+        static_cast<size_t>(count), std::vector<std::vector<double>>(static_cast<size_t>(n_blocks)));
+    ctx.parallel_for(n_blocks, 1, [&](int64_t b0, int64_t b1) {
+        Counts again;  // counted in the first pass
+        for (int64_t blk = b0; blk < b1; ++blk)
+            for (int64_t i = blk * kBlock; i < std::min(n, (blk + 1) * kBlock); ++i) {
+                bool wanted = false;
+                for (size_t s = 0; s < kSlots && !wanted; ++s) wanted = bins[i][s] == wanted_bin[s];
+                if (!wanted) continue;
+                values(i, again, [&](int slot, double v) {
+                    const Metric m = slot_metric[slot];
+                    if (fine_bin(v, m) == p1_bin[m - first]) in_bin[m - first][blk].push_back(v);
+                });
+            }
+    });
+    release(bins);
+    for (int m = 0; m < count; ++m) {
+        std::vector<double> joined;
+        for (const auto &v : in_bin[m]) joined.insert(joined.end(), v.begin(), v.end());
+        finish(*summary[first + m], Metric(first + m), all[m], joined, p1_rank[m]);
+    }
+    return counts;
+}
+
+// The slots of a triangle's values: its four metrics, then the spacing
+// ratio of edge k at 4 + k.
+constexpr std::array<Metric, 7> kTriangleSlots = {kAreaLength, kPrimalDual, kAngleMin, kAngleMax,
+                                                  kSpacingRatio, kSpacingRatio, kSpacingRatio};
+// Of the operator diagnostics of a triangle's edges: those of edge k at 3k.
+constexpr std::array<Metric, 9> kEdgeSlots = {
+    kDualEdgeOffset, kPrimalEdgeOffset, kCellSpacingRatio, kDualEdgeOffset, kPrimalEdgeOffset,
+    kCellSpacingRatio, kDualEdgeOffset, kPrimalEdgeOffset, kCellSpacingRatio};
 
 }  // namespace
 
 Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
                const std::vector<int32_t> *on_segment) {
-    // Fixed blocks, combined in block order: the same report for any
-    // thread count.
-    constexpr int64_t kBlock = 32768;
-    const int32_t n = tri.triangle_slots();
-    const int64_t n_blocks = (n + kBlock - 1) / kBlock;
-    struct Block {
-        Stream metric[kMetrics];
-        int64_t triangles = 0, obtuse = 0, not_well_centred = 0, not_well_centred_off_gamma = 0;
-    };
+    Report r;
+    Summary *const summary[kMetrics] = {&r.area_length,      &r.primal_dual,        &r.angle_min,
+                                        &r.angle_max,        &r.spacing_ratio,      &r.dual_edge_offset,
+                                        &r.primal_edge_offset, &r.cell_spacing_ratio, &r.centroid_offset};
     auto off_gamma = [&](int32_t t) {
         for (int k = 0; k < 3; ++k) {
             const size_t v = static_cast<size_t>(tri.vertex(t, k));
@@ -135,89 +343,43 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
         }
         return false;
     };
-    std::vector<Block> blocks(static_cast<size_t>(n_blocks));
-    // Each value's fine bin, per triangle (its four metrics, then the
-    // spacing ratios of the edges it counts): the second pass then
-    // recomputes only the triangles with a value in a 1st-percentile bin.
-    // 14 bytes per triangle, for as long as the report is being made.
-    std::vector<std::array<uint16_t, kValuesPerTriangle>> bins(static_cast<size_t>(n));
-    ctx.parallel_for(n_blocks, 1, [&](int64_t b0, int64_t b1) {
-        for (int64_t blk = b0; blk < b1; ++blk) {
-            Block &bl = blocks[blk];
-            for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
-                auto &bin = bins[t];
-                bin.fill(kNoBin);
-                if (tri.is_free(static_cast<int32_t>(t))) continue;
-                TriangleQuality q;
-                int edge = 0;
-                for_each_value(tri, h, static_cast<int32_t>(t), q, [&](Metric m, double v) {
-                    add(bl.metric[m], v, m);
-                    bin[m == kSpacingRatio ? kSpacingRatio + edge++ : m] = static_cast<uint16_t>(fine_bin(v, m));
-                });
-                ++bl.triangles, bl.obtuse += q.angle_max > 90, bl.not_well_centred += !q.well_centred;
-                bl.not_well_centred_off_gamma += !q.well_centred && off_gamma(static_cast<int32_t>(t));
-            }
+    // Every edge once, from its triangle of the smaller number.
+    auto counted = [&](int32_t t, int k) { return tri.neighbour(t, k) > t; };
+    const int32_t n = tri.triangle_slots();
+    auto triangle_values = [&](int64_t i, Counts &c, auto &&emit) {
+        const int32_t t = static_cast<int32_t>(i);
+        if (tri.is_free(t)) return;
+        const TriangleQuality q = triangle_quality(tri, t);
+        emit(kAreaLength, q.area_length), emit(kPrimalDual, q.primal_dual);
+        emit(kAngleMin, q.angle_min), emit(kAngleMax, q.angle_max);
+        for (int k = 0; k < 3 && h; ++k) {
+            if (!counted(t, k)) continue;
+            const Vec3 a = tri.direction(tri.vertex(t, (k + 1) % 3)), b = tri.direction(tri.vertex(t, (k + 2) % 3));
+            emit(kSpacingRatio + k, geom::arc_length(a, b) / h(geom::normalized(a + b)));
         }
-    });
-    Report r;
-    Summary *summary[kMetrics] = {&r.area_length, &r.primal_dual, &r.angle_min, &r.angle_max, &r.spacing_ratio};
-    Stream all[kMetrics];
-    for (const Block &bl : blocks) {
-        r.triangles += bl.triangles, r.obtuse += bl.obtuse, r.not_well_centred += bl.not_well_centred;
-        r.not_well_centred_off_gamma += bl.not_well_centred_off_gamma;
-        for (int m = 0; m < kMetrics; ++m) {
-            const Stream &s = bl.metric[m];
-            Stream &a = all[m];
-            a.min = std::min(a.min, s.min), a.max = std::max(a.max, s.max), a.sum += s.sum, a.n += s.n;
-            for (int i = 0; i < kBins; ++i) a.coarse[i] += s.coarse[i];
-            for (int i = 0; i < kFine + 2; ++i) a.fine[i] += s.fine[i];
-        }
-    }
-    release(blocks);
+        ++c.triangles, c.obtuse += q.angle_max > 90, c.not_well_centred += !q.well_centred;
+        c.not_well_centred_off_gamma += !q.well_centred && off_gamma(t);
+    };
+    const Counts c = summarise(ctx, n, kTriangleSlots, triangle_values, summary);
+    r.triangles = c.triangles, r.obtuse = c.obtuse, r.not_well_centred = c.not_well_centred;
+    r.not_well_centred_off_gamma = c.not_well_centred_off_gamma;
     r.edges = 3 * r.triangles / 2;
-    // The 1st percentile (the value a full sort puts at n / 100): its fine
-    // bin and rank there, then the values of that bin only.
-    int p1_bin[kMetrics];
-    int64_t p1_rank[kMetrics];
-    for (int m = 0; m < kMetrics; ++m) {
-        int64_t rank = all[m].n / 100, i = 0;
-        while (i < kFine + 1 && rank >= all[m].fine[i]) rank -= all[m].fine[i++];
-        p1_bin[m] = static_cast<int>(i), p1_rank[m] = rank;
-    }
-    std::vector<std::vector<double>> in_bin[kMetrics];
-    for (auto &v : in_bin) v.resize(static_cast<size_t>(n_blocks));
-    ctx.parallel_for(n_blocks, 1, [&](int64_t b0, int64_t b1) {
-        for (int64_t blk = b0; blk < b1; ++blk)
-            for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
-                bool wanted = false;
-                for (int i = 0; i < kValuesPerTriangle && !wanted; ++i)
-                    wanted = bins[t][i] == p1_bin[std::min(i, int(kSpacingRatio))];
-                if (!wanted) continue;
-                TriangleQuality q;
-                for_each_value(tri, h, static_cast<int32_t>(t), q, [&](Metric m, double v) {
-                    if (fine_bin(v, m) == p1_bin[m]) in_bin[m][blk].push_back(v);
-                });
-            }
-    });
-    release(bins);
-    for (int m = 0; m < kMetrics; ++m) {
-        Summary &s = *summary[m];
-        s.lo = kLo[m], s.hi = kHi[m];
-        s.histogram = all[m].coarse;
-        if (all[m].n == 0) continue;  // an empty mesh: zeros
-        s.min = all[m].min, s.max = all[m].max, s.mean = all[m].sum / double(all[m].n);
-        std::vector<double> values;
-        for (const auto &v : in_bin[m]) values.insert(values.end(), v.begin(), v.end());
-        // The two passes see the same values unless h is not reproducible
-        // (a user callback): then the nearest the bin allows.
-        if (values.empty()) {
-            s.p1 = s.min;
-            continue;
+    auto edge_values = [&](int64_t i, Counts &, auto &&emit) {
+        const int32_t t = static_cast<int32_t>(i);
+        if (tri.is_free(t)) return;
+        const Vec3 o1 = tri.orthocentre(t);
+        for (int k = 0; k < 3; ++k) {
+            if (!counted(t, k)) continue;
+            const EdgeOffsets e = edge_offsets(tri, t, k, o1);
+            emit(3 * k, e.dual), emit(3 * k + 1, e.primal);
+            if (h) emit(3 * k + 2, e.dc_edge / h(e.x_edge));
         }
-        auto at = values.begin() + static_cast<std::ptrdiff_t>(std::min<int64_t>(p1_rank[m], values.size() - 1));
-        std::nth_element(values.begin(), at, values.end());
-        s.p1 = *at;
-    }
+    };
+    summarise(ctx, n, kEdgeSlots, edge_values, summary);
+    auto cell_values = [&](int64_t v, Counts &, auto &&emit) {
+        if (tri.in_triangulation(static_cast<int32_t>(v))) emit(0, centroid_offset(tri, static_cast<int32_t>(v)));
+    };
+    summarise(ctx, tri.vertex_slots(), std::array<Metric, 1>{kCentroidOffset}, cell_values, summary);
     return r;
 }
 
@@ -232,7 +394,8 @@ std::string to_json(const Report &r, const std::string &indent,
                   ",", nl, "\"edge_spacing_ratio\": ", json_summary(r.spacing_ratio),
                   ",", nl, "\"obtuse_triangles\": ", r.obtuse,
                   ",", nl, "\"not_well_centred\": ", r.not_well_centred,
-                  ",", nl, "\"not_well_centred_off_gamma\": ", r.not_well_centred_off_gamma);
+                  ",", nl, "\"not_well_centred_off_gamma\": ", r.not_well_centred_off_gamma,
+                  ",", nl, "\"operator_diagnostics\": ", json_operator_diagnostics(r, nl));
     if (!extra_members.empty()) text += concat(",", nl, extra_members);
     return text + concat("\n", indent, "}", indent.empty() ? "\n" : "");
 }

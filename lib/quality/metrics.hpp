@@ -7,6 +7,15 @@
 //   angles of every triangle (degrees), the share with an angle > 90;
 //   h_r = l_e / h(midpoint of e) per edge;
 //   well-centred: the triangle contains its orthocentre.
+// And the operator diagnostics, the offsets on which the errors of the MPAS
+// (TRSK) operators depend (Peixoto 2016, J. Comput. Phys. 310): the
+// divergence and the kinetic energy feel the dual-edge offset, the curl the
+// primal-edge offset, the TRSK reconstruction the centroid offset; with
+// xEdge where the dual arc of an edge crosses its primal arc,
+//   centroid offset     arc(x_i, centroid of power cell i) / sqrt(area_i);
+//   dual-edge offset    arc(xEdge, midpoint of the dual arc) / dvEdge;
+//   primal-edge offset  arc(xEdge, midpoint of the primal arc) / dcEdge;
+//   cell spacing ratio  dcEdge / h(xEdge).
 #pragma once
 
 #include <cstdint>
@@ -28,8 +37,21 @@ struct TriangleQuality {
 
 TriangleQuality triangle_quality(const tri::Triangulation &tri, int32_t t);
 
+// The operator diagnostics of edge k of triangle t (from its vertex k + 1 to
+// k + 2; neighbour(t, k) on the other side): the dual-edge and primal-edge
+// offsets, dcEdge (radians) and xEdge, the edge orthocentre.
+struct EdgeOffsets {
+    double dual, primal, dc_edge;
+    geom::Vec3 x_edge;
+};
+EdgeOffsets edge_offsets(const tri::Triangulation &tri, int32_t t, int k);
+
+// The centroid offset of the power cell of vertex slot v (in the triangulation).
+double centroid_offset(const tri::Triangulation &tri, int32_t v);
+
 struct Summary {
     double min = 0, p1 = 0, mean = 0, max = 0;
+    double rms = 0, std = 0;  // root mean square; standard deviation (of the population)
     std::vector<int64_t> histogram;  // kBins bins over [lo, hi]
     double lo = 0, hi = 1;
 };
@@ -44,17 +66,24 @@ struct Report {
     // issue allows none: a triangle with its three vertices on Gamma may be
     // forced off-centre by the feature's shape).
     int64_t not_well_centred_off_gamma = 0;
+    // The operator diagnostics: per power cell, per edge, per edge, per edge
+    // (the last needs h, like spacing_ratio). A dual edge of no length (or a
+    // cell of no area) counts as 2^-52 long: an offset of ~1e16.
+    Summary centroid_offset, dual_edge_offset, primal_edge_offset, cell_spacing_ratio;
 };
 
-// Every metric over the live triangles (in parallel; the same result for any
-// thread count). h may be empty: then h_r is not computed. on_segment: per
-// vertex slot its segment of Gamma or -1 (null: no vertex on Gamma).
+// Every metric over the live triangles, edges and cells (in parallel; the
+// same result for any thread count). h may be empty: then h_r and dcEdge / h
+// are not computed. on_segment: per vertex slot its segment of Gamma or -1
+// (null: no vertex on Gamma).
 Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
                const std::vector<int32_t> *on_segment = nullptr);
 
 // The report as JSON text (for quality.json): an object whose lines after
 // the first start with `indent` (to nest it in another report), with
 // `extra_members` (JSON "key": value text) appended as its last members.
+// Its "operator_diagnostics" give rms and max of each offset and min, max,
+// mean and std of dcEdge / h; a value that is not finite is null.
 std::string to_json(const Report &r, const std::string &indent = "",
                     const std::string &extra_members = "");
 

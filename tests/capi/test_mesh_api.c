@@ -353,6 +353,20 @@ static void quality_report(void **state) {
     assert_true(mn > 0 && mx <= 1.0 + 1e-12 && mean > 0.9);
     assert_int_equal(um_mesh_quality_summary(m, "edge_spacing_ratio", &mn, NULL, &mean, &mx), UM_OK);
     assert_true(mn >= 0.5 && mx < 1.54 && fabs(mean - 1.0) < 0.1);
+    /* The operator diagnostics: offsets are >= 0, ordered min <= p1 <= mean
+     * <= max; on a refined (Voronoi) mesh xEdge is the edge midpoint. */
+    const char *offsets[] = {"centroid_offset", "dual_edge_offset", "primal_edge_offset"};
+    for (int i = 0; i < 3; ++i) {
+        mn = p1 = mean = mx = -1;
+        assert_int_equal(um_mesh_quality_summary(m, offsets[i], &mn, &p1, &mean, &mx), UM_OK);
+        assert_true(mn >= 0 && mn <= p1 && p1 <= mean && mean <= mx);
+    }
+    assert_int_equal(um_mesh_quality_summary(m, "centroid_offset", NULL, NULL, &mean, &mx), UM_OK);
+    assert_true(mean > 0 && mx < 0.5);
+    assert_int_equal(um_mesh_quality_summary(m, "primal_edge_offset", NULL, NULL, NULL, &mx), UM_OK);
+    assert_true(mx < 1e-9);
+    assert_int_equal(um_mesh_quality_summary(m, "cell_spacing_ratio", &mn, &p1, &mean, &mx), UM_OK);
+    assert_true(mn >= 0.5 && mn <= p1 && mx < 1.54 && fabs(mean - 1.0) < 0.1);
     int64_t obtuse = -1, bad = -1;
     assert_int_equal(um_mesh_quality_counts(m, &obtuse, &bad), UM_OK);
     assert_true(obtuse >= 0 && bad >= 0 && bad <= obtuse);
@@ -362,9 +376,17 @@ static void quality_report(void **state) {
     assert_int_equal(um_mesh_quality_json(m, json, needed, NULL), UM_OK);
     assert_non_null(strstr(json, "\"primal_dual\""));
     assert_non_null(strstr(json, "\"not_well_centred\""));
+    const char *diagnostics = strstr(json, "\"operator_diagnostics\": {");
+    assert_non_null(diagnostics);
+    assert_non_null(strstr(diagnostics, "\"centroid_offset\": {\"rms\": "));
+    assert_non_null(strstr(diagnostics, "\"dual_edge_offset\": {\"rms\": "));
+    assert_non_null(strstr(diagnostics, "\"primal_edge_offset\": {\"rms\": "));
+    assert_non_null(strstr(diagnostics, "\"cell_spacing_ratio\": {\"min\": "));
+    assert_non_null(strstr(diagnostics, "\"std\": "));
     free(json);
     assert_int_equal(um_mesh_quality_summary(m, "nonsense", &mn, NULL, NULL, NULL), UM_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(um_context_last_error(ctx), "nonsense"));
+    assert_non_null(strstr(um_context_last_error(ctx), "cell_spacing_ratio"));
     um_mesh_destroy(m);
     um_spacing_destroy(h);
 }

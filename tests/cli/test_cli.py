@@ -31,9 +31,16 @@ class Build(unittest.TestCase):
             for name in FILES:
                 self.assertGreater(os.path.getsize(os.path.join(out, name)), 0, name)
             self.assertIn("optimised quality", r.stdout)
+            self.assertIn("optimised operator diagnostics: centroid offset rms ", r.stdout)
             with open(os.path.join(out, "quality.json")) as f:
                 report = json.load(f)
             self.assertIn("before_optimisation", report)
+            diagnostics = report["operator_diagnostics"]
+            for name in ("centroid_offset", "dual_edge_offset", "primal_edge_offset"):
+                self.assertEqual(set(diagnostics[name]), {"rms", "max"}, name)
+                self.assertLessEqual(diagnostics[name]["rms"], diagnostics[name]["max"], name)
+            self.assertEqual(set(diagnostics["cell_spacing_ratio"]), {"min", "max", "mean", "std"})
+            self.assertIn("operator_diagnostics", report["before_optimisation"])
             mesh = os.path.join(out, "mesh.nc")
             check = run("check", mesh)
             self.assertEqual(check.returncode, 0, check.stdout + check.stderr)

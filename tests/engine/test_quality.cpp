@@ -7,8 +7,12 @@
 #include <csetjmp>
 #include <vector>
 
+#include <string>
+
+#include "dual/spherical.hpp"
 #include "quality/metrics.hpp"
 #include "refine/surface.hpp"
+#include "support/point_sets.hpp"
 
 // cmocka last: it defines a fail() macro.
 extern "C" {
@@ -31,6 +35,25 @@ void check(const quality::Summary &s, std::vector<double> values) {
     int64_t counted = 0;
     for (int64_t c : s.histogram) counted += c;
     assert_int_equal(counted, static_cast<int64_t>(values.size()));
+    // rms and the standard deviation, against the two-pass forms.
+    double sum_sq = 0, dev_sq = 0;
+    for (double v : values) sum_sq += v * v, dev_sq += (v - sum / double(values.size())) * (v - sum / double(values.size()));
+    assert_true(std::fabs(s.rms - std::sqrt(sum_sq / double(values.size()))) < 1e-12 * s.rms + 1e-15);
+    assert_true(std::fabs(s.std - std::sqrt(dev_sq / double(values.size()))) < 1e-9 * s.std + 1e-15);
+}
+
+// The operator diagnostics of every live edge (once) and cell, computed one
+// by one: dual-edge offsets, primal-edge offsets, dcEdge / h(xEdge),
+// centroid offsets.
+void operator_values(const tri::Triangulation &tri, const refine::SpacingRadians &h, std::vector<double> v[4]) {
+    for (int32_t t = 0; t < tri.triangle_slots(); ++t)
+        for (int k = 0; k < 3 && !tri.is_free(t); ++k) {
+            if (tri.neighbour(t, k) < t) continue;
+            const quality::EdgeOffsets e = quality::edge_offsets(tri, t, k);
+            v[0].push_back(e.dual), v[1].push_back(e.primal), v[2].push_back(e.dc_edge / h(e.x_edge));
+        }
+    for (int32_t c = 0; c < tri.vertex_slots(); ++c)
+        if (tri.in_triangulation(c)) v[3].push_back(quality::centroid_offset(tri, c));
 }
 
 void streamed_report_matches_sorted_values(void **) {
@@ -83,7 +106,107 @@ void streamed_report_matches_sorted_values(void **) {
         assert_true(off > 0 && off < not_well_centred);
         check(r.area_length, v[0]), check(r.primal_dual, v[1]);
         check(r.angle_min, v[2]), check(r.angle_max, v[3]), check(r.spacing_ratio, v[4]);
+        if (threads == 1) continue;  // the blocks, and so the report, are those of 3 threads
+        std::vector<double> o[4];
+        operator_values(tri, h, o);
+        assert_int_equal(static_cast<int64_t>(o[0].size()), r.edges);
+        check(r.dual_edge_offset, o[0]), check(r.primal_edge_offset, o[1]);
+        check(r.cell_spacing_ratio, o[2]), check(r.centroid_offset, o[3]);
     }
+}
+
+tri::Triangulation build(Context &ctx, const std::vector<Vec3> &pts, const std::vector<double> *weights = nullptr) {
+    tri::Triangulation tri;
+    tri.build(ctx, static_cast<int64_t>(pts.size()), [&](int64_t i) { return pts[i]; },
+              weights ? weights->data() : nullptr);
+    return tri;
+}
+
+// The Voronoi mesh of the icosahedral grid of level 6 (40962 cells; each
+// triangle split in four by its normalised edge midpoints), whose
+// diagnostics are known: xEdge is the edge midpoint (primal-edge offset 0),
+// centroid offsets rms 0.0092, dual-edge offsets rms 0.013. The report is
+// the same, to the bit, for any thread count.
+void icosahedral_operator_diagnostics(void **) {
+    const std::vector<Vec3> pts = test::icosahedral_points(6);
+    assert_int_equal(static_cast<int64_t>(pts.size()), 40962);
+    const double spacing = 0.0189;  // about the mean edge (radians)
+    const refine::SpacingRadians h = [&](const Vec3 &) { return spacing; };
+    std::string json[2];
+    for (int threads : {1, 3}) {
+        Context ctx;
+        ctx.set_threads(threads);
+        const tri::Triangulation tri = build(ctx, pts);
+        const quality::Report r = quality::measure(ctx, tri, h);
+        assert_true(r.primal_edge_offset.max < 1e-9);
+        assert_true(std::fabs(r.centroid_offset.rms / 0.0092 - 1) < 0.1);
+        assert_true(std::fabs(r.dual_edge_offset.rms / 0.013 - 1) < 0.1);
+        assert_true(r.centroid_offset.max < 0.05 && r.dual_edge_offset.max < 0.1);
+        // dcEdge / h: h is constant, so its spread is that of the edge lengths.
+        std::vector<double> o[4];
+        operator_values(tri, h, o);
+        check(r.cell_spacing_ratio, o[2]);
+        assert_true(r.cell_spacing_ratio.std > 0.01 && r.cell_spacing_ratio.std < 0.1);
+        assert_true(std::fabs(r.cell_spacing_ratio.mean - 1) < 0.1);
+        json[threads == 1 ? 0 : 1] = quality::to_json(r);
+    }
+    assert_string_equal(json[0].c_str(), json[1].c_str());
+}
+
+// The centroid against quadrature: each fan triangle (generator, o_k,
+// o_k+1) of a power cell cut into m^2 small ones, each of its (signed)
+// area at its normalised vertex mean. Power cells of weighted random
+// points, some of which do not hold their generator.
+void centroid_offset_is_exact(void **) {
+    Context ctx;
+    const std::vector<Vec3> pts = test::random_points(200, 7);
+    std::vector<double> w(pts.size());
+    for (size_t i = 0; i < w.size(); ++i) w[i] = 0.004 * double((i * 37) % 11);  // up to ~2 cell areas
+    const tri::Triangulation tri = build(ctx, pts, &w);
+    constexpr int m = 48;
+    int checked = 0;
+    for (int32_t v = 0; v < tri.vertex_slots() && checked < 40; ++v) {
+        if (!tri.in_triangulation(v)) continue;
+        const Vec3 x = tri.direction(v);
+        const std::vector<Vec3> cell = tri.power_cell(v);
+        Vec3 moment;
+        double area = 0;
+        for (size_t k = 0; k < cell.size(); ++k) {
+            const Vec3 p = cell[k], q = cell[(k + 1) % cell.size()];
+            auto at = [&](int i, int j) {  // barycentric (i, j) / m of (x, p, q)
+                return geom::normalized(double(m - i - j) * x + double(i) * p + double(j) * q);
+            };
+            for (int i = 0; i < m; ++i)
+                for (int j = 0; i + j < m; ++j) {
+                    const Vec3 a = at(i, j), b = at(i + 1, j), c = at(i, j + 1);
+                    double da = dual::signed_area(a, b, c);
+                    moment = moment + da * geom::normalized(a + b + c), area += da;
+                    if (i + j + 1 < m) {
+                        const Vec3 d = at(i + 1, j + 1);
+                        da = dual::signed_area(b, d, c);
+                        moment = moment + da * geom::normalized(b + d + c), area += da;
+                    }
+                }
+        }
+        const double expected = dual::arc(x, geom::normalized(moment)) / std::sqrt(area);
+        const double got = quality::centroid_offset(tri, v);
+        if (std::fabs(got - expected) > 1e-6 * (1 + expected))
+            fail_msg("cell %d: centroid offset %.10g, quadrature %.10g", v, got, expected);
+        ++checked;
+    }
+    assert_int_equal(checked, 40);
+}
+
+// quality.json's operator diagnostics, and null for what JSON cannot hold.
+void json_has_operator_diagnostics(void **) {
+    quality::Report r;
+    r.dual_edge_offset.rms = 0.25, r.dual_edge_offset.max = HUGE_VAL, r.cell_spacing_ratio.std = 0.125;
+    const std::string json = quality::to_json(r);
+    for (const char *key : {"\"operator_diagnostics\": {", "\"centroid_offset\": {\"rms\": 0, \"max\": 0}",
+                            "\"dual_edge_offset\": {\"rms\": 0.25, \"max\": null}",
+                            "\"primal_edge_offset\": {\"rms\": 0, \"max\": 0}",
+                            "\"cell_spacing_ratio\": {\"min\": 0, \"max\": 0, \"mean\": 0, \"std\": 0.125}"})
+        if (json.find(key) == std::string::npos) fail_msg("no %s in\n%s", key, json.c_str());
 }
 
 }  // namespace
@@ -91,6 +214,9 @@ void streamed_report_matches_sorted_values(void **) {
 int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(streamed_report_matches_sorted_values),
+        cmocka_unit_test(icosahedral_operator_diagnostics),
+        cmocka_unit_test(centroid_offset_is_exact),
+        cmocka_unit_test(json_has_operator_diagnostics),
     };
     return cmocka_run_group_tests_name("quality", tests, nullptr, nullptr);
 }

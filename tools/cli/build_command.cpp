@@ -3,8 +3,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -71,7 +74,20 @@ std::string quality_json(um_context *ctx, um_mesh *m) {
     return text;
 }
 
-void print_quality(const char *what, um_mesh *m) {
+// A number of the mesh's own operator diagnostics in its JSON report
+// (`key` of `member`; the mesh's own come before "before_optimisation"):
+// the C API gives no rms or std. NaN when absent or null (not finite).
+double diagnostic(const std::string &json, const char *member, const char *key) {
+    size_t at = json.find("\"operator_diagnostics\"");
+    if (at != std::string::npos) at = json.find(std::string("\"") + member + "\"", at);
+    if (at != std::string::npos) at = json.find(std::string("\"") + key + "\": ", at);
+    double value = NAN;
+    if (at != std::string::npos)  // locale-independent, as the library writes it
+        std::from_chars(json.data() + at + std::strlen(key) + 4, json.data() + json.size(), value);
+    return value;
+}
+
+void print_quality(const char *what, um_context *ctx, um_mesh *m) {
     int64_t nt = 0, obtuse = 0, bad = 0;
     um_mesh_counts(m, nullptr, &nt, nullptr, nullptr);
     um_mesh_quality_counts(m, &obtuse, &bad);
@@ -84,6 +100,16 @@ void print_quality(const char *what, um_mesh *m) {
                 "orthocentre\n",
                 what, qt_min, qt_mean, qp_min, qp_mean, amax, (long long)obtuse,
                 100.0 * double(obtuse) / double(nt > 0 ? nt : 1), (long long)bad);
+    // What certifies the mesh for the MPAS operators (unimesh.h, um_mesh_quality_json).
+    const std::string json = quality_json(ctx, m);
+    auto d = [&](const char *member, const char *key) { return diagnostic(json, member, key); };
+    std::printf("%-9s operator diagnostics: centroid offset rms %.3g max %.3g; dual-edge offset rms %.3g "
+                "max %.3g; primal-edge offset rms %.3g max %.3g; dcEdge/h min %.3f max %.3f mean %.3f "
+                "std %.3g\n",
+                what, d("centroid_offset", "rms"), d("centroid_offset", "max"), d("dual_edge_offset", "rms"),
+                d("dual_edge_offset", "max"), d("primal_edge_offset", "rms"), d("primal_edge_offset", "max"),
+                d("cell_spacing_ratio", "min"), d("cell_spacing_ratio", "max"),
+                d("cell_spacing_ratio", "mean"), d("cell_spacing_ratio", "std"));
     std::fflush(stdout);
 }
 
@@ -145,7 +171,7 @@ int run_build(const BuildArgs &a) {
         const auto t1 = std::chrono::steady_clock::now();
         const double refine_s = std::chrono::duration<double>(t1 - t0).count();
         if (!a.no_optimise) {
-            print_quality("refined", m);
+            print_quality("refined", ctx, m);
             check(um_mesh_optimise(m, opts), ctx, "optimisation");
         }
         const double optimise_s =
@@ -172,7 +198,7 @@ int run_build(const BuildArgs &a) {
                     "than the features); refined in %.2f s, optimised in %.2f s\n",
                     (long long)nv, (long long)nt, (long long)nr, (long long)nf, refine_s,
                     a.no_optimise ? 0.0 : optimise_s);
-        print_quality(a.no_optimise ? "refined" : "optimised", m);
+        print_quality(a.no_optimise ? "refined" : "optimised", ctx, m);
         std::printf("wrote %smesh.nc, %sgraph.info, %smesh.vtu, %striangles.vtu, %smesh.msh, "
                     "%squality.json%s%s\n", dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(),
                     dir.c_str(), plotted ? ", " : "", plotted ? (dir + "quality.png").c_str() : "");

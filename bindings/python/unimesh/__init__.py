@@ -995,7 +995,10 @@ class Mesh(_Handle):
 
     def quality_summary(self, metric):
         """QualitySummary(min, p1, mean, max) of a metric: "area_length_ratio",
-        "primal_dual", "angle_min_deg", "angle_max_deg" or "edge_spacing_ratio"."""
+        "primal_dual", "angle_min_deg", "angle_max_deg", "edge_spacing_ratio",
+        or an operator diagnostic: "centroid_offset", "dual_edge_offset",
+        "primal_edge_offset" or "cell_spacing_ratio" (dcEdge / h). Their rms
+        and std are in quality_json()'s "operator_diagnostics"."""
         values = c_double(), c_double(), c_double(), c_double()
         self._check(C.um_mesh_quality_summary(self._handle, str(metric).encode(),
                                               *(byref(v) for v in values)))
