@@ -37,8 +37,16 @@ constexpr double kCrossingMargin = 0.05;
 // tolerances: smaller gains cost a sweep each and change no summary.
 constexpr double kGainOverTolerance = 10;
 
-// Stars whose worst staggering score is at least this keep their weights.
-constexpr double kWeightedBelow = 0.99;
+// Stars whose worst staggering score is at least this keep their weights:
+// kWeightedBelow in the bulk, kWeightedBelowNearGamma within kNearGamma h of
+// Gamma, where the features force triangles that need weights to hold their
+// orthocentres (with 0.95 there too, the coastline case at 60 km kept one
+// triangle off-centre; with 0.99 everywhere, curl errors at 120 km were 3x
+// larger). An ascent lifts the worst triangle only kWeightedMargin past the
+// threshold, not to its star's mean as eq. 6 would.
+constexpr double kWeightedBelow = 0.95;
+constexpr double kWeightedBelowNearGamma = 0.99;
+constexpr double kWeightedMargin = 0.001;
 
 // Targets closer than this (in units of h) are not searched towards.
 constexpr double kShortestMove = 1e-4;
@@ -398,16 +406,18 @@ bool Optimiser::update_weight(const StarGraph &g, int32_t v) {
     }
     before.mean = sum / m;
     // Weights move xEdge off the primal midpoint, which the curl feels, and
-    // gain the divergence little: only stars whose worst triangle stagers
+    // gain the divergence little: only stars whose worst triangle staggers
     // poorly get them; the bulk stays a Voronoi (power with equal weights)
     // diagram of centroidal generators.
-    if (before.worst >= kWeightedBelow) {
+    const double weighted_below = !near_gamma_.empty() && near_gamma_[v] ? kWeightedBelowNearGamma : kWeightedBelow;
+    if (before.worst >= weighted_below) {
         weight_failed_at_[v] = clock_;
         return false;
     }
     const double slope =
         primal_dual_weight_derivative(here, ring.at(worst_k), ring.after(worst_k));
-    const double gain = sum_qp / m - worst_qp;
+    // Only as far as the threshold: a larger weight moves xEdge further.
+    const double gain = std::min(sum_qp / m, weighted_below + kWeightedMargin) - worst_qp;
     if (slope != 0 && gain > 0) {
         const double w = 2.0 * (1.0 - 1.0 / here.s);
         // A weight may not let Gamma into more cells off it around v (counted once, when first needed).

@@ -12,9 +12,10 @@
 // the topology in. Then the centroidal pass (centroidal.cpp) takes the
 // generators to their power cells' centroids, and the second half runs the
 // weight ascent alone (no more moves, which would undo the centroids), on
-// the stars whose worst triangle scores below 0.99 only, scored by Q^P less
-// a penalty for a triangle that does not hold its orthocentre: the bulk
-// keeps equal weights, where xEdge is the primal edge's midpoint.
+// the stars whose worst triangle scores below 0.95 (0.99 near Gamma) only,
+// scored by Q^P less a penalty for a triangle that does not hold its
+// orthocentre: the bulk keeps equal weights, where xEdge is the primal
+// edge's midpoint.
 //
 // Sweeps are graph-coloured (optim/star_graph.hpp): the vertices of one
 // colour update in parallel with the topology held fixed, colours in
