@@ -553,14 +553,16 @@ UM_API void um_mesh_destroy(um_mesh *m); /* NULL-safe */
  * (no vertex can become hidden). Stops early when an outer iteration changes
  * no quality summary by more than UM_OPT_OPTIM_TOLERANCE. The first half of
  * the outer iterations moves vertices and holds the weights; then
- * UM_OPT_OPTIM_CENTROIDAL_SWEEPS Lloyd sweeps move every vertex towards the
- * centroid of its power cell under the density h^-4 (a centroidal Voronoi
- * tessellation: what makes the MPAS operators accurate), each step only as
- * far as it keeps its triangles' worst shape above the mesh's worst (at most
- * 0.95) and lets the features into no more cells; the second half then
- * changes only weights, and only around triangles whose Q^P is below 0.99
- * (weights move xEdge off the primal edge's midpoint, which costs the curl
- * accuracy). After the iterations, two serial joint searches: each triangle not containing its
+ * UM_OPT_OPTIM_CENTROIDAL_SWEEPS Lloyd sweeps move every vertex off the
+ * features towards the centroid of its power cell under the density h^-4 (a
+ * centroidal Voronoi tessellation: what makes the MPAS operators accurate),
+ * each step only as far as it keeps the star valid, lets the features into
+ * no more cells and keeps every triangle's area-length ratio at least 0.925,
+ * its angles at most 81 degrees and its Q^P at least 0.99 (or as they were); the second half then
+ * changes only weights, and only around triangles whose Q^P is below 0.95
+ * (0.99 within 2.5 h of the features), each only just past that (weights
+ * move xEdge off the primal edge's midpoint, which costs the curl accuracy).
+ * After the iterations, two serial joint searches: each triangle not containing its
  * orthocentre gets the weights (and, on the features, the slides) of its
  * vertices searched together, and then each obtuse triangle the positions of
  * its three vertices; a combination is taken only if it leaves fewer such

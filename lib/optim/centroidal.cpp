@@ -39,6 +39,9 @@ constexpr double kCentroidalStill = 1e-4;
 // and 1.85e-2.
 constexpr double kLloydQt = 0.925;
 constexpr double kLloydAngle = 81.0;
+// Nor below this Q^P: the staggering the shape phase reached stays without
+// weights, which would move xEdge off the primal midpoints (the curl).
+constexpr double kLloydQp = 0.99;
 constexpr int kCentroidalHalvings = 6;
 
 // The integral of X over the spherical triangle's part that the edge (p, q)
@@ -81,13 +84,14 @@ Vec3 Optimiser::centroid_target(const StarGraph &g, int32_t v, const Generator &
 
 // How far the star of v at `centre` is inside the Lloyd steps' bounds: the
 // least over its triangles of min(Q^T - kLloydQt, cos(largest angle) -
-// cos(kLloydAngle)), negative when a triangle is past one.
+// cos(kLloydAngle), Q^P - kLloydQp), negative when a triangle is past one.
 static double lloyd_margin(const Ring &ring, const Generator &centre) {
     static const double cos_limit = std::cos(kLloydAngle * M_PI / 180);
     double margin = kInfinity;
     for (int k = 0; k < ring.m; ++k) {
         const Vec3 &a = centre.x, &b = ring.at(k).x, &c = ring.after(k).x;
-        margin = std::min({margin, area_length_ratio(a, b, c) - kLloydQt, largest_angle_cosine(a, b, c) - cos_limit});
+        margin = std::min({margin, area_length_ratio(a, b, c) - kLloydQt, largest_angle_cosine(a, b, c) - cos_limit,
+                           primal_dual(centre, ring.at(k), ring.after(k)) - kLloydQp});
     }
     return margin;
 }
