@@ -15,7 +15,7 @@
 #include "core/text.hpp"
 
 #include "geom/predicates.hpp"
-#include "optim/optimiser.hpp"
+#include "optim/centroidal.hpp"
 
 namespace um::optim::detail {
 
@@ -52,7 +52,7 @@ Vec3 edge_moment(const Vec3 &p, const Vec3 &q) {
 // fanned from the generator, each fan triangle weighted by the density at
 // its spoke: rho = (mean h of v and the spoke's far end)^-4. Exact on the
 // sphere for a constant density (the spokes' moments cancel).
-Vec3 Optimiser::centroid_target(const StarGraph &g, int32_t v, const Generator &c, const Ring &ring) const {
+Vec3 Centroidal::centroid_target(const StarGraph &g, int32_t v, const Generator &c, const Ring &ring) const {
     const int32_t *link = g.link(v);
     const int m = ring.m;
     const Vec3 q = c.lifted();
@@ -65,7 +65,7 @@ Vec3 Optimiser::centroid_target(const StarGraph &g, int32_t v, const Generator &
     for (int k = 0; k < m; ++k) {
         const Vec3 spoke = edge_moment(c.x, ortho[k]);
         const Vec3 moment = spoke_prev + edge_moment(ortho[k == 0 ? m - 1 : k - 1], ortho[k]) - spoke;
-        const double h = 0.5 * (static_cast<double>(h_at_[v]) + static_cast<double>(h_at_[link[k]]));
+        const double h = 0.5 * (static_cast<double>(s_.h_at[v]) + static_cast<double>(s_.h_at[link[k]]));
         const double h2 = h * h;
         sum = sum + (1.0 / (h2 * h2)) * moment;
         spoke_prev = spoke;
@@ -77,20 +77,20 @@ Vec3 Optimiser::centroid_target(const StarGraph &g, int32_t v, const Generator &
 // valid, keeps Gamma where it was and its worst shape score stays above
 // min(as it was, kCentroidalFloor). True when v moved by more than
 // kCentroidalStill h.
-bool Optimiser::update_centroidal(const StarGraph &g, int32_t v) {
+bool Centroidal::update_centroidal(const StarGraph &g, int32_t v) {
     // Vertices on Gamma stay where the shape phase put them: they carry the
     // restricted edges, and a cell cut by a coastline is not meant to be
     // centroidal.
-    if (g.degree(v) < 3 || on_segment_[v] >= 0) return false;
+    if (g.degree(v) < 3 || s_.on_segment[v] >= 0) return false;
     Ring ring;
-    if (!gather_ring(g, v, ring)) return false;
-    const Generator here = generator(v);
+    if (!s_.gather_ring(g, v, ring)) return false;
+    const Generator here = s_.generator(v);
     const Vec3 target = centroid_target(g, v, here, ring);
-    const double still = kCentroidalStill * static_cast<double>(h_at_[v]);
+    const double still = kCentroidalStill * static_cast<double>(s_.h_at[v]);
     if (!(geom::norm(target - here.x) > still)) return false;
     const LocalQuality before = ring_quality<true>(ring, here, -kInfinity);
     const double floor = std::min(before.worst, kCentroidalFloor);
-    const bool guarded = !near_gamma_.empty() && near_gamma_[v];
+    const bool guarded = !s_.near_gamma.empty() && s_.near_gamma[v];
     int crossings = -1;
     double step = 1;
     for (int i = 0; i <= kCentroidalHalvings; ++i, step *= 0.5) {
@@ -99,42 +99,37 @@ bool Optimiser::update_centroidal(const StarGraph &g, int32_t v) {
         if (ring_quality<true>(ring, moved, floor, before.worst_k).worst < floor) continue;
         if (!star_is_valid(ring, moved)) continue;
         if (guarded) {
-            if (crossings < 0) crossings = gamma_crossings(v, ring, g.link(v), here);
-            if (gamma_crossings(v, ring, g.link(v), moved) > crossings) continue;
+            if (crossings < 0) crossings = s_.gamma_crossings(v, ring, g.link(v), here);
+            if (s_.gamma_crossings(v, ring, g.link(v), moved) > crossings) continue;
         }
-        set_generator(v, moved);
-        h_at_[v] = static_cast<float>(h_(moved.x));
-        changed_at_[v] = clock_;
+        s_.set_generator(v, moved);
+        s_.h_at[v] = static_cast<float>(s_.h(moved.x));
+        s_.changed_at[v] = s_.clock;
         return geom::norm(moved.x - here.x) > still;
     }
     return false;
 }
 
-int64_t Optimiser::relax_to_centroids(std::unique_ptr<StarGraph> &graph) {
+int64_t Centroidal::relax_to_centroids(std::unique_ptr<StarGraph> &graph) {
     int64_t total = 0;
-    int32_t since = clock_;
-    for (int i = 0; i < o_.centroidal_sweeps; ++i) {
-        if (i % kCentroidalFlipEvery == 0) flag_near_gamma();
+    int32_t since = s_.clock;
+    for (int i = 0; i < s_.options.centroidal_sweeps; ++i) {
+        if (i % kCentroidalFlipEvery == 0) s_.flag_near_gamma();
         auto t0 = Clock::now();
-        const int64_t moved = sweep(*graph, Sweep::centroidal, i % 2 == 0);
-        stats_.seconds_moves += seconds_since(t0);
+        const int64_t moved =
+            s_.sweep(*graph, i % 2 == 0, nullptr, [&](const StarGraph &g, int32_t v) { return update_centroidal(g, v); });
+        s_.stats.seconds_moves += seconds_since(t0);
         total += moved;
-        const bool last = moved == 0 || i + 1 == o_.centroidal_sweeps;
+        const bool last = moved == 0 || i + 1 == s_.options.centroidal_sweeps;
         if (i % kCentroidalFlipEvery == kCentroidalFlipEvery - 1 || last) {
             t0 = Clock::now();
-            int64_t flips = restore_regularity(since);
-            stats_.flips += flips;
-            if (flips > 0) {
-                load_spacing();
-                const std::vector<uint32_t> links_before = link_fingerprints(ctx_, *graph);
-                graph.reset();
-                graph = std::make_unique<StarGraph>(ctx_, tri_);
-                mark_changed_links(links_before, *graph);
-            }
-            ++clock_;
-            since = clock_;
-            stats_.seconds_topology += seconds_since(t0);
-            ctx_.log(UM_LOG_DEBUG, concat("optimise: centroidal sweep ", i + 1, ": ", moved, " moved, ", flips, " flips"));
+            int64_t flips = s_.restore_regularity(since);
+            s_.stats.flips += flips;
+            if (flips > 0) s_.rebuild_graph(graph);
+            ++s_.clock;
+            since = s_.clock;
+            s_.stats.seconds_topology += seconds_since(t0);
+            s_.ctx.log(UM_LOG_DEBUG, concat("optimise: centroidal sweep ", i + 1, ": ", moved, " moved, ", flips, " flips"));
         }
         if (moved == 0) break;
     }
