@@ -81,7 +81,8 @@ OptimiseStats Schedule::run() {
         const int32_t outer_start = s_.clock;
         Changes changes;
         changes.updates = inner_sweeps(shape_phase);
-        if (shape_phase && shape_.wants_polish(changes.updates)) changes.updates += polish_poor_stars();
+        if (shape_phase && o.polish_poor_stars && shape_.wants_polish(changes.updates))
+            changes.updates += polish_poor_stars();
         change_topology(n, shape_phase, outer_start, changes);
         ++s_.stats.outer_iterations;
 
@@ -96,8 +97,9 @@ OptimiseStats Schedule::run() {
         }
     }
     if (!s_.weighing && o.outer_iterations > 0) s_.stats.moves += centroidal_.relax_to_centroids(graph_);
-    const int64_t off_centre_left = o.weights && o.outer_iterations > 0 ? mend_off_centre_triangles() : 0;
-    if (o.outer_iterations > 0) mend_obtuse_triangles();
+    const bool mends = o.mends && o.outer_iterations > 0;
+    const int64_t off_centre_left = mends && o.weights ? mend_off_centre_triangles() : 0;
+    if (mends) mend_obtuse_triangles();
     if (off_centre_left > 0) mend_off_centre_after_moves();
     s_.ctx.progress("optimise", 1.0);
     return s_.stats;
@@ -116,7 +118,7 @@ int64_t Schedule::inner_sweeps(bool shape_phase) {
         const bool forward = m % 2 == 0;
         auto t0 = Clock::now();
         // After the shape phase the centroidal pass places the generators.
-        int64_t moved = shape_phase ? shape_.sweep(*graph_, forward) : 0;
+        int64_t moved = shape_phase && s_.options.moves ? shape_.sweep(*graph_, forward) : 0;
         s_.stats.seconds_moves += seconds_since(t0);
         t0 = Clock::now();
         int64_t weighted = s_.options.weights && !shape_phase ? weights_.sweep(*graph_, forward) : 0;
@@ -145,8 +147,9 @@ void Schedule::change_topology(int n, bool shape_phase, int32_t outer_start, Cha
     const OptimiseOptions &o = s_.options;
     auto t0 = Clock::now();
     c.flips = s_.restore_regularity(outer_start);
-    std::tie(c.collapsed, c.split) = topology_.collapse_and_split();
-    c.valence = n + 1 < o.outer_iterations ? topology_.improve_valence() + (n < 2 ? topology_.flip_for_valence() : 0) : 0;
+    if (o.collapse_and_split) std::tie(c.collapsed, c.split) = topology_.collapse_and_split();
+    if (o.valence_repair && n + 1 < o.outer_iterations)
+        c.valence = topology_.improve_valence() + (n < 2 ? topology_.flip_for_valence() : 0);
     c.corners = shape_phase && o.corner_vertices ? corners_.support_gamma_corners() : 0;
     s_.stats.flips += c.flips, s_.stats.collapses += c.collapsed, s_.stats.splits += c.split;
     // Else the spacing (h_at) and the graph are still those of the mesh.
