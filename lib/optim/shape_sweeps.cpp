@@ -97,6 +97,51 @@ Vec3 ShapeSweeps::odt_target(const StarGraph &g, int32_t v, const Generator &c, 
     }
     return geom::normalized(sum);
 }
+// A move of one vertex under trial: its star as it is and what a move must
+// beat (BETTER than `before`, Gamma entering no more cells off it).
+struct ShapeSweeps::MoveTrial {
+    // (Not an aggregate: the ring is left uninitialised, as gather_ring fills it.)
+    MoveTrial(MeshState &s, const StarGraph &g, int32_t v, bool on_gamma) : s(s), g(g), v(v), on_gamma(on_gamma) {}
+    MeshState &s;
+    const StarGraph &g;
+    int32_t v;
+    bool on_gamma;
+    Ring ring;
+    Generator here;
+    LocalQuality before;
+    // A move may not let Gamma into more cells off it around v (the count
+    // as it is taken once, when a trial first gets this far).
+    bool guarded = false;
+    int crossings = -1;
+
+    bool keeps_gamma(const Generator &moved) {
+        if (!guarded) return true;
+        if (crossings < 0) crossings = s.gamma_crossings(v, ring, g.link(v), here);
+        return s.gamma_crossings(v, ring, g.link(v), moved) <= crossings;
+    }
+    void take(const Generator &moved, int64_t segment) {
+        s.set_generator(v, moved);
+        s.on_segment[v] = static_cast<int32_t>(segment);
+        s.h_at[v] = static_cast<float>(s.h(moved.x));
+        s.changed_at[v] = s.clock;
+    }
+    // Tries the move to x (slid onto Gamma when v is on it); true if taken.
+    bool try_move(const Vec3 &x) {
+        Generator moved = here;
+        moved.x = x;
+        int64_t segment = s.on_segment[v];
+        if (on_gamma) {
+            PointOnGamma p = slide_along(*s.gamma, segment, moved.x);
+            moved.x = p.x, segment = p.segment;
+        }
+        // The cheaper test first: most trials fail on quality.
+        if (!better(ring_quality<true>(ring, moved, before.worst, before.worst_k), before, s.gain)) return false;
+        if (!star_is_valid(ring, moved) || !keeps_gamma(moved)) return false;
+        take(moved, segment);
+        return true;
+    }
+};
+
 // Eq. 7: towards the ODT target with halving steps, taken at the first step
 // that is BETTER. When none is (the worst triangle of the star is not the
 // one the ODT step helps), the same search towards the centre of the link
@@ -105,88 +150,74 @@ bool ShapeSweeps::update_position(const StarGraph &g, int32_t v) {
     const bool on_gamma = s_.on_segment[v] >= 0;
     if (g.degree(v) < 3 || (on_gamma && (s_.options.fix_boundary || !s_.gamma))) return false;
     if (s_.nothing_changed_since(g, v, s_.move_failed_at[v])) return false;
-    Ring ring;
-    if (!s_.gather_ring(g, v, ring)) return false;
-    const Generator here = s_.generator(v);
-    const LocalQuality before = ring_quality<true>(ring, here, -kInfinity);
-    // A move may not let Gamma into more cells off it around v (the count
-    // as it is taken once, when a trial first gets this far).
-    const bool guarded = !s_.near_gamma.empty() && s_.near_gamma[v];
-    int crossings = -1;
-    auto keeps_gamma = [&](const Generator &moved) {
-        if (!guarded) return true;
-        if (crossings < 0) crossings = s_.gamma_crossings(v, ring, g.link(v), here);
-        return s_.gamma_crossings(v, ring, g.link(v), moved) <= crossings;
-    };
-    // Tries the move to x (slid onto Gamma when v is on it); true if taken.
-    auto take = [&](const Generator &moved, int64_t segment) {
-        s_.set_generator(v, moved);
-        s_.on_segment[v] = static_cast<int32_t>(segment);
-        s_.h_at[v] = static_cast<float>(s_.h(moved.x));
-        s_.changed_at[v] = s_.clock;
-    };
-    auto try_move = [&](const Vec3 &x) {
-        Generator moved = here;
-        moved.x = x;
-        int64_t segment = s_.on_segment[v];
-        if (on_gamma) {
-            PointOnGamma p = slide_along(*s_.gamma, segment, moved.x);
-            moved.x = p.x, segment = p.segment;
-        }
-        // The cheaper test first: most trials fail on quality.
-        if (!better(ring_quality<true>(ring, moved, before.worst, before.worst_k), before, s_.gain)) return false;
-        if (!star_is_valid(ring, moved) || !keeps_gamma(moved)) return false;
-        take(moved, segment);
-        return true;
-    };
+    MoveTrial trial(s_, g, v, on_gamma);
+    if (!s_.gather_ring(g, v, trial.ring)) return false;
+    trial.here = s_.generator(v);
+    trial.before = ring_quality<true>(trial.ring, trial.here, -kInfinity);
+    trial.guarded = !s_.near_gamma.empty() && s_.near_gamma[v];
+    if (move_to_targets(trial)) return true;
+    if (!on_gamma && trial.before.worst < poor_star_ && move_by_compass(trial)) return true;
+    if (on_gamma && move_along_gamma(trial)) return true;
+    s_.move_failed_at[v] = s_.clock;
+    return false;
+}
+
+bool ShapeSweeps::move_to_targets(MoveTrial &trial) {
+    const Ring &ring = trial.ring;
+    const Generator &here = trial.here;
     Vec3 link_sum{};
     for (int k = 0; k < ring.m; ++k) link_sum = link_sum + ring.at(k).x;
-    for (const Vec3 &target : {odt_target(g, v, here, ring), geom::normalized(link_sum)}) {
+    for (const Vec3 &target : {odt_target(trial.g, trial.v, here, ring), geom::normalized(link_sum)}) {
         // A move this short cannot change a score by the gain required.
-        if (geom::norm(target - here.x) < kShortestMove * s_.h_at[v]) continue;
+        if (geom::norm(target - here.x) < kShortestMove * s_.h_at[trial.v]) continue;
         double step = 1;
         for (int m = 0; m <= kHalvings; ++m, step *= 0.5)
-            if (try_move(geom::normalized((1 - step) * here.x + step * target))) return true;
+            if (trial.try_move(geom::normalized((1 - step) * here.x + step * target))) return true;
     }
-    if (!on_gamma && before.worst < poor_star_) {
-        // A poor star the two targets cannot mend (its worst triangle sits
-        // between vertex pairs of degree 5 and 7, where both targets pull
-        // the wrong way): a compass search, the step
-        // halved until one of them is BETTER.
-        const Vec3 e1 = geom::normalized(geom::cross(here.x, std::fabs(here.x.z) < 0.9 ? Vec3{0, 0, 1} : Vec3{1, 0, 0}));
-        const Vec3 e2 = geom::cross(here.x, e1);
-        double step = 0.25 * s_.h_at[v];
-        for (int m = 0; m < kCompassSteps; ++m, step *= 0.5) {
-            // The best of the directions at this step, not the first that is
-            // BETTER: the worst triangle is what limits the mesh.
-            Generator best{};
-            double best_worst = -kInfinity;
-            for (int d = 0; d < kCompassDirections; ++d) {
-                const auto [c, s] = compass_direction(d);
-                const Generator moved{geom::normalized(here.x + step * (c * e1 + s * e2)), here.s};
-                const LocalQuality now = ring_quality<true>(ring, moved, std::max(before.worst, best_worst), before.worst_k);
-                if (better(now, before, s_.gain) && now.worst > best_worst && star_is_valid(ring, moved) &&
-                    keeps_gamma(moved))
-                    best = moved, best_worst = now.worst;
-            }
-            // Tested already (off Gamma nothing slides): taken as it is.
-            if (best_worst > -kInfinity) {
-                take(best, s_.on_segment[v]);
-                return true;
-            }
+    return false;
+}
+
+// A poor star the two targets cannot mend (its worst triangle sits
+// between vertex pairs of degree 5 and 7, where both targets pull
+// the wrong way): a compass search, the step
+// halved until one of them is BETTER.
+bool ShapeSweeps::move_by_compass(MoveTrial &trial) {
+    const Generator &here = trial.here;
+    const LocalQuality &before = trial.before;
+    const Vec3 e1 = geom::normalized(geom::cross(here.x, std::fabs(here.x.z) < 0.9 ? Vec3{0, 0, 1} : Vec3{1, 0, 0}));
+    const Vec3 e2 = geom::cross(here.x, e1);
+    double step = 0.25 * s_.h_at[trial.v];
+    for (int m = 0; m < kCompassSteps; ++m, step *= 0.5) {
+        // The best of the directions at this step, not the first that is
+        // BETTER: the worst triangle is what limits the mesh.
+        Generator best{};
+        double best_worst = -kInfinity;
+        for (int d = 0; d < kCompassDirections; ++d) {
+            const auto [c, s] = compass_direction(d);
+            const Generator moved{geom::normalized(here.x + step * (c * e1 + s * e2)), here.s};
+            const LocalQuality now = ring_quality<true>(trial.ring, moved, std::max(before.worst, best_worst), before.worst_k);
+            if (better(now, before, s_.gain) && now.worst > best_worst && star_is_valid(trial.ring, moved) &&
+                trial.keeps_gamma(moved))
+                best = moved, best_worst = now.worst;
+        }
+        // Tested already (off Gamma nothing slides): taken as it is.
+        if (best_worst > -kInfinity) {
+            trial.take(best, s_.on_segment[trial.v]);
+            return true;
         }
     }
-    if (on_gamma) {
-        // Along the feature both ways: the two targets above are projected
-        // onto it and may both point where the worst triangle gets worse.
-        const int64_t s = s_.on_segment[v];
-        const Vec3 tangent = geom::normalized(s_.gamma->segment_b(s) - s_.gamma->segment_a(s));
-        double step = 0.25 * s_.h_at[v];
-        for (int m = 0; m < 3; ++m, step *= 0.5)
-            for (double sign : {1.0, -1.0})
-                if (try_move(geom::normalized(here.x + (sign * step) * tangent))) return true;
-    }
-    s_.move_failed_at[v] = s_.clock;
+    return false;
+}
+
+// Along the feature both ways: the two targets are projected onto it and
+// may both point where the worst triangle gets worse.
+bool ShapeSweeps::move_along_gamma(MoveTrial &trial) {
+    const int64_t s = s_.on_segment[trial.v];
+    const Vec3 tangent = geom::normalized(s_.gamma->segment_b(s) - s_.gamma->segment_a(s));
+    double step = 0.25 * s_.h_at[trial.v];
+    for (int m = 0; m < 3; ++m, step *= 0.5)
+        for (double sign : {1.0, -1.0})
+            if (trial.try_move(geom::normalized(trial.here.x + (sign * step) * tangent))) return true;
     return false;
 }
 

@@ -25,6 +25,10 @@ private:
     // Over every vertex, or only over those flagged in *only.
     int64_t moves(const StarGraph &g, bool forward, const std::vector<uint8_t> *only);
     bool update_position(const StarGraph &g, int32_t v);
+    struct MoveTrial;
+    bool move_to_targets(MoveTrial &trial);
+    bool move_by_compass(MoveTrial &trial);
+    bool move_along_gamma(MoveTrial &trial);
     // The ODT target of a move of v (at `here`, link `ring` from the graph).
     Vec3 odt_target(const StarGraph &g, int32_t v, const Generator &here, const Ring &ring) const;
 
