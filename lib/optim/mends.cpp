@@ -66,39 +66,45 @@ Mends::Mended Mends::mend_off_centre_triangles(bool keep_obtuse) {
     for (int32_t t : found) {
         s_.ctx.progress("optimise", 1.0);  // a cancel point: a triangle's search can take a second
         if (!off_centre(t)) continue;  // mended with an earlier one
-        int32_t v[4] = {s_.tri.vertex(t, 0), s_.tri.vertex(t, 1), s_.tri.vertex(t, 2), -1};
-        std::vector<Candidate> c[4];
-        for (int i = 0; i < 3; ++i) c[i] = mend_candidates(v[i], kMendSteps, 0);
-        bool done = mend_jointly(v, 3, c, floors, false);
-        // Else with the far vertex of a neighbour too: a pair that a weight
-        // common to both cannot mend.
-        for (int i = 0; i < 3 && !done; ++i) c[i] = mend_candidates(v[i], kMendPairSteps, 0);
-        for (int k = 0; k < 3 && !done; ++k) {
-            const int32_t u = s_.tri.neighbour(t, k);
-            v[3] = s_.tri.vertex(u, s_.tri.mirror_edge(t, k));  // opposite the shared edge
-            c[3] = mend_candidates(v[3], kMendPairSteps, 0);
-            done = mend_jointly(v, 4, c, floors, false);
-        }
-        // Else the three sliding along Gamma too, where they lie on it.
-        bool slides = false;
-        for (int i = 0; i < 3 && !done; ++i) {
-            c[i] = mend_candidates(v[i], kMendSlideWeightSteps, kMendSlides);
-            slides |= c[i].size() > 2 * kMendSlideWeightSteps + 1;
-        }
-        if (slides && mend_jointly(v, 3, c, floors, true, moving)) done = true, ++out.slid;
-        // Else farther along Gamma, with fewer weights.
-        for (int i = 0; i < 3 && slides && !done; ++i) c[i] = mend_candidates(v[i], kMendWideWeightSteps, kMendWideSlides);
-        if (slides && !done && mend_jointly(v, 3, c, floors, true, moving)) done = true, ++out.slid;
-        // Else a flip of one of its edges, the quad's weights searched so
-        // that the new diagonal is regular.
-        // (An undone flip leaves t's triangle in another slot: each edge is
-        // found again by its opposite corner.)
-        int32_t holder = t;
-        for (int i = 0; i < 3 && !done; ++i)
-            if (mend_by_flip(holder, s_.tri.local_index(holder, v[i]), floors, moving)) done = true, ++out.flipped;
-        out.mended += done;
+        out.mended += mend_off_centre_triangle(t, floors, moving, out);
     }
     return out;
+}
+
+// One off-centre triangle t: its three weights, else with the far vertex of
+// a neighbour, else sliding along Gamma, else a flip of one of its edges.
+bool Mends::mend_off_centre_triangle(int32_t t, const MendFloors &floors, MendGoal moving, Mended &out) {
+    int32_t v[4] = {s_.tri.vertex(t, 0), s_.tri.vertex(t, 1), s_.tri.vertex(t, 2), -1};
+    std::vector<Candidate> c[4];
+    for (int i = 0; i < 3; ++i) c[i] = mend_candidates(v[i], kMendSteps, 0);
+    bool done = mend_jointly(v, 3, c, floors, false);
+    // Else with the far vertex of a neighbour too: a pair that a weight
+    // common to both cannot mend.
+    for (int i = 0; i < 3 && !done; ++i) c[i] = mend_candidates(v[i], kMendPairSteps, 0);
+    for (int k = 0; k < 3 && !done; ++k) {
+        const int32_t u = s_.tri.neighbour(t, k);
+        v[3] = s_.tri.vertex(u, s_.tri.mirror_edge(t, k));  // opposite the shared edge
+        c[3] = mend_candidates(v[3], kMendPairSteps, 0);
+        done = mend_jointly(v, 4, c, floors, false);
+    }
+    // Else the three sliding along Gamma too, where they lie on it.
+    bool slides = false;
+    for (int i = 0; i < 3 && !done; ++i) {
+        c[i] = mend_candidates(v[i], kMendSlideWeightSteps, kMendSlides);
+        slides |= c[i].size() > 2 * kMendSlideWeightSteps + 1;
+    }
+    if (slides && mend_jointly(v, 3, c, floors, true, moving)) done = true, ++out.slid;
+    // Else farther along Gamma, with fewer weights.
+    for (int i = 0; i < 3 && slides && !done; ++i) c[i] = mend_candidates(v[i], kMendWideWeightSteps, kMendWideSlides);
+    if (slides && !done && mend_jointly(v, 3, c, floors, true, moving)) done = true, ++out.slid;
+    // Else a flip of one of its edges, the quad's weights searched so
+    // that the new diagonal is regular.
+    // (An undone flip leaves t's triangle in another slot: each edge is
+    // found again by its opposite corner.)
+    int32_t holder = t;
+    for (int i = 0; i < 3 && !done; ++i)
+        if (mend_by_flip(holder, s_.tri.local_index(holder, v[i]), floors, moving)) done = true, ++out.flipped;
+    return done;
 }
 
 // After the off-centre mend, each obtuse triangle gets a joint search over
@@ -258,38 +264,11 @@ std::vector<Mends::Candidate> Mends::mend_candidates(int32_t v, int steps, int s
     return out;
 }
 
-// The search of mend_off_centre_triangles over every combination of the
-// candidates of the n vertices v; applies the best and returns true when it
-// has fewer off-centre triangles around.
-bool Mends::mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *candidates,
-                             const MendFloors &floors, bool moves, MendGoal goal, const Baseline *baseline) {
-    // The triangles around the vertices, each once.
-    std::vector<int32_t> around;
-    for (int i = 0; i < n; ++i) s_.tri.for_each_in_star(v[i], [&](int32_t u) { around.push_back(u); });
-    std::sort(around.begin(), around.end());
-    around.erase(std::unique(around.begin(), around.end()), around.end());
-    Generator trial[4];
-    auto at = [&](int32_t u) {
-        for (int i = 0; i < n; ++i)
-            if (u == v[i]) return trial[i];
-        return s_.generator(u);
-    };
-    // Moves make no edge around shorter than h/2 (h at the first vertex: the
-    // three are within an edge of each other) or, if one is already, than
-    // the shortest there (squared chords).
-    auto shortest_edge2 = [&](const Generator &a, const Generator &b, const Generator &c) {
-        const Vec3 ab = a.x - b.x, bc = b.x - c.x, ca = c.x - a.x;
-        return std::min({geom::dot(ab, ab), geom::dot(bc, bc), geom::dot(ca, ca)});
-    };
-    double edge2_floor = 0;
-    if (moves) {
-        edge2_floor = kInfinity;
-        for (int32_t u : around)
-            edge2_floor = std::min(edge2_floor, shortest_edge2(s_.generator(s_.tri.vertex(u, 0)), s_.generator(s_.tri.vertex(u, 1)),
-                                                               s_.generator(s_.tri.vertex(u, 2))));
-        const double half_h = kMendEdgeFloor * s_.h_at[v[0]];
-        edge2_floor = std::min(edge2_floor, half_h * half_h);
-    }
+// A joint search's state: the n vertices v (at most 4) and their
+// candidates, the triangles around them and the trial's generators.
+struct Mends::JointSearch {
+    JointSearch(MeshState &s, const int32_t *v, int n, const std::vector<Candidate> *candidates,
+                const MendFloors &floors, bool moves, MendGoal goal);
     // The trial's score around: how many triangles the goal counts (then the
     // worst staggering score, or largest-angle cosine, there) and how many
     // are off-centre. Refused (a count above any) when a Q^P, Q^T, angle or
@@ -300,67 +279,94 @@ bool Mends::mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *
         double worst;
         int off_centre, obtuse;
     };
-    constexpr int kAny = std::numeric_limits<int>::max();
-    constexpr Score kRefused{kAny, -kInfinity, kAny, kAny};
-    auto judge = [&](int limit, int off_limit, int obtuse_limit) {
-        Score out{0, kInfinity, 0, 0};
-        for (int32_t u : around) {
-            double qp = 0;
-            const Generator a = at(s_.tri.vertex(u, 0)), b = at(s_.tri.vertex(u, 1)), c = at(s_.tri.vertex(u, 2));
-            const double q = staggering_score(a, b, c, &qp);
-            const double cosine = moves ? largest_angle_cosine(a.x, b.x, c.x) : 1.0;
-            const bool below = qp < floors.qp || (moves && (area_length_ratio(a.x, b.x, c.x) < floors.qt ||
-                                                            cosine < floors.largest_angle_cosine ||
-                                                            shortest_edge2(a, b, c) < edge2_floor));
-            if (below || (out.off_centre += q < 0) > off_limit || (out.obtuse += cosine < 0) > obtuse_limit)
-                return kRefused;
-            const double score = goal == MendGoal::obtuse ? cosine : q;
-            out.count += score < 0, out.worst = std::min(out.worst, score);
-            if (out.count > limit) return kRefused;
-        }
-        return out;
-    };
-    auto regular_with_trial = [&] {  // stored for the exact tests, then put back
-        Vec3 kept[4];
-        for (int i = 0; i < n; ++i) kept[i] = s_.tri.lifted(v[i]), s_.set_generator(v[i], trial[i]);
-        bool regular = true;
-        for (size_t j = 0; j < around.size() && regular; ++j)
-            for (int k = 0; k < 3 && regular; ++k) regular = s_.tri.is_locally_regular(around[j], k);
-        for (int i = 0; i < n; ++i) s_.tri.set_lifted(v[i], kept[i]);
-        return regular;
-    };
-    for (int i = 0; i < n; ++i) {
-        if (candidates[i].empty()) return false;
-        trial[i] = s_.generator(v[i]);
+    static constexpr int kAny = std::numeric_limits<int>::max();
+    static constexpr Score kRefused{kAny, -kInfinity, kAny, kAny};
+    Generator at(int32_t u) const {
+        for (int i = 0; i < n; ++i)
+            if (u == v[i]) return trial[i];
+        return s.generator(u);
     }
-    // Gamma's crossings now, or before the flip that left the mesh as it is
-    // (its quad's stars are those v lists: the same spokes but the diagonal).
-    const int crossings_now = baseline ? baseline->gamma_crossings : s_.stars_gamma_crossings(v, n, at, false);
-    if (crossings_now < 0) return false;
-    Score now = judge(kAny, kAny, kAny);
-    // (After a flip, its new triangles need not meet the floors yet.)
-    if (baseline)
-        now = {goal == MendGoal::obtuse ? baseline->obtuse : baseline->off_centre, -kInfinity, baseline->off_centre,
-               baseline->obtuse};
-    if (now.count == kRefused.count) return false;  // (the floors are the mesh's: not met here)
-    // The obtuse goal adds no off-centre triangle, and the keeping one no obtuse one.
-    const int off_limit = goal == MendGoal::obtuse ? now.off_centre : kAny;
-    const int obtuse_limit = goal == MendGoal::off_centre_keeping_obtuse ? now.obtuse : kAny;
-    // The counted ones first: the count passes the limit sooner.
-    std::stable_partition(around.begin(), around.end(), [&](int32_t u) {
-        const Generator a = s_.generator(s_.tri.vertex(u, 0)), b = s_.generator(s_.tri.vertex(u, 1)), c = s_.generator(s_.tri.vertex(u, 2));
-        return goal == MendGoal::obtuse ? largest_angle_cosine(a.x, b.x, c.x) < 0 : staggering_score(a, b, c) < 0;
-    });
+    static double shortest_edge2(const Generator &a, const Generator &b, const Generator &c) {
+        const Vec3 ab = a.x - b.x, bc = b.x - c.x, ca = c.x - a.x;
+        return std::min({geom::dot(ab, ab), geom::dot(bc, bc), geom::dot(ca, ca)});
+    }
+    Score judge(int limit, int off_limit, int obtuse_limit) const;
+    bool regular_with_trial();
+    // Every combination, as the digits of a counter: the best with fewer
+    // than `now` counted (its digits to `chosen`), else `now`.
+    Score best_combination(const Score &now, int crossings_now, int off_limit, int obtuse_limit, int *chosen);
+
+    MeshState &s;
+    const int32_t *v;
+    int n;
+    const std::vector<Candidate> *candidates;
+    const MendFloors &floors;
+    bool moves;
+    MendGoal goal;
+    std::vector<int32_t> around;  // the triangles around the vertices, each once
+    Generator trial[4];
+    double edge2_floor = 0;
+};
+
+Mends::JointSearch::JointSearch(MeshState &s, const int32_t *v, int n, const std::vector<Candidate> *candidates,
+                                const MendFloors &floors, bool moves, MendGoal goal)
+    : s(s), v(v), n(n), candidates(candidates), floors(floors), moves(moves), goal(goal) {
+    for (int i = 0; i < n; ++i) s.tri.for_each_in_star(v[i], [&](int32_t u) { around.push_back(u); });
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    // Moves make no edge around shorter than h/2 (h at the first vertex: the
+    // three are within an edge of each other) or, if one is already, than
+    // the shortest there (squared chords).
+    if (moves) {
+        edge2_floor = kInfinity;
+        for (int32_t u : around)
+            edge2_floor = std::min(edge2_floor, shortest_edge2(s.generator(s.tri.vertex(u, 0)), s.generator(s.tri.vertex(u, 1)),
+                                                               s.generator(s.tri.vertex(u, 2))));
+        const double half_h = kMendEdgeFloor * s.h_at[v[0]];
+        edge2_floor = std::min(edge2_floor, half_h * half_h);
+    }
+}
+
+Mends::JointSearch::Score Mends::JointSearch::judge(int limit, int off_limit, int obtuse_limit) const {
+    Score out{0, kInfinity, 0, 0};
+    for (int32_t u : around) {
+        double qp = 0;
+        const Generator a = at(s.tri.vertex(u, 0)), b = at(s.tri.vertex(u, 1)), c = at(s.tri.vertex(u, 2));
+        const double q = staggering_score(a, b, c, &qp);
+        const double cosine = moves ? largest_angle_cosine(a.x, b.x, c.x) : 1.0;
+        const bool below = qp < floors.qp || (moves && (area_length_ratio(a.x, b.x, c.x) < floors.qt ||
+                                                        cosine < floors.largest_angle_cosine ||
+                                                        shortest_edge2(a, b, c) < edge2_floor));
+        if (below || (out.off_centre += q < 0) > off_limit || (out.obtuse += cosine < 0) > obtuse_limit)
+            return kRefused;
+        const double score = goal == MendGoal::obtuse ? cosine : q;
+        out.count += score < 0, out.worst = std::min(out.worst, score);
+        if (out.count > limit) return kRefused;
+    }
+    return out;
+}
+
+bool Mends::JointSearch::regular_with_trial() {  // stored for the exact tests, then put back
+    Vec3 kept[4];
+    for (int i = 0; i < n; ++i) kept[i] = s.tri.lifted(v[i]), s.set_generator(v[i], trial[i]);
+    bool regular = true;
+    for (size_t j = 0; j < around.size() && regular; ++j)
+        for (int k = 0; k < 3 && regular; ++k) regular = s.tri.is_locally_regular(around[j], k);
+    for (int i = 0; i < n; ++i) s.tri.set_lifted(v[i], kept[i]);
+    return regular;
+}
+
+Mends::JointSearch::Score Mends::JointSearch::best_combination(const Score &now, int crossings_now, int off_limit,
+                                                               int obtuse_limit, int *chosen) {
+    auto trial_at = [&](int32_t u) { return at(u); };
     Score best = now;
-    int chosen[4] = {-1, -1, -1, -1};
-    // Every combination, as the digits of a counter.
     int digit[4] = {0, 0, 0, 0};
     for (;;) {
         for (int i = 0; i < n; ++i) trial[i] = candidates[i][digit[i]].g;
         const Score q = judge(std::min(best.count, now.count - 1), off_limit, obtuse_limit);
-        const bool better = q.count < best.count || (q.count == best.count && q.worst > best.worst + s_.gain);
+        const bool better = q.count < best.count || (q.count == best.count && q.worst > best.worst + s.gain);
         if (better && q.count < now.count) {
-            const int crossings = s_.stars_gamma_crossings(v, n, at, true);
+            const int crossings = s.stars_gamma_crossings(v, n, trial_at, true);
             if (crossings >= 0 && crossings <= crossings_now && regular_with_trial()) {
                 best = q;
                 for (int j = 0; j < n; ++j) chosen[j] = digit[j];
@@ -371,6 +377,42 @@ bool Mends::mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *
         if (i == n) break;
         ++digit[i];
     }
+    return best;
+}
+
+// The search of mend_off_centre_triangles over every combination of the
+// candidates of the n vertices v; applies the best and returns true when it
+// has fewer off-centre triangles around.
+bool Mends::mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *candidates,
+                         const MendFloors &floors, bool moves, MendGoal goal, const Baseline *baseline) {
+    using Score = JointSearch::Score;
+    JointSearch search(s_, v, n, candidates, floors, moves, goal);
+    for (int i = 0; i < n; ++i) {
+        if (candidates[i].empty()) return false;
+        search.trial[i] = s_.generator(v[i]);
+    }
+    // Gamma's crossings now, or before the flip that left the mesh as it is
+    // (its quad's stars are those v lists: the same spokes but the diagonal).
+    const int crossings_now =
+        baseline ? baseline->gamma_crossings : s_.stars_gamma_crossings(v, n, [&](int32_t u) { return search.at(u); }, false);
+    if (crossings_now < 0) return false;
+    constexpr int kAny = JointSearch::kAny;
+    Score now = search.judge(kAny, kAny, kAny);
+    // (After a flip, its new triangles need not meet the floors yet.)
+    if (baseline)
+        now = {goal == MendGoal::obtuse ? baseline->obtuse : baseline->off_centre, -kInfinity, baseline->off_centre,
+               baseline->obtuse};
+    if (now.count == JointSearch::kRefused.count) return false;  // (the floors are the mesh's: not met here)
+    // The obtuse goal adds no off-centre triangle, and the keeping one no obtuse one.
+    const int off_limit = goal == MendGoal::obtuse ? now.off_centre : kAny;
+    const int obtuse_limit = goal == MendGoal::off_centre_keeping_obtuse ? now.obtuse : kAny;
+    // The counted ones first: the count passes the limit sooner.
+    std::stable_partition(search.around.begin(), search.around.end(), [&](int32_t u) {
+        const Generator a = s_.generator(s_.tri.vertex(u, 0)), b = s_.generator(s_.tri.vertex(u, 1)), c = s_.generator(s_.tri.vertex(u, 2));
+        return goal == MendGoal::obtuse ? largest_angle_cosine(a.x, b.x, c.x) < 0 : staggering_score(a, b, c) < 0;
+    });
+    int chosen[4] = {-1, -1, -1, -1};
+    const Score best = search.best_combination(now, crossings_now, off_limit, obtuse_limit, chosen);
     if (best.count >= now.count) return false;
     for (int i = 0; i < n; ++i) {
         const Candidate &c = candidates[i][chosen[i]];

@@ -49,9 +49,12 @@ private:
         int off_centre, obtuse;
         int gamma_crossings;  // stars_gamma_crossings of the quad before the flip
     };
+    struct JointSearch;
     bool mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *candidates, const MendFloors &floors,
                       bool moves, MendGoal goal = MendGoal::off_centre, const Baseline *baseline = nullptr);
     bool mend_by_flip(int32_t &t, int k, const MendFloors &floors, MendGoal goal);
+    // out counts the slides and flips that mended t.
+    bool mend_off_centre_triangle(int32_t t, const MendFloors &floors, MendGoal moving, Mended &out);
 
     MeshState &s_;
 };
