@@ -236,7 +236,9 @@ std::vector<int32_t> GammaCorners::odt_step(int32_t v) {
 // vertices a step hid (then it stops).
 std::vector<int32_t> GammaCorners::relax_link(int32_t d, const GammaCorner &corner, std::vector<MovedVertex> &moved) {
     const std::vector<int32_t> link = s_.tri.link(d);
-    auto crossings = [&](int32_t u) { return s_.stars_gamma_crossings(&u, 1, [&](int32_t w) { return s_.generator(w); }, false); };
+    auto crossings = [&](int32_t u) {
+        return s_.stars_gamma_crossings(&u, 1, [&](int32_t w) { return s_.generator(w); }, false);
+    };
     std::vector<int32_t> buried;
     for (int32_t u : link) {
         if (s_.on_segment[u] >= 0 || !std::binary_search(corner.region.begin(), corner.region.end(), u)) continue;
@@ -312,8 +314,8 @@ int GammaCorners::corner_vertex_helps(int32_t d, const GammaCorner &corner) cons
     // at 60 km on the coastlines and rivers that keeps 380 edges to cells off
     // Gamma out of Tri|Gamma, and 110 obtuse triangles in the mesh.
     // (d is off Gamma: every spoke of its star counts.)
-    if (s_.options.corner_cells_clear && s_.stars_gamma_crossings(&d, 1, [&](int32_t u) { return s_.generator(u); }, false) != 0)
-        return -1;
+    auto at = [&](int32_t u) { return s_.generator(u); };
+    if (s_.options.corner_cells_clear && s_.stars_gamma_crossings(&d, 1, at, false) != 0) return -1;
     std::vector<int32_t> around = corner.region;
     around.push_back(d);
     const int obtuse = obtuse_touching(around);

@@ -179,7 +179,8 @@ bool Mends::mend_by_flip(int32_t &t, int k, const MendFloors &floors, MendGoal g
     const auto current = [&](int32_t u) { return s_.generator(u); };
     Baseline before{0, 0, s_.stars_gamma_crossings(quad, 4, current, false)};
     for (int32_t s : around) {
-        const Generator x = s_.generator(s_.tri.vertex(s, 0)), y = s_.generator(s_.tri.vertex(s, 1)), z = s_.generator(s_.tri.vertex(s, 2));
+        const Generator x = s_.generator(s_.tri.vertex(s, 0)), y = s_.generator(s_.tri.vertex(s, 1)),
+                        z = s_.generator(s_.tri.vertex(s, 2));
         before.off_centre += staggering_score(x, y, z) < 0;
         before.obtuse += largest_angle_cosine(x.x, y.x, z.x) < 0;
     }
@@ -244,7 +245,8 @@ std::vector<Mends::Candidate> Mends::mend_candidates(int32_t v, int steps, int s
         const Vec3 tangent = geom::normalized(s_.gamma->segment_b(segment) - s_.gamma->segment_a(segment));
         for (int k = 1; k <= slides; ++k)
             for (double sign : {1.0, -1.0}) {
-                const PointOnGamma p = slide_along(*s_.gamma, segment, geom::normalized(here.x + (sign * k * step) * tangent));
+                const PointOnGamma p =
+                    slide_along(*s_.gamma, segment, geom::normalized(here.x + (sign * k * step) * tangent));
                 at.push_back({{p.x, here.s}, static_cast<int32_t>(p.segment)});
             }
     } else if (slides > 0 && segment < 0 && off_gamma_moves) {
@@ -320,7 +322,8 @@ Mends::JointSearch::JointSearch(MeshState &s, const int32_t *v, int n, const std
     if (moves) {
         edge2_floor = kInfinity;
         for (int32_t u : around)
-            edge2_floor = std::min(edge2_floor, shortest_edge2(s.generator(s.tri.vertex(u, 0)), s.generator(s.tri.vertex(u, 1)),
+            edge2_floor = std::min(edge2_floor, shortest_edge2(s.generator(s.tri.vertex(u, 0)),
+                                                               s.generator(s.tri.vertex(u, 1)),
                                                                s.generator(s.tri.vertex(u, 2))));
         const double half_h = kMendEdgeFloor * s.h_at[v[0]];
         edge2_floor = std::min(edge2_floor, half_h * half_h);
@@ -393,8 +396,8 @@ bool Mends::mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *
     }
     // Gamma's crossings now, or before the flip that left the mesh as it is
     // (its quad's stars are those v lists: the same spokes but the diagonal).
-    const int crossings_now =
-        baseline ? baseline->gamma_crossings : s_.stars_gamma_crossings(v, n, [&](int32_t u) { return search.at(u); }, false);
+    auto at = [&](int32_t u) { return search.at(u); };
+    const int crossings_now = baseline ? baseline->gamma_crossings : s_.stars_gamma_crossings(v, n, at, false);
     if (crossings_now < 0) return false;
     constexpr int kAny = JointSearch::kAny;
     Score now = search.judge(kAny, kAny, kAny);
@@ -408,7 +411,8 @@ bool Mends::mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *
     const int obtuse_limit = goal == MendGoal::off_centre_keeping_obtuse ? now.obtuse : kAny;
     // The counted ones first: the count passes the limit sooner.
     std::stable_partition(search.around.begin(), search.around.end(), [&](int32_t u) {
-        const Generator a = s_.generator(s_.tri.vertex(u, 0)), b = s_.generator(s_.tri.vertex(u, 1)), c = s_.generator(s_.tri.vertex(u, 2));
+        const Generator a = s_.generator(s_.tri.vertex(u, 0)), b = s_.generator(s_.tri.vertex(u, 1)),
+                        c = s_.generator(s_.tri.vertex(u, 2));
         return goal == MendGoal::obtuse ? largest_angle_cosine(a.x, b.x, c.x) < 0 : staggering_score(a, b, c) < 0;
     });
     int chosen[4] = {-1, -1, -1, -1};

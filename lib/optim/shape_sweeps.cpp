@@ -195,7 +195,8 @@ bool ShapeSweeps::move_by_compass(MoveTrial &trial) {
         for (int d = 0; d < kCompassDirections; ++d) {
             const auto [c, s] = compass_direction(d);
             const Generator moved{geom::normalized(here.x + step * (c * e1 + s * e2)), here.s};
-            const LocalQuality now = ring_quality<true>(trial.ring, moved, std::max(before.worst, best_worst), before.worst_k);
+            const LocalQuality now =
+                ring_quality<true>(trial.ring, moved, std::max(before.worst, best_worst), before.worst_k);
             if (better(now, before, s_.gain) && now.worst > best_worst && star_is_valid(trial.ring, moved) &&
                 trial.keeps_gamma(moved))
                 best = moved, best_worst = now.worst;
