@@ -7,7 +7,7 @@
 // dual edge, and TRSK how far the generators are from the cells' centroids.
 //
 // Unlike the shape sweeps, a Lloyd step is taken whenever it keeps the star
-// valid and does not make its worst triangle worse than a floor: the bulk
+// valid and its triangles within bounds of shape and staggering: the bulk
 // keeps converging instead of freezing once the worst star is good.
 #include <algorithm>
 #include <cmath>
@@ -15,7 +15,7 @@
 #include "core/text.hpp"
 
 #include "geom/predicates.hpp"
-#include "optim/optimiser.hpp"
+#include "optim/centroidal.hpp"
 
 namespace um::optim::detail {
 
@@ -55,13 +55,27 @@ Vec3 edge_moment(const Vec3 &p, const Vec3 &q) {
     return (0.5 * std::atan2(len, geom::dot(p, q)) / len) * n;
 }
 
+// How far the star of v at `centre` is inside the Lloyd steps' bounds: the
+// least over its triangles of min(Q^T - kLloydQt, cos(largest angle) -
+// cos(kLloydAngle), Q^P - kLloydQp), negative when a triangle is past one.
+double lloyd_margin(const Ring &ring, const Generator &centre) {
+    static const double cos_limit = std::cos(kLloydAngle * M_PI / 180);
+    double margin = kInfinity;
+    for (int k = 0; k < ring.m; ++k) {
+        const Vec3 &a = centre.x, &b = ring.at(k).x, &c = ring.after(k).x;
+        margin = std::min({margin, area_length_ratio(a, b, c) - kLloydQt, largest_angle_cosine(a, b, c) - cos_limit,
+                           primal_dual(centre, ring.at(k), ring.after(k)) - kLloydQp});
+    }
+    return margin;
+}
+
 }  // namespace
 
 // The centroid of v's power cell (the polygon of its star's orthocentres),
 // fanned from the generator, each fan triangle weighted by the density at
 // its spoke: rho = (mean h of v and the spoke's far end)^-4. Exact on the
 // sphere for a constant density (the spokes' moments cancel).
-Vec3 Optimiser::centroid_target(const StarGraph &g, int32_t v, const Generator &c, const Ring &ring) const {
+Vec3 Centroidal::centroid_target(const StarGraph &g, int32_t v, const Generator &c, const Ring &ring) const {
     const int32_t *link = g.link(v);
     const int m = ring.m;
     const Vec3 q = c.lifted();
@@ -74,7 +88,7 @@ Vec3 Optimiser::centroid_target(const StarGraph &g, int32_t v, const Generator &
     for (int k = 0; k < m; ++k) {
         const Vec3 spoke = edge_moment(c.x, ortho[k]);
         const Vec3 moment = spoke_prev + edge_moment(ortho[k == 0 ? m - 1 : k - 1], ortho[k]) - spoke;
-        const double h = 0.5 * (static_cast<double>(h_at_[v]) + static_cast<double>(h_at_[link[k]]));
+        const double h = 0.5 * (static_cast<double>(s_.h_at[v]) + static_cast<double>(s_.h_at[link[k]]));
         const double h2 = h * h;
         sum = sum + (1.0 / (h2 * h2)) * moment;
         spoke_prev = spoke;
@@ -82,36 +96,22 @@ Vec3 Optimiser::centroid_target(const StarGraph &g, int32_t v, const Generator &
     return geom::normalized(sum);
 }
 
-// How far the star of v at `centre` is inside the Lloyd steps' bounds: the
-// least over its triangles of min(Q^T - kLloydQt, cos(largest angle) -
-// cos(kLloydAngle), Q^P - kLloydQp), negative when a triangle is past one.
-static double lloyd_margin(const Ring &ring, const Generator &centre) {
-    static const double cos_limit = std::cos(kLloydAngle * M_PI / 180);
-    double margin = kInfinity;
-    for (int k = 0; k < ring.m; ++k) {
-        const Vec3 &a = centre.x, &b = ring.at(k).x, &c = ring.after(k).x;
-        margin = std::min({margin, area_length_ratio(a, b, c) - kLloydQt, largest_angle_cosine(a, b, c) - cos_limit,
-                           primal_dual(centre, ring.at(k), ring.after(k)) - kLloydQp});
-    }
-    return margin;
-}
-
 // A Lloyd step of v, halved until the star stays valid, keeps Gamma where
 // it was and stays within the Lloyd bounds (lloyd_margin at least 0, or
 // what it was). True when v moved by more than kCentroidalStill h.
-bool Optimiser::update_centroidal(const StarGraph &g, int32_t v) {
+bool Centroidal::update_centroidal(const StarGraph &g, int32_t v) {
     // Vertices on Gamma stay where the shape phase put them: they carry the
     // restricted edges, and a cell cut by a coastline is not meant to be
     // centroidal.
-    if (g.degree(v) < 3 || on_segment_[v] >= 0) return false;
+    if (g.degree(v) < 3 || s_.on_segment[v] >= 0) return false;
     Ring ring;
-    if (!gather_ring(g, v, ring)) return false;
-    const Generator here = generator(v);
+    if (!s_.gather_ring(g, v, ring)) return false;
+    const Generator here = s_.generator(v);
     const Vec3 target = centroid_target(g, v, here, ring);
-    const double still = kCentroidalStill * static_cast<double>(h_at_[v]);
+    const double still = kCentroidalStill * static_cast<double>(s_.h_at[v]);
     if (!(geom::norm(target - here.x) > still)) return false;
     const double floor = std::min(0.0, lloyd_margin(ring, here));
-    const bool guarded = !near_gamma_.empty() && near_gamma_[v];
+    const bool guarded = !s_.near_gamma.empty() && s_.near_gamma[v];
     int crossings = -1;
     double step = 1;
     for (int i = 0; i <= kCentroidalHalvings; ++i, step *= 0.5) {
@@ -120,42 +120,37 @@ bool Optimiser::update_centroidal(const StarGraph &g, int32_t v) {
         if (lloyd_margin(ring, moved) < floor) continue;
         if (!star_is_valid(ring, moved)) continue;
         if (guarded) {
-            if (crossings < 0) crossings = gamma_crossings(v, ring, g.link(v), here);
-            if (gamma_crossings(v, ring, g.link(v), moved) > crossings) continue;
+            if (crossings < 0) crossings = s_.gamma_crossings(v, ring, g.link(v), here);
+            if (s_.gamma_crossings(v, ring, g.link(v), moved) > crossings) continue;
         }
-        set_generator(v, moved);
-        h_at_[v] = static_cast<float>(h_(moved.x));
-        changed_at_[v] = clock_;
+        s_.set_generator(v, moved);
+        s_.h_at[v] = static_cast<float>(s_.h(moved.x));
+        s_.changed_at[v] = s_.clock;
         return geom::norm(moved.x - here.x) > still;
     }
     return false;
 }
 
-int64_t Optimiser::relax_to_centroids(std::unique_ptr<StarGraph> &graph) {
+int64_t Centroidal::relax_to_centroids(std::unique_ptr<StarGraph> &graph) {
     int64_t total = 0;
-    int32_t since = clock_;
-    for (int i = 0; i < o_.centroidal_sweeps; ++i) {
-        if (i % kCentroidalFlipEvery == 0) flag_near_gamma();
+    int32_t since = s_.clock;
+    for (int i = 0; i < s_.options.centroidal_sweeps; ++i) {
+        if (i % kCentroidalFlipEvery == 0) s_.flag_near_gamma();
         auto t0 = Clock::now();
-        const int64_t moved = sweep(*graph, Sweep::centroidal, i % 2 == 0);
-        stats_.seconds_moves += seconds_since(t0);
+        const int64_t moved =
+            s_.sweep(*graph, i % 2 == 0, nullptr, [&](const StarGraph &g, int32_t v) { return update_centroidal(g, v); });
+        s_.stats.seconds_moves += seconds_since(t0);
         total += moved;
-        const bool last = moved == 0 || i + 1 == o_.centroidal_sweeps;
+        const bool last = moved == 0 || i + 1 == s_.options.centroidal_sweeps;
         if (i % kCentroidalFlipEvery == kCentroidalFlipEvery - 1 || last) {
             t0 = Clock::now();
-            int64_t flips = restore_regularity(since);
-            stats_.flips += flips;
-            if (flips > 0) {
-                load_spacing();
-                const std::vector<uint32_t> links_before = link_fingerprints(ctx_, *graph);
-                graph.reset();
-                graph = std::make_unique<StarGraph>(ctx_, tri_);
-                mark_changed_links(links_before, *graph);
-            }
-            ++clock_;
-            since = clock_;
-            stats_.seconds_topology += seconds_since(t0);
-            ctx_.log(UM_LOG_DEBUG, concat("optimise: centroidal sweep ", i + 1, ": ", moved, " moved, ", flips, " flips"));
+            int64_t flips = s_.restore_regularity(since);
+            s_.stats.flips += flips;
+            if (flips > 0) s_.rebuild_graph(graph);
+            ++s_.clock;
+            since = s_.clock;
+            s_.stats.seconds_topology += seconds_since(t0);
+            s_.ctx.log(UM_LOG_DEBUG, concat("optimise: centroidal sweep ", i + 1, ": ", moved, " moved, ", flips, " flips"));
         }
         if (moved == 0) break;
     }

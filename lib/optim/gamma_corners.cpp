@@ -7,7 +7,7 @@
 
 #include "core/error.hpp"
 #include "geom/sphere.hpp"
-#include "optim/optimiser.hpp"
+#include "optim/gamma_corners.hpp"
 #include "refine/boundary.hpp"
 #include "refine/restricted.hpp"
 
@@ -58,38 +58,38 @@ constexpr size_t kFirstTierSites = 1 + std::size(kBisectorSpokes);
 // vertex of the triangle on Gamma may be taken out instead
 // (try_gamma_vertex_removal). Serial, in slot order, one change per
 // neighbourhood (support_gamma_corner); returns the changes (counted in
-// stats_ by kind).
-int64_t Optimiser::support_gamma_corners() {
-    if (!gamma_) return 0;
+// s_.stats by kind).
+int64_t GammaCorners::support_gamma_corners() {
+    if (!s_.gamma) return 0;
     auto gamma_corner = [&](int32_t t) {  // the obtuse corner's index, when on Gamma; else -1
         Vec3 x[3];
-        for (int k = 0; k < 3; ++k) x[k] = tri_.direction(tri_.vertex(t, k));
+        for (int k = 0; k < 3; ++k) x[k] = s_.tri.direction(s_.tri.vertex(t, k));
         double l[3];
         for (int k = 0; k < 3; ++k) l[k] = geom::dot(x[(k + 1) % 3] - x[(k + 2) % 3], x[(k + 1) % 3] - x[(k + 2) % 3]);
         const int k = l[0] >= l[1] && l[0] >= l[2] ? 0 : (l[1] >= l[2] ? 1 : 2);
-        return on_segment_[tri_.vertex(t, k)] >= 0 && largest_angle_cosine(x[0], x[1], x[2]) < 0 ? k : -1;
+        return s_.on_segment[s_.tri.vertex(t, k)] >= 0 && largest_angle_cosine(x[0], x[1], x[2]) < 0 ? k : -1;
     };
-    const std::vector<int32_t> found = live_triangles_where([&](int32_t t) { return gamma_corner(t) >= 0; });
-    std::vector<uint8_t> locked(static_cast<size_t>(tri_.vertex_slots()), 0);
+    const std::vector<int32_t> found = s_.live_triangles_where([&](int32_t t) { return gamma_corner(t) >= 0; });
+    std::vector<uint8_t> locked(static_cast<size_t>(s_.tri.vertex_slots()), 0);
     int64_t done = 0;
     for (int32_t t : found) {
-        if (tri_.is_free(t)) continue;
+        if (s_.tri.is_free(t)) continue;
         const int k = gamma_corner(t);
         if (k < 0) continue;
-        const int32_t b = tri_.vertex(t, k), p = tri_.vertex(t, (k + 1) % 3), q = tri_.vertex(t, (k + 2) % 3);
-        const int32_t y = tri_.vertex(tri_.neighbour(t, k), tri_.mirror_edge(t, k));
-        const bool opposite_gamma = runs_along_gamma(p, q, b, y);
+        const int32_t b = s_.tri.vertex(t, k), p = s_.tri.vertex(t, (k + 1) % 3), q = s_.tri.vertex(t, (k + 2) % 3);
+        const int32_t y = s_.tri.vertex(s_.tri.neighbour(t, k), s_.tri.mirror_edge(t, k));
+        const bool opposite_gamma = s_.runs_along_gamma(p, q, b, y);
         // The region the new vertex may change, claimed: the closed stars of t's vertices.
-        const std::vector<int32_t> region = closed_stars({b, p, q});
-        if (!claim(region, locked)) continue;
+        const std::vector<int32_t> region = s_.closed_stars({b, p, q});
+        if (!s_.claim(region, locked)) continue;
         auto release = [&] {  // nothing changed there: free again
             for (int32_t u : region) locked[u] = 0;
         };
         const GammaCorner corner{t, b, p, q, region, gamma_edges_among(region), obtuse_touching(region)};
         switch (support_gamma_corner(corner, opposite_gamma, locked)) {
             case CornerChange::none: release(); break;
-            case CornerChange::vertex_added: ++stats_.corner_vertices, ++done; break;
-            case CornerChange::vertex_removed: ++stats_.gamma_vertices_removed, ++done; break;
+            case CornerChange::vertex_added: ++s_.stats.corner_vertices, ++done; break;
+            case CornerChange::vertex_removed: ++s_.stats.gamma_vertices_removed, ++done; break;
         }
     }
     return done;
@@ -98,7 +98,7 @@ int64_t Optimiser::support_gamma_corners() {
 // One corner: a corner vertex at the best of its sites, else one taking the
 // place of a vertex off Gamma too near a site, else a vertex of the corner's
 // triangle on Gamma taken out. What changed is marked for the sweeps.
-Optimiser::CornerChange Optimiser::support_gamma_corner(const GammaCorner &corner, bool opposite_gamma,
+GammaCorners::CornerChange GammaCorners::support_gamma_corner(const GammaCorner &corner, bool opposite_gamma,
                                                         std::vector<uint8_t> &locked) {
     // (A vertex beyond an edge along Gamma would sit across it: no sites.)
     const std::vector<Vec3> sites = opposite_gamma ? std::vector<Vec3>{} : corner_sites(corner);
@@ -110,16 +110,16 @@ Optimiser::CornerChange Optimiser::support_gamma_corner(const GammaCorner &corne
     // obtuse, 240 km 12 -> 9, Mid-Atlantic 82 -> 80, at about the same time).
     for (size_t i = 0; i < sites.size() && d < 0; ++i) d = try_corner_relocation(sites[i], corner, locked);
     if (d >= 0) {
-        changed_at_[d] = clock_;
-        for (int32_t s : tri_.star(d))
-            for (int j = 0; j < 3; ++j) changed_at_[tri_.vertex(s, j)] = clock_;
-        locked.resize(static_cast<size_t>(tri_.vertex_slots()), 1);
+        s_.changed_at[d] = s_.clock;
+        for (int32_t s : s_.tri.star(d))
+            for (int j = 0; j < 3; ++j) s_.changed_at[s_.tri.vertex(s, j)] = s_.clock;
+        locked.resize(static_cast<size_t>(s_.tri.vertex_slots()), 1);
         return CornerChange::vertex_added;
     }
     for (int32_t v : {corner.b, corner.p, corner.q}) {
         if (!try_gamma_vertex_removal(v, corner)) continue;
         for (int32_t u : corner.region)
-            if (u != v) changed_at_[u] = clock_;
+            if (u != v) s_.changed_at[u] = s_.clock;
         return CornerChange::vertex_removed;
     }
     return CornerChange::none;
@@ -133,7 +133,7 @@ Optimiser::CornerChange Optimiser::support_gamma_corner(const GammaCorner &corne
 // site that helps, coast + rivers 60 km: 29 -> 23 obtuse, Mid-Atlantic
 // 93 -> 82; against trying every site as one tier (24 and 79), half the
 // trials.
-int32_t Optimiser::keep_best_corner_vertex(const std::vector<Vec3> &sites, size_t from, size_t to,
+int32_t GammaCorners::keep_best_corner_vertex(const std::vector<Vec3> &sites, size_t from, size_t to,
                                            const GammaCorner &corner) {
     std::vector<std::pair<int, size_t>> helping;  // (obtuse left, site)
     for (size_t i = from; i < to; ++i) {
@@ -155,12 +155,12 @@ int32_t Optimiser::keep_best_corner_vertex(const std::vector<Vec3> &sites, size_
 // q, kWedgeSpokes h from the corner). The wedge sites meet corners whose
 // legs are short or unequal: on the coastlines and rivers at 60 km they
 // take the obtuse triangles left from 40 to 23 (Mid-Atlantic: 115 to 82).
-std::vector<Vec3> Optimiser::corner_sites(const GammaCorner &corner) const {
+std::vector<Vec3> GammaCorners::corner_sites(const GammaCorner &corner) const {
     constexpr double kPull = 0.2;  // of the way from the circumcentre to the corner
-    const Vec3 xb = tri_.direction(corner.b), xp = tri_.direction(corner.p), xq = tri_.direction(corner.q);
+    const Vec3 xb = s_.tri.direction(corner.b), xp = s_.tri.direction(corner.p), xq = s_.tri.direction(corner.q);
     const Vec3 centre = geom::normalized(geom::cross(xp - xb, xq - xb));
     const Vec3 to_p = geom::normalized(xp - geom::dot(xb, xp) * xb), to_q = geom::normalized(xq - geom::dot(xb, xq) * xb);
-    const double h = static_cast<double>(h_at_[corner.b]);
+    const double h = static_cast<double>(s_.h_at[corner.b]);
     std::vector<Vec3> sites{geom::normalized(centre + kPull * (xb - centre))};
     const Vec3 bisector = geom::normalized(to_p + to_q);
     for (double spoke : kBisectorSpokes) sites.push_back(geom::normalized(xb + (spoke * h) * bisector));
@@ -179,51 +179,51 @@ std::vector<Vec3> Optimiser::corner_sites(const GammaCorner &corner) const {
 // (a trial, scored by the obtuse triangles it leaves around). Not kept,
 // the mesh is as it was (every point back bit for bit, what was hidden back
 // in).
-Optimiser::CornerTrial Optimiser::try_corner_vertex(const Vec3 &at, const GammaCorner &corner, bool keep) {
+GammaCorners::CornerTrial GammaCorners::try_corner_vertex(const Vec3 &at, const GammaCorner &corner, bool keep) {
     std::vector<int32_t> buried;
     int32_t d = -1;
     try {
-        d = tri_.insert(at, 0.0, next_id_++, &buried, corner.triangle);
+        d = s_.tri.insert(at, 0.0, s_.next_id++, &buried, corner.triangle);
     } catch (const Error &e) {
         // A vertex is already there (one kept at this corner before, not
         // moved since): nothing to add, and the insertion left the mesh as it was.
         if (e.status() == UM_ERR_DUPLICATE_POINTS) return {};
         throw;
     }
-    grow_slots();
-    h_at_[d] = static_cast<float>(h_(at));
+    s_.grow_slots();
+    s_.h_at[d] = static_cast<float>(s_.h(at));
     std::vector<MovedVertex> moved;  // d's neighbours the steps moved, as they were before
     CornerTrial trial;
     if (buried.empty()) trial.obtuse = corner_vertex_helps(d, corner);
-    for (int step = 0; step < kCornerSteps && trial.obtuse < 0 && buried.empty() && tri_.in_triangulation(d); ++step) {
+    for (int step = 0; step < kCornerSteps && trial.obtuse < 0 && buried.empty() && s_.tri.in_triangulation(d); ++step) {
         buried = odt_step(d);
-        if (buried.empty() && tri_.in_triangulation(d)) buried = relax_link(d, corner, moved);
+        if (buried.empty() && s_.tri.in_triangulation(d)) buried = relax_link(d, corner, moved);
         if (buried.empty()) trial.obtuse = corner_vertex_helps(d, corner);
     }
     if (trial.obtuse >= 0 && keep) {
-        for (const MovedVertex &m : moved) changed_at_[m.v] = clock_;
+        for (const MovedVertex &m : moved) s_.changed_at[m.v] = s_.clock;
         trial.vertex = d;
         return trial;
     }
     // Out again, its neighbours back where they were, and what was hidden
     // (among lightly weighted vertices) back in.
     std::vector<int32_t> hidden = buried;
-    const int32_t near = tri_.remove(d);
+    const int32_t near = s_.tri.remove(d);
     for (auto m = moved.rbegin(); m != moved.rend(); ++m) {
-        const std::vector<int32_t> hid = tri_.place(m->v, m->lifted);
+        const std::vector<int32_t> hid = s_.tri.place(m->v, m->lifted);
         hidden.insert(hidden.end(), hid.begin(), hid.end());
-        h_at_[m->v] = m->h;
+        s_.h_at[m->v] = m->h;
     }
     for (int32_t u : hidden)
-        if (u != d && !tri_.in_triangulation(u) && !tri_.is_removed(u)) tri_.restore_hidden(u, near);
+        if (u != d && !s_.tri.in_triangulation(u) && !s_.tri.is_removed(u)) s_.tri.restore_hidden(u, near);
     return trial;
 }
 
 // An ODT step of v to its star's ODT point; the vertices it hid.
-std::vector<int32_t> Optimiser::odt_step(int32_t v) {
-    const Vec3 to = star_odt_point(v);
-    std::vector<int32_t> buried = tri_.move(v, to);
-    h_at_[v] = static_cast<float>(h_(to));
+std::vector<int32_t> GammaCorners::odt_step(int32_t v) {
+    const Vec3 to = s_.star_odt_point(v);
+    std::vector<int32_t> buried = s_.tri.move(v, to);
+    s_.h_at[v] = static_cast<float>(s_.h(to));
     return buried;
 }
 
@@ -234,13 +234,15 @@ std::vector<int32_t> Optimiser::odt_step(int32_t v) {
 // sweeps, a step that lets Gamma into more of the cells around is put back.
 // Each vertex's first position goes to `moved` (for the undo); returns the
 // vertices a step hid (then it stops).
-std::vector<int32_t> Optimiser::relax_link(int32_t d, const GammaCorner &corner, std::vector<MovedVertex> &moved) {
-    const std::vector<int32_t> link = tri_.link(d);
-    auto crossings = [&](int32_t u) { return stars_gamma_crossings(&u, 1, [&](int32_t w) { return generator(w); }, false); };
+std::vector<int32_t> GammaCorners::relax_link(int32_t d, const GammaCorner &corner, std::vector<MovedVertex> &moved) {
+    const std::vector<int32_t> link = s_.tri.link(d);
+    auto crossings = [&](int32_t u) {
+        return s_.stars_gamma_crossings(&u, 1, [&](int32_t w) { return s_.generator(w); }, false);
+    };
     std::vector<int32_t> buried;
     for (int32_t u : link) {
-        if (on_segment_[u] >= 0 || !std::binary_search(corner.region.begin(), corner.region.end(), u)) continue;
-        const MovedVertex before{u, tri_.lifted(u), h_at_[u]};
+        if (s_.on_segment[u] >= 0 || !std::binary_search(corner.region.begin(), corner.region.end(), u)) continue;
+        const MovedVertex before{u, s_.tri.lifted(u), s_.h_at[u]};
         if (std::none_of(moved.begin(), moved.end(), [&](const MovedVertex &m) { return m.v == u; }))
             moved.push_back(before);
         const int crossed = crossings(u);
@@ -248,8 +250,8 @@ std::vector<int32_t> Optimiser::relax_link(int32_t d, const GammaCorner &corner,
         if (!buried.empty()) break;
         const int now = crossings(u);
         if (now < 0 || now > crossed) {
-            buried = tri_.place(u, before.lifted);
-            h_at_[u] = before.h;
+            buried = s_.tri.place(u, before.lifted);
+            s_.h_at[u] = before.h;
             if (!buried.empty()) break;
         }
     }
@@ -263,16 +265,16 @@ std::vector<int32_t> Optimiser::relax_link(int32_t d, const GammaCorner &corner,
 // try_corner_vertex judges, over the corner's region and the removed
 // vertex's closed star, both claimed; the slot of the new vertex, or -1 with
 // the mesh as it was (the vertex restored).
-int32_t Optimiser::try_corner_relocation(const Vec3 &at, const GammaCorner &corner, std::vector<uint8_t> &locked) {
+int32_t GammaCorners::try_corner_relocation(const Vec3 &at, const GammaCorner &corner, std::vector<uint8_t> &locked) {
     int32_t u = -1;
-    double nearest = o_.collapse_ratio * h_(at);
+    double nearest = s_.options.collapse_ratio * s_.h(at);
     for (int32_t w : corner.region) {
-        if (on_segment_[w] >= 0 || w == corner.p || w == corner.q) continue;
-        const double distance = geom::norm(tri_.direction(w) - at);
+        if (s_.on_segment[w] >= 0 || w == corner.p || w == corner.q) continue;
+        const double distance = geom::norm(s_.tri.direction(w) - at);
         if (distance < nearest) nearest = distance, u = w;
     }
     if (u < 0) return -1;
-    const std::vector<int32_t> star = closed_stars({u});
+    const std::vector<int32_t> star = s_.closed_stars({u});
     std::vector<int32_t> beyond;  // u's closed star outside the corner's region
     std::set_difference(star.begin(), star.end(), corner.region.begin(), corner.region.end(), std::back_inserter(beyond));
     for (int32_t w : beyond)
@@ -283,28 +285,28 @@ int32_t Optimiser::try_corner_relocation(const Vec3 &at, const GammaCorner &corn
     wider.gamma_edges = gamma_edges_among(wider.region);
     wider.obtuse_before = obtuse_touching(wider.region);
     // (u is not a vertex of the corner's triangle: its slot stays the same.)
-    const int32_t near_u = tri_.remove(u);
+    const int32_t near_u = s_.tri.remove(u);
     const int32_t d = try_corner_vertex(at, wider).vertex;
     if (d < 0) {
-        tri_.restore_removed(u, near_u);
+        s_.tri.restore_removed(u, near_u);
         return -1;
     }
     for (int32_t w : beyond) locked[w] = 1;
-    for (int32_t w : star) changed_at_[w] = clock_;
+    for (int32_t w : star) s_.changed_at[w] = s_.clock;
     return d;
 }
 
 // support_gamma_corners' test of its new vertex d.
 // The obtuse triangles around when it helps, else -1.
-int Optimiser::corner_vertex_helps(int32_t d, const GammaCorner &corner) const {
-    if (!tri_.in_triangulation(d)) return -1;
-    const Vec3 x = tri_.direction(d);
+int GammaCorners::corner_vertex_helps(int32_t d, const GammaCorner &corner) const {
+    if (!s_.tri.in_triangulation(d)) return -1;
+    const Vec3 x = s_.tri.direction(d);
     bool ok = true;
-    tri_.for_each_neighbour(d, [&](int32_t u) {
-        const double h = 0.5 * (static_cast<double>(h_at_[d]) + static_cast<double>(h_at_[u]));
-        const double floor = on_segment_[u] >= 0 ? kCornerEdge : o_.collapse_ratio;
+    s_.tri.for_each_neighbour(d, [&](int32_t u) {
+        const double h = 0.5 * (static_cast<double>(s_.h_at[d]) + static_cast<double>(s_.h_at[u]));
+        const double floor = s_.on_segment[u] >= 0 ? kCornerEdge : s_.options.collapse_ratio;
         ok = ok && std::binary_search(corner.region.begin(), corner.region.end(), u) &&
-             geom::norm(x - tri_.direction(u)) >= floor * h;
+             geom::norm(x - s_.tri.direction(u)) >= floor * h;
     });
     for (const auto &[a, c] : corner.gamma_edges) ok = ok && has_edge(a, c);
     if (!ok || has_triangle(corner.b, corner.p, corner.q)) return -1;
@@ -312,8 +314,8 @@ int Optimiser::corner_vertex_helps(int32_t d, const GammaCorner &corner) const {
     // at 60 km on the coastlines and rivers that keeps 380 edges to cells off
     // Gamma out of Tri|Gamma, and 110 obtuse triangles in the mesh.
     // (d is off Gamma: every spoke of its star counts.)
-    if (o_.corner_cells_clear && stars_gamma_crossings(&d, 1, [&](int32_t u) { return generator(u); }, false) != 0)
-        return -1;
+    auto at = [&](int32_t u) { return s_.generator(u); };
+    if (s_.options.corner_cells_clear && s_.stars_gamma_crossings(&d, 1, at, false) != 0) return -1;
     std::vector<int32_t> around = corner.region;
     around.push_back(d);
     const int obtuse = obtuse_touching(around);
@@ -334,8 +336,8 @@ int Optimiser::corner_vertex_helps(int32_t d, const GammaCorner &corner) const {
 // mends can reshape it: coast + rivers 60 km, 43 obtuse left with "fewer",
 // 40 with "no more"). Else v is put back
 // (restore_removed: the same regular triangles).
-bool Optimiser::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner) {
-    if (on_segment_[v] < 0 || !tri_.in_triangulation(v)) return false;
+bool GammaCorners::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner) {
+    if (s_.on_segment[v] < 0 || !s_.tri.in_triangulation(v)) return false;
     int32_t along[2], n_along = 0;  // v's neighbours along Gamma
     for (const auto &[a, c] : corner.gamma_edges) {
         if (a != v && c != v) continue;
@@ -343,22 +345,22 @@ bool Optimiser::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner) {
         along[n_along++] = a == v ? c : a;
     }
     if (n_along != 2) return false;
-    const std::vector<int32_t> link = tri_.link(v);
-    auto at = [&](int32_t u) { return generator(u); };
-    const int crossed = stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
+    const std::vector<int32_t> link = s_.tri.link(v);
+    auto at = [&](int32_t u) { return s_.generator(u); };
+    const int crossed = s_.stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
     if (crossed < 0) return false;
-    const int32_t near = tri_.remove(v);
+    const int32_t near = s_.tri.remove(v);
     bool ok = chord_carries_gamma(along[0], along[1]);
     for (const auto &[a, c] : corner.gamma_edges) ok = ok && (a == v || c == v || has_edge(a, c));
     for (int32_t u : link) {
         if (!ok) break;
-        tri_.for_each_neighbour(u, [&](int32_t w) {
-            const double h = 0.5 * (static_cast<double>(h_at_[u]) + static_cast<double>(h_at_[w]));
-            ok = ok && geom::norm(tri_.direction(u) - tri_.direction(w)) <= o_.split_ratio * h;
+        s_.tri.for_each_neighbour(u, [&](int32_t w) {
+            const double h = 0.5 * (static_cast<double>(s_.h_at[u]) + static_cast<double>(s_.h_at[w]));
+            ok = ok && geom::norm(s_.tri.direction(u) - s_.tri.direction(w)) <= s_.options.split_ratio * h;
         });
     }
     if (ok) {
-        const int now = stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
+        const int now = s_.stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
         ok = now >= 0 && now <= crossed;
     }
     if (ok) {
@@ -367,70 +369,70 @@ bool Optimiser::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner) {
                      [&](int32_t u) { return u != v; });
         ok = obtuse_touching(around) <= corner.obtuse_before;
     }
-    if (!ok) tri_.restore_removed(v, near);
+    if (!ok) s_.tri.restore_removed(v, near);
     return ok;
 }
 
 // Whether the edge (a, c), both on Gamma, is a restricted edge of their
 // part that meets the boundary refinement's bounds (paper section 5.1):
 // l < alpha h and eps < beta h, h at its midpoint.
-bool Optimiser::chord_carries_gamma(int32_t a, int32_t c) const {
+bool GammaCorners::chord_carries_gamma(int32_t a, int32_t c) const {
     bool carries = false;
-    tri_.for_each_in_star(a, [&](int32_t s) {
-        const int i = tri_.local_index(s, a);
-        if (tri_.vertex(s, (i + 1) % 3) != c) return;
+    s_.tri.for_each_in_star(a, [&](int32_t s) {
+        const int i = s_.tri.local_index(s, a);
+        if (s_.tri.vertex(s, (i + 1) % 3) != c) return;
         const int k = (i + 2) % 3;  // the edge opposite the apex: (a, c)
-        const int32_t apex = tri_.vertex(s, k), across = tri_.vertex(tri_.neighbour(s, k), tri_.mirror_edge(s, k));
+        const int32_t apex = s_.tri.vertex(s, k), across = s_.tri.vertex(s_.tri.neighbour(s, k), s_.tri.mirror_edge(s, k));
         refine::RestrictedEdge e;
-        if (!runs_along_gamma(a, c, apex, across) || !refine::restricted_crossing(tri_, s, k, arcs_, &e)) return;
-        if (gamma_->segment_part(e.arc) != gamma_->segment_part(on_segment_[a])) return;
-        const refine::EdgeMeasure m = refine::measure(tri_, e, h_);  // the boundary refinement's own measure
-        carries = m.length < o_.gamma_alpha * m.h && m.eps < o_.gamma_beta * m.h;
+        if (!s_.runs_along_gamma(a, c, apex, across) || !refine::restricted_crossing(s_.tri, s, k, s_.arcs, &e)) return;
+        if (s_.gamma->segment_part(e.arc) != s_.gamma->segment_part(s_.on_segment[a])) return;
+        const refine::EdgeMeasure m = refine::measure(s_.tri, e, s_.h);  // the boundary refinement's own measure
+        carries = m.length < s_.options.gamma_alpha * m.h && m.eps < s_.options.gamma_beta * m.h;
     });
     return carries;
 }
 
 // The edges along Gamma (runs_along_gamma) between two of `vertices`
 // (sorted), each once.
-std::vector<std::pair<int32_t, int32_t>> Optimiser::gamma_edges_among(const std::vector<int32_t> &vertices) const {
+std::vector<std::pair<int32_t, int32_t>> GammaCorners::gamma_edges_among(const std::vector<int32_t> &vertices) const {
     std::vector<std::pair<int32_t, int32_t>> edges;
     for (int32_t v : vertices) {
-        if (on_segment_[v] < 0) continue;
-        tri_.for_each_in_star(v, [&](int32_t s) {
-            const int i = tri_.local_index(s, v);
-            const int32_t c = tri_.vertex(s, (i + 1) % 3);  // the edge (v, c) once, from v's side
-            if (on_segment_[c] < 0 || v > c) return;
-            const int32_t apex = tri_.vertex(s, (i + 2) % 3);
+        if (s_.on_segment[v] < 0) continue;
+        s_.tri.for_each_in_star(v, [&](int32_t s) {
+            const int i = s_.tri.local_index(s, v);
+            const int32_t c = s_.tri.vertex(s, (i + 1) % 3);  // the edge (v, c) once, from v's side
+            if (s_.on_segment[c] < 0 || v > c) return;
+            const int32_t apex = s_.tri.vertex(s, (i + 2) % 3);
             const int e = (i + 2) % 3;  // the edge opposite apex: (v, c)
-            const int32_t across = tri_.vertex(tri_.neighbour(s, e), tri_.mirror_edge(s, e));
-            if (runs_along_gamma(v, c, apex, across)) edges.push_back({v, c});
+            const int32_t across = s_.tri.vertex(s_.tri.neighbour(s, e), s_.tri.mirror_edge(s, e));
+            if (s_.runs_along_gamma(v, c, apex, across)) edges.push_back({v, c});
         });
     }
     return edges;
 }
 
-bool Optimiser::has_triangle(int32_t a, int32_t b, int32_t c) const {
+bool GammaCorners::has_triangle(int32_t a, int32_t b, int32_t c) const {
     bool found = false;
-    tri_.for_each_in_star(a, [&](int32_t s) {
-        const int i = tri_.local_index(s, a);
-        const int32_t u = tri_.vertex(s, (i + 1) % 3), w = tri_.vertex(s, (i + 2) % 3);
+    s_.tri.for_each_in_star(a, [&](int32_t s) {
+        const int i = s_.tri.local_index(s, a);
+        const int32_t u = s_.tri.vertex(s, (i + 1) % 3), w = s_.tri.vertex(s, (i + 2) % 3);
         found = found || (u == b && w == c) || (u == c && w == b);
     });
     return found;
 }
 
-bool Optimiser::has_edge(int32_t a, int32_t b) const {
+bool GammaCorners::has_edge(int32_t a, int32_t b) const {
     bool found = false;
-    tri_.for_each_neighbour(a, [&](int32_t w) { found = found || w == b; });
+    s_.tri.for_each_neighbour(a, [&](int32_t w) { found = found || w == b; });
     return found;
 }
 
 // The obtuse triangles with a vertex among `vertices` (each counted once).
-int Optimiser::obtuse_touching(const std::vector<int32_t> &vertices) const {
+int GammaCorners::obtuse_touching(const std::vector<int32_t> &vertices) const {
     int obtuse = 0;
-    for (int32_t s : tri_.triangles_around(vertices))
-        obtuse += largest_angle_cosine(tri_.direction(tri_.vertex(s, 0)), tri_.direction(tri_.vertex(s, 1)),
-                                       tri_.direction(tri_.vertex(s, 2))) < 0;
+    for (int32_t s : s_.tri.triangles_around(vertices))
+        obtuse += largest_angle_cosine(s_.tri.direction(s_.tri.vertex(s, 0)), s_.tri.direction(s_.tri.vertex(s, 1)),
+                                       s_.tri.direction(s_.tri.vertex(s, 2))) < 0;
     return obtuse;
 }
 

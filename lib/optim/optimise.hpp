@@ -42,7 +42,13 @@ struct OptimiseOptions {
     // of Q^T and Q^P) by more than this. An update is taken only if it raises
     // its star's worst (or mean) quality by 10 tolerances.
     double tolerance = 1e-4;
+    // The passes (each on unless switched off here; see optimise.cpp).
+    bool moves = true;           // the shape sweeps' vertex moves (shape_sweeps.cpp)
+    bool polish_poor_stars = true;  // the compass search of the poor stars (shape_sweeps.cpp)
     bool weights = true;         // weight ascent on (else only moves and topology)
+    bool collapse_and_split = true;  // collapse short edges, split long ones (topology.cpp)
+    bool valence_repair = true;  // remove, split and flip for vertex degrees (topology.cpp)
+    bool mends = true;           // the joint searches after the schedule (mends.cpp)
     bool fix_boundary = false;   // vertices on Gamma stay put (else they slide along it)
     double collapse_ratio = 0.5; // collapse edges shorter than this times h
     double split_ratio = 1.6;    // split edges longer than this times h

@@ -223,6 +223,29 @@ void short_edges_collapse_and_long_ones_split(void **) {
 }
 
 
+// Every pass switched off (optimise.hpp): the schedule still runs its outer
+// iterations, but no vertex moves, no weight changes and the topology stays
+// as it was (the uniform mesh is regular already: no flip either).
+void passes_switched_off_change_nothing(void **) {
+    Context ctx;
+    const double h = 0.05;  // 320 km
+    tri::Triangulation tri = uniform_mesh(ctx, h);
+    std::vector<Vec3> lifted;
+    for (int32_t v = 0; v < tri.vertex_slots(); ++v) lifted.push_back(tri.lifted(v));
+    std::vector<int32_t> on_segment(static_cast<size_t>(tri.vertex_slots()), -1);
+    optim::OptimiseOptions o;
+    o.moves = false, o.polish_poor_stars = false, o.weights = false, o.collapse_and_split = false;
+    o.valence_repair = false, o.mends = false, o.corner_vertices = false, o.centroidal_sweeps = 0;
+    const optim::OptimiseStats stats =
+        optim::optimise(ctx, tri, on_segment, nullptr, [h](const Vec3 &) { return h; }, o);
+    assert_true(stats.outer_iterations >= 1);
+    assert_int_equal(stats.moves + stats.weight_updates + stats.flips, 0);
+    assert_int_equal(stats.collapses + stats.splits + stats.corner_vertices, 0);
+    assert_int_equal(tri.vertex_slots(), static_cast<int32_t>(lifted.size()));
+    for (int32_t v = 0; v < tri.vertex_slots(); ++v)
+        if (geom::norm(tri.lifted(v) - lifted[v]) != 0) fail_msg("vertex %d moved", v);
+}
+
 // The rms over the vertices of arc(generator, centroid of its power cell) /
 // sqrt(cell area): the centroid by the vector-area identity over the cell's
 // edges (the orthocentres of the star, in star order), the area by fanning.
@@ -300,6 +323,7 @@ int main() {
         cmocka_unit_test(optimised_mesh_is_regular_and_better),
         cmocka_unit_test(short_edges_collapse_and_long_ones_split),
         cmocka_unit_test(centroidal_pass_centres_the_cells),
+        cmocka_unit_test(passes_switched_off_change_nothing),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

@@ -104,7 +104,7 @@ void coast_global_l_follows_gamma_where_not_filtered(void **) {
 // after the optimisation), nearly all of them between two vertices placed
 // on Gamma, each within beta h = h/5 of it at its midpoint (the
 // refinement's Hausdorff bound) but for a few per cent left coarser. The
-// updates let Gamma into no more cells off it (Optimiser::gamma_crossings):
+// updates let Gamma into no more cells off it (MeshState::gamma_crossings):
 // no more edges of Tri|Gamma to a vertex off Gamma than refined, but for
 // those of the vertices at obtuse corners (corner_vertices 1; with 2 they
 // too keep their cells clear). Measured at 120 km, edges to a vertex off

@@ -737,7 +737,7 @@ void insert_remove_move_and_reweight(void **) {
 // A point tried and taken out again leaves the triangulation as it was
 // (the same triangles, every other vertex where it was): how the
 // optimisation undoes a vertex it put at an obtuse corner and moved a few
-// steps (optim/optimise.cpp, try_corner_vertex). On an icosahedral grid,
+// steps (optim/gamma_corners.cpp, try_corner_vertex). On an icosahedral grid,
 // where the triangles across cocircular quadruples are those of the tie
 // rule, and on random points; tried at circumcentres (cocircular with the
 // triangle's corners), on edges' chords and near vertices.

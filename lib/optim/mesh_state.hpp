@@ -1,0 +1,239 @@
+// The state every pass of the optimisation reads and writes (internal to
+// lib/optim): the triangulation and its generators, the spacing at each
+// vertex, the change clock that lets a sweep skip what has not changed, the
+// guard that keeps Gamma out of the cells off it, and the stats. The passes
+// are units of their own (shape_sweeps, weight_sweeps, centroidal,
+// topology, gamma_corners, mends); optimise.cpp holds the schedule.
+// Nothing here is public: optimise.hpp is the stage's interface.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <initializer_list>
+#include <limits>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "core/context.hpp"
+#include "features/network.hpp"
+#include "geom/arc_tree.hpp"
+#include "optim/local_quality.hpp"
+#include "optim/optimise.hpp"
+#include "optim/star_graph.hpp"
+#include "refine/surface.hpp"
+#include "tri/triangulation.hpp"
+
+namespace um::optim::detail {
+
+// The generators of a star's link, gathered once per vertex update: a line
+// search scores the same star up to a dozen times, and reading the link
+// through the graph each time costs more than the scores themselves.
+struct Ring {
+    // A larger degree is never updated (improve_valence splits such
+    // vertices, except on Gamma).
+    static constexpr int kMax = 64;
+    int m = 0;
+    Generator g[kMax];
+    // The stored lifted points: g[k].lifted() is s x rounded from them, and
+    // the exact tests must see what the triangulation holds.
+    Vec3 q[kMax];
+    const Generator &at(int k) const { return g[k]; }
+    const Generator &after(int k) const { return g[k + 1 == m ? 0 : k + 1]; }
+};
+
+// The star stays a valid piece of triangulated sphere (every triangle
+// counter-clockwise, exactly) and every spoke's crossing with its dual edge
+// stays inside it.
+bool star_is_valid(const Ring &ring, const Generator &at);
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+constexpr int kHalvings = 5;  // line searches try steps 1, 1/2, ..., 1/32
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0);
+// A fingerprint of every vertex's link, to tell after a topology change
+// which links changed (MeshState::mark_changed_links).
+std::vector<uint32_t> link_fingerprints(Context &ctx, const StarGraph &g);
+
+// Worst and mean of a star's triangle scores, and which triangle (k: the
+// one between link vertices k and k + 1) is the worst.
+struct LocalQuality {
+    double worst = std::numeric_limits<double>::infinity();
+    double mean = 0;
+    int worst_k = 0;
+};
+
+// Worst and mean score of the star of a vertex at `centre` with link
+// `ring`: the shape score for moves, the staggering score for weights.
+// Stops (mean unset) as soon as a triangle scores below `floor`: such a
+// star cannot be BETTER than one whose worst is `floor`. The triangle at
+// `first` is scored first (a trial's old worst is the likeliest to fail);
+// the mean is summed in link order all the same.
+template <bool kShape>
+LocalQuality ring_quality(const Ring &ring, const Generator &centre, double floor, int first = 0) {
+    LocalQuality q;
+    double score[Ring::kMax];
+    for (int i = 0, k = first; i < ring.m; ++i, k = k + 1 == ring.m ? 0 : k + 1) {
+        const Generator &a = ring.at(k), &b = ring.after(k);
+        score[k] = kShape ? shape_score(centre.x, a.x, b.x) : staggering_score(centre, a, b);
+        if (score[k] < q.worst) q.worst = score[k], q.worst_k = k;
+        if (q.worst < floor) return q;
+    }
+    double sum = 0;
+    for (int k = 0; k < ring.m; ++k) sum += score[k];
+    q.mean = sum / ring.m;
+    return q;
+}
+
+// BETTER of Algorithm 1: the worst local quality improves, or stays and the
+// mean improves, each by more than the tolerance.
+inline bool better(const LocalQuality &now, const LocalQuality &before, double tolerance) {
+    if (now.worst > before.worst + tolerance) return true;
+    return now.worst >= before.worst && now.mean > before.mean + tolerance;
+}
+
+class MeshState {
+public:
+    MeshState(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
+              const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o);
+
+    Context &ctx;
+    tri::Triangulation &tri;
+    std::vector<int32_t> &on_segment;
+    const features::Network *gamma;
+    const refine::SpacingRadians &h;
+    const OptimiseOptions options;
+    const double gain;  // the least gain in local quality an update must bring
+    const geom::ArcTree arcs;        // Gamma's arcs (empty without Gamma)
+    std::vector<uint8_t> near_gamma;  // per slot, from flag_near_gamma
+
+    // Spacing at each generator (radians), in single precision: it weighs
+    // the ODT target and scales steps, where 1e-7 is far below what matters.
+    std::vector<float> h_at;
+    // Stamps of the sweep clock: when a vertex last changed (position,
+    // weight or link) and when an update of it last failed. A vertex whose
+    // closed star has not changed since its last failure is skipped.
+    std::vector<int32_t> changed_at, move_failed_at, weight_failed_at;
+    bool weighing = false;  // the weight phase has begun (weight_failed_at exists)
+    int32_t clock = 1;
+    int32_t next_id = 0;
+    OptimiseStats stats;
+
+    // The generator of vertex v, read from its lifted point q = s x: the
+    // triangulation holds the only copy (a second one would cost 32 bytes
+    // per cell), and the sweeps write it in place (Triangulation::set_lifted).
+    Generator generator(int32_t v) const {
+        const Vec3 &q = tri.lifted(v);
+        const double s = geom::norm(q);
+        return {(1.0 / s) * q, s};
+    }
+    void set_generator(int32_t v, const Generator &g) { tri.set_lifted(v, g.lifted()); }
+
+    // Per-slot state -------------------------------------------------------
+    // Grows the per-slot state to the slots and reads h at every vertex.
+    void load_spacing();
+    void grow_slots();
+
+    // Sweeps ---------------------------------------------------------------
+    // One graph-coloured sweep of update(g, v) over every vertex, or only
+    // over those flagged in *only: the vertices of one colour in parallel,
+    // colours in sequence (forward or in reverse); the updates taken.
+    template <class Update>
+    int64_t sweep(const StarGraph &g, bool forward, const std::vector<uint8_t> *only, Update &&update) {
+        const auto &colours = g.colours();
+        const int n_colours = static_cast<int>(colours.size());
+        int64_t accepted = 0;
+        std::vector<int32_t> subset;
+        for (int i = 0; i < n_colours; ++i) {
+            const std::vector<int32_t> *list = &colours[forward ? i : n_colours - 1 - i];
+            if (only) {
+                subset.clear();
+                for (int32_t v : *list)
+                    if ((*only)[v]) subset.push_back(v);
+                list = &subset;
+            }
+            std::vector<uint8_t> took(list->size(), 0);
+            ctx.parallel_for(static_cast<int64_t>(list->size()), 256, [&](int64_t b, int64_t e) {
+                for (int64_t k = b; k < e; ++k) took[k] = update(g, (*list)[k]);
+            });
+            for (uint8_t t : took) accepted += t;
+            ++clock;  // the next colour sees this one's changes as newer than its failures
+        }
+        return accepted;
+    }
+    bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
+    // False when v's degree is beyond Ring::kMax.
+    bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
+    // The live triangles t with pred(t), found in parallel, in slot order
+    // (the mends then work through them serially).
+    template <class Pred>
+    std::vector<int32_t> live_triangles_where(Pred pred) const {
+        return ctx.collect_in_order<int32_t>(tri.triangle_slots(), 8192, [&](int64_t t, std::vector<int32_t> &out) {
+            if (!tri.is_free(static_cast<int32_t>(t)) && pred(static_cast<int32_t>(t))) out.push_back(static_cast<int32_t>(t));
+        });
+    }
+
+    // Gamma guard (gamma_guard.cpp) ----------------------------------------
+    // Gamma and the cells off it. The refinement leaves Gamma crossing the
+    // cells of the vertices placed on it (Tri|Gamma runs from one to the
+    // next); a move or weight that lets it into a cell off it adds edges to
+    // Tri|Gamma that branch off the feature's chain (the river and coast
+    // tags of the MPAS edges). Sweeps and mends therefore take no update
+    // that adds such a crossing around the vertex. near_gamma flags the
+    // vertices within kNearGamma h of an arc of Gamma (the others cannot
+    // reach it in one outer iteration); gamma_crossings counts the spokes of
+    // v's star, v at `at`, that do not join two vertices on Gamma and whose
+    // dual arc crosses Gamma.
+    void flag_near_gamma();
+    int gamma_crossings(int32_t v, const Ring &ring, const int32_t *link, const Generator &at) const;
+    bool crosses_gamma(const Vec3 &c0, const Vec3 &c1) const;
+    // gamma_crossings summed over the stars of v[0..n), the generators read
+    // through at(u); -1 when a star is beyond Ring::kMax or, with
+    // require_valid, not valid (star_is_valid) for its centre's generator.
+    template <class At>
+    int stars_gamma_crossings(const int32_t *v, int n, At &&at, bool require_valid) const {
+        int crossings = 0;
+        for (int i = 0; i < n; ++i) {
+            Ring ring;
+            int32_t link[Ring::kMax];
+            bool fits = true;
+            tri.for_each_neighbour(v[i], [&](int32_t w) {
+                if (ring.m == Ring::kMax) return void(fits = false);
+                link[ring.m] = w, ring.g[ring.m] = at(w), ring.q[ring.m] = at(w).lifted(), ++ring.m;
+            });
+            if (!fits || (require_valid && !star_is_valid(ring, at(v[i])))) return -1;
+            if (arcs.size() > 0) crossings += gamma_crossings(v[i], ring, link, at(v[i]));
+        }
+        return crossings;
+    }
+    bool runs_along_gamma(int32_t b, int32_t c, int32_t a, int32_t d) const;
+    double position_along_part(int32_t v) const;
+
+    // Topology -------------------------------------------------------------
+    int64_t restore_regularity(int32_t since);
+    void mark_changed_links(const std::vector<uint32_t> &before, const StarGraph &now);
+    // After a topology change: the spacing reloaded, the graph built anew
+    // and the vertices whose link changed marked.
+    void rebuild_graph(std::unique_ptr<StarGraph> &graph);
+    Vec3 star_odt_point(int32_t v) const;
+    // The given vertices and their neighbours (sorted, each once).
+    std::vector<int32_t> closed_stars(std::initializer_list<int32_t> vertices) const;
+    // Claims `vertices` for this pass's one change around them; false
+    // (nothing claimed) if any is taken.
+    static bool claim(const std::vector<int32_t> &vertices, std::vector<uint8_t> &locked);
+    bool lock_neighbourhood(std::initializer_list<int32_t> vertices, std::vector<uint8_t> &locked) const {
+        return claim(closed_stars(vertices), locked);
+    }
+
+    // Stopping ---------------------------------------------------------------
+    struct Summary {
+        double qt_min, qt_mean, qp_min, qp_mean;
+        double largest_angle_cosine;  // of the mesh's largest angle
+    };
+    // with_largest_angle: also the cosine of the largest angle (else 1).
+    Summary summarise(bool with_largest_angle = false) const;
+};
+
+}  // namespace um::optim::detail

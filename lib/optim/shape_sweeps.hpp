@@ -1,0 +1,39 @@
+// The shape sweeps of Algorithm 1 (paper section 6, eq. 7-8): each vertex
+// moves towards the ODT target of its star (or the centre of its link) when
+// that is BETTER, and once the sweeps slow down, the poor stars get a
+// compass search (polish_poor_stars).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "optim/mesh_state.hpp"
+
+namespace um::optim::detail {
+
+class ShapeSweeps {
+public:
+    explicit ShapeSweeps(MeshState &s) : s_(s) {}
+    // One graph-coloured sweep of moves over every vertex; the moves taken.
+    int64_t sweep(const StarGraph &g, bool forward) { return moves(g, forward, nullptr); }
+    // Whether an outer iteration of `changes` updates has slowed down enough
+    // for the compass polish.
+    bool wants_polish(int64_t changes) const;
+    int64_t polish_poor_stars(const StarGraph &g);
+
+private:
+    // Over every vertex, or only over those flagged in *only.
+    int64_t moves(const StarGraph &g, bool forward, const std::vector<uint8_t> *only);
+    bool update_position(const StarGraph &g, int32_t v);
+    struct MoveTrial;
+    bool move_to_targets(MoveTrial &trial);
+    bool move_by_compass(MoveTrial &trial);
+    bool move_along_gamma(MoveTrial &trial);
+    // The ODT target of a move of v (at `here`, link `ring` from the graph).
+    Vec3 odt_target(const StarGraph &g, int32_t v, const Generator &here, const Ring &ring) const;
+
+    MeshState &s_;
+    double poor_star_ = -kInfinity;  // stars scoring below get the compass search
+};
+
+}  // namespace um::optim::detail

@@ -1,0 +1,83 @@
+#include "optim/weight_sweeps.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace um::optim::detail {
+
+namespace {
+
+// Stars whose worst staggering score is at least this keep their weights:
+// kWeightedBelow in the bulk, kWeightedBelowNearGamma within kNearGamma h of
+// Gamma, where the features force triangles that need weights to hold their
+// orthocentres (with 0.95 there too, the coastline case at 60 km kept one
+// triangle off-centre; with 0.99 everywhere, curl errors at 120 km were 3x
+// larger). An ascent lifts the worst triangle only kWeightedMargin past the
+// threshold, not to its star's mean as eq. 6 would.
+constexpr double kWeightedBelow = 0.95;
+constexpr double kWeightedBelowNearGamma = 0.99;
+constexpr double kWeightedMargin = 0.001;
+
+}  // namespace
+
+// Eq. 4-6: ascend the Q^P of the worst adjacent triangle, starting from the
+// first-order step that would lift it to the star's mean (here: just past
+// the threshold).
+bool WeightSweeps::update_weight(const StarGraph &g, int32_t v) {
+    if (g.degree(v) < 3) return false;
+    if (s_.nothing_changed_since(g, v, s_.weight_failed_at[v])) return false;
+    Ring ring;
+    if (!s_.gather_ring(g, v, ring)) return false;
+    const int m = ring.m;
+    const Generator here = s_.generator(v);
+    // The worst triangle by the staggering score; the step from plain Q^P
+    // (eq. 6 aims the worst Q^P at the star's mean Q^P).
+    LocalQuality before;
+    double sum = 0, sum_qp = 0, worst_qp = 0;
+    int worst_k = 0;
+    for (int k = 0; k < m; ++k) {
+        const Generator &a = ring.at(k), &b = ring.after(k);
+        double qp = 0;
+        const double q = staggering_score(here, a, b, &qp);
+        if (q < before.worst) before.worst = q, worst_k = k, worst_qp = qp;
+        sum += q, sum_qp += qp;
+    }
+    before.mean = sum / m;
+    // Weights move xEdge off the primal midpoint, which the curl feels, and
+    // gain the divergence little: only stars whose worst triangle staggers
+    // poorly get them; the bulk stays a Voronoi (power with equal weights)
+    // diagram of centroidal generators.
+    const double weighted_below = !s_.near_gamma.empty() && s_.near_gamma[v] ? kWeightedBelowNearGamma : kWeightedBelow;
+    if (before.worst >= weighted_below) {
+        s_.weight_failed_at[v] = s_.clock;
+        return false;
+    }
+    const double slope =
+        primal_dual_weight_derivative(here, ring.at(worst_k), ring.after(worst_k));
+    // Only as far as the threshold: a larger weight moves xEdge further.
+    const double gain = std::min(sum_qp / m, weighted_below + kWeightedMargin) - worst_qp;
+    if (slope != 0 && gain > 0) {
+        const double w = 2.0 * (1.0 - 1.0 / here.s);
+        // A weight may not let Gamma into more cells off it around v (counted once, when first needed).
+        const bool guarded = !s_.near_gamma.empty() && s_.near_gamma[v];
+        int crossings = -1;
+        double dw = gain / slope;  // eq. 6
+        for (int i = 0; i <= kHalvings; ++i, dw *= 0.5) {
+            Generator weighted = here;
+            weighted.s = tri::lifted_scale(w + dw);
+            if (!(weighted.s > 0) || !std::isfinite(weighted.s)) continue;
+            const LocalQuality now = ring_quality<false>(ring, weighted, before.worst + s_.gain, worst_k);
+            if (!(now.worst > before.worst + s_.gain)) continue;
+            if (!star_is_valid(ring, weighted)) continue;
+            if (crossings < 0) crossings = guarded ? s_.gamma_crossings(v, ring, g.link(v), here) : 0;
+            if (guarded && s_.gamma_crossings(v, ring, g.link(v), weighted) > crossings) continue;
+            s_.set_generator(v, weighted);
+            s_.changed_at[v] = s_.clock;
+            return true;
+        }
+    }
+    s_.weight_failed_at[v] = s_.clock;
+    return false;
+}
+
+}  // namespace um::optim::detail

@@ -1,0 +1,25 @@
+// The weight sweeps of Algorithm 1 (paper section 6, eq. 4-6): each vertex
+// whose star staggers poorly ascends the Q^P of its worst triangle.
+#pragma once
+
+#include <cstdint>
+
+#include "optim/mesh_state.hpp"
+
+namespace um::optim::detail {
+
+class WeightSweeps {
+public:
+    explicit WeightSweeps(MeshState &s) : s_(s) {}
+    // One graph-coloured sweep of weight updates; the updates taken.
+    int64_t sweep(const StarGraph &g, bool forward) {
+        return s_.sweep(g, forward, nullptr, [&](const StarGraph &g, int32_t v) { return update_weight(g, v); });
+    }
+
+private:
+    bool update_weight(const StarGraph &g, int32_t v);
+
+    MeshState &s_;
+};
+
+}  // namespace um::optim::detail
