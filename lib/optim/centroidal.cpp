@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/growth.hpp"
 #include "core/text.hpp"
 
 #include "geom/predicates.hpp"
@@ -27,8 +28,11 @@ namespace {
 // the centroid offset where 128 do (tools/bench/HISTORY.md); Lloyd's slow
 // global drift after that changes no operator error.
 constexpr int kCentroidalFlipEvery = 4;
-// A generator this close to its centroid (in h) counts as still.
-constexpr double kCentroidalStill = 1e-4;
+// A generator this close to its centroid (in h) stays where it is, and is
+// not looked at again until something around it moves: in the later sweeps
+// most of the mesh is still (a thousandth of h is far below the centroid
+// offsets that matter, a few thousandths of the cell's size).
+constexpr double kCentroidalStill = 1e-3;
 // A step may not take a triangle of its star below Q^T = kLloydQt or past
 // the angle kLloydAngle (degrees), nor further past them than the star's
 // worst triangle was: the mesh keeps the worst-case shape the issue asks
@@ -47,25 +51,34 @@ constexpr int kCentroidalHalvings = 6;
 // The integral of X over the spherical triangle's part that the edge (p, q)
 // closes, as in the vector-area identity: for a spherical polygon, the
 // integral of X over it is half the sum over its edges of the arc length
-// times the unit normal of the edge's plane.
+// times the unit normal of the edge's plane. The arc over its sine,
+// asin(s) / s, by its series in s = sin(theta) below 0.1 (the next term is
+// 5e-8 relative there), atan2 above: the Lloyd targets spend most of their time
+// here otherwise.
 Vec3 edge_moment(const Vec3 &p, const Vec3 &q) {
     const Vec3 n = geom::cross(p, q);
-    const double len = geom::norm(n);
-    if (!(len > 0)) return {};
-    return (0.5 * std::atan2(len, geom::dot(p, q)) / len) * n;
+    const double sin2 = geom::dot(n, n);
+    if (!(sin2 > 0)) return {};
+    const double arc_over_sin = sin2 < 0.01 && geom::dot(p, q) > 0
+                                    ? 1 + sin2 * (1.0 / 6 + sin2 * (3.0 / 40))
+                                    : std::atan2(std::sqrt(sin2), geom::dot(p, q)) / std::sqrt(sin2);
+    return (0.5 * arc_over_sin) * n;
 }
 
 // How far the star of v at `centre` is inside the Lloyd steps' bounds: the
 // least over its triangles of min(Q^T - kLloydQt, cos(largest angle) -
 // cos(kLloydAngle), Q^P - kLloydQp), negative when a triangle is past one.
-double lloyd_margin(const Ring &ring, const Generator &centre) {
+// Stops as soon as it is below `floor` (the cheap shape terms first: Q^P
+// costs an orthocentre).
+double lloyd_margin(const Ring &ring, const Generator &centre, double floor = -kInfinity) {
     static const double cos_limit = std::cos(kLloydAngle * M_PI / 180);
     double margin = kInfinity;
-    for (int k = 0; k < ring.m; ++k) {
+    for (int k = 0; k < ring.m && margin >= floor; ++k) {
         const Vec3 &a = centre.x, &b = ring.at(k).x, &c = ring.after(k).x;
-        margin = std::min({margin, area_length_ratio(a, b, c) - kLloydQt, largest_angle_cosine(a, b, c) - cos_limit,
-                           primal_dual(centre, ring.at(k), ring.after(k)) - kLloydQp});
+        margin = std::min({margin, area_length_ratio(a, b, c) - kLloydQt, largest_angle_cosine(a, b, c) - cos_limit});
     }
+    for (int k = 0; k < ring.m && margin >= floor; ++k)
+        margin = std::min(margin, primal_dual(centre, ring.at(k), ring.after(k)) - kLloydQp);
     return margin;
 }
 
@@ -104,12 +117,16 @@ bool Centroidal::update_centroidal(const StarGraph &g, int32_t v) {
     // restricted edges, and a cell cut by a coastline is not meant to be
     // centroidal.
     if (g.degree(v) < 3 || s_.on_segment[v] >= 0) return false;
+    if (s_.nothing_changed_since(g, v, still_at_[v])) return false;
     Ring ring;
     if (!s_.gather_ring(g, v, ring)) return false;
     const Generator here = s_.generator(v);
     const Vec3 target = centroid_target(g, v, here, ring);
     const double still = kCentroidalStill * static_cast<double>(s_.h_at[v]);
-    if (!(geom::norm(target - here.x) > still)) return false;
+    if (!(geom::norm(target - here.x) > still)) {
+        still_at_[v] = s_.clock;
+        return false;
+    }
     const double floor = std::min(0.0, lloyd_margin(ring, here));
     const bool guarded = !s_.near_gamma.empty() && s_.near_gamma[v];
     int crossings = -1;
@@ -117,7 +134,7 @@ bool Centroidal::update_centroidal(const StarGraph &g, int32_t v) {
     for (int i = 0; i <= kCentroidalHalvings; ++i, step *= 0.5) {
         Generator moved = here;
         moved.x = geom::normalized((1 - step) * here.x + step * target);
-        if (lloyd_margin(ring, moved) < floor) continue;
+        if (lloyd_margin(ring, moved, floor) < floor) continue;
         if (!star_is_valid(ring, moved)) continue;
         if (guarded) {
             if (crossings < 0) crossings = s_.gamma_crossings(v, ring, g.link(v), here);
@@ -126,14 +143,16 @@ bool Centroidal::update_centroidal(const StarGraph &g, int32_t v) {
         s_.set_generator(v, moved);
         s_.h_at[v] = static_cast<float>(s_.h(moved.x));
         s_.changed_at[v] = s_.clock;
-        return geom::norm(moved.x - here.x) > still;
+        return true;
     }
+    still_at_[v] = s_.clock;  // no step fits: as still as one that need not move
     return false;
 }
 
 int64_t Centroidal::relax_to_centroids(std::unique_ptr<StarGraph> &graph) {
     int64_t total = 0;
     int32_t since = s_.clock;
+    still_at_.assign(static_cast<size_t>(s_.tri.vertex_slots()), 0);
     for (int i = 0; i < s_.options.centroidal_sweeps; ++i) {
         if (i % kCentroidalFlipEvery == 0) s_.flag_near_gamma();
         auto t0 = Clock::now();
@@ -154,6 +173,7 @@ int64_t Centroidal::relax_to_centroids(std::unique_ptr<StarGraph> &graph) {
         }
         if (moved == 0) break;
     }
+    release(still_at_);
     return total;
 }
 

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "optim/mesh_state.hpp"
 
@@ -20,6 +21,9 @@ private:
     Vec3 centroid_target(const StarGraph &g, int32_t v, const Generator &here, const Ring &ring) const;
 
     MeshState &s_;
+    // Per vertex slot: the clock when its step was found below
+    // kCentroidalStill h; skipped while nothing around it has moved since.
+    std::vector<int32_t> still_at_;
 };
 
 }  // namespace um::optim::detail

@@ -117,8 +117,13 @@ int64_t Schedule::inner_sweeps(bool shape_phase) {
     for (int m = 0; m < s_.options.inner_iterations; ++m) {
         const bool forward = m % 2 == 0;
         auto t0 = Clock::now();
-        // After the shape phase the centroidal pass places the generators.
-        int64_t moved = shape_phase && s_.options.moves ? shape_.sweep(*graph_, forward) : 0;
+        // After the shape phase the centroidal pass has placed the generators
+        // in the bulk; near Gamma, where the features force poor triangles,
+        // the shape moves go on with the weights (without them the
+        // Mid-Atlantic case kept 1-2 triangles off-centre).
+        int64_t moved = !s_.options.moves ? 0
+                        : shape_phase     ? shape_.sweep(*graph_, forward)
+                                          : shape_.sweep_near_gamma(*graph_, forward);
         s_.stats.seconds_moves += seconds_since(t0);
         t0 = Clock::now();
         int64_t weighted = s_.options.weights && !shape_phase ? weights_.sweep(*graph_, forward) : 0;

@@ -16,6 +16,11 @@ public:
     explicit ShapeSweeps(MeshState &s) : s_(s) {}
     // One graph-coloured sweep of moves over every vertex; the moves taken.
     int64_t sweep(const StarGraph &g, bool forward) { return moves(g, forward, nullptr); }
+    // The same over the vertices near Gamma only (MeshState::near_gamma;
+    // none without Gamma).
+    int64_t sweep_near_gamma(const StarGraph &g, bool forward) {
+        return s_.near_gamma.empty() ? 0 : moves(g, forward, &s_.near_gamma);
+    }
     // Whether an outer iteration of `changes` updates has slowed down enough
     // for the compass polish.
     bool wants_polish(int64_t changes) const;

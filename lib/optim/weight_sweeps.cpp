@@ -7,15 +7,12 @@ namespace um::optim::detail {
 
 namespace {
 
-// Stars whose worst staggering score is at least this keep their weights:
-// kWeightedBelow in the bulk, kWeightedBelowNearGamma within kNearGamma h of
-// Gamma, where the features force triangles that need weights to hold their
-// orthocentres (with 0.95 there too, the coastline case at 60 km kept one
-// triangle off-centre; with 0.99 everywhere, curl errors at 120 km were 3x
-// larger). An ascent lifts the worst triangle only kWeightedMargin past the
-// threshold, not to its star's mean as eq. 6 would.
-constexpr double kWeightedBelow = 0.95;
-constexpr double kWeightedBelowNearGamma = 0.99;
+// Stars whose worst staggering score is at least this keep their weights
+// (the centroidal pass keeps Q^P at 0.99 where the shape phase reached it,
+// so in the bulk few stars are below). An ascent lifts the worst triangle
+// only kWeightedMargin past the threshold, not to its star's mean as eq. 6
+// would: a larger weight moves xEdge further off the primal midpoint.
+constexpr double kWeightedBelow = 0.99;
 constexpr double kWeightedMargin = 0.001;
 
 }  // namespace
@@ -47,15 +44,16 @@ bool WeightSweeps::update_weight(const StarGraph &g, int32_t v) {
     // gain the divergence little: only stars whose worst triangle staggers
     // poorly get them; the bulk stays a Voronoi (power with equal weights)
     // diagram of centroidal generators.
-    const double weighted_below = !s_.near_gamma.empty() && s_.near_gamma[v] ? kWeightedBelowNearGamma : kWeightedBelow;
-    if (before.worst >= weighted_below) {
+    if (before.worst >= kWeightedBelow) {
         s_.weight_failed_at[v] = s_.clock;
         return false;
     }
     const double slope =
         primal_dual_weight_derivative(here, ring.at(worst_k), ring.after(worst_k));
-    // Only as far as the threshold: a larger weight moves xEdge further.
-    const double gain = std::min(sum_qp / m, weighted_below + kWeightedMargin) - worst_qp;
+    // A star with a triangle that does not hold its orthocentre (a negative
+    // score) gets eq. 6's whole step: holding it matters more than the curl.
+    const double target = before.worst < 0 ? sum_qp / m : std::min(sum_qp / m, kWeightedBelow + kWeightedMargin);
+    const double gain = target - worst_qp;
     if (slope != 0 && gain > 0) {
         const double w = 2.0 * (1.0 - 1.0 / here.s);
         // A weight may not let Gamma into more cells off it around v (counted once, when first needed).
