@@ -190,21 +190,27 @@ inline RelativeError gradient_error(const MpasArrays &m, const ScalarField &psi,
     return err.result();
 }
 
-// Divergence on cells: (1/areaCell) sum s u_e dvEdge, s = +1 when the cell is
-// cellsOnEdge(e,1), against div u at xCell.
-inline RelativeError divergence_error(const MpasArrays &m, const Flow &f, const Selection &s = {}) {
-    const std::vector<double> u = normal_velocities(m, f);
+// A cell operator (1/areaCell) sum over the cell's edges of term(i, e)
+// against exact(i), area-weighted.
+template <class Term, class Exact>
+RelativeError cell_operator_error(const MpasArrays &m, const Selection &s, Term &&term, Exact &&exact) {
     ErrorSum err;
     for (int64_t i = 0; i < m.n_cells; ++i) {
         if (!selected(s.cell, i)) continue;
         double sum = 0;
-        for (int j = 0; j < m.n_edges_on_cell[i]; ++j) {
-            const int32_t e = m.edges_on_cell[i * m.max_edges + j];
-            sum += (m.cells_on_edge[2 * e] == i ? 1.0 : -1.0) * u[e] * m.dv_edge[e];
-        }
-        err.add(sum / m.area_cell[i], f.divergence(m.x_cell[i]), m.area_cell[i]);
+        for (int j = 0; j < m.n_edges_on_cell[i]; ++j) sum += term(i, m.edges_on_cell[i * m.max_edges + j]);
+        err.add(sum / m.area_cell[i], exact(i), m.area_cell[i]);
     }
     return err.result();
+}
+
+// Divergence on cells: (1/areaCell) sum s u_e dvEdge, s = +1 when the cell is
+// cellsOnEdge(e,1), against div u at xCell.
+inline RelativeError divergence_error(const MpasArrays &m, const Flow &f, const Selection &s = {}) {
+    const std::vector<double> u = normal_velocities(m, f);
+    return cell_operator_error(
+        m, s, [&](int64_t i, int32_t e) { return (m.cells_on_edge[2 * e] == i ? 1.0 : -1.0) * u[e] * m.dv_edge[e]; },
+        [&](int64_t i) { return f.divergence(m.x_cell[i]); });
 }
 
 // Curl on dual vertices: (1/areaTriangle) sum s u_e dcEdge, s = -1 when the
@@ -244,18 +250,12 @@ inline RelativeError tangential_error(const MpasArrays &m, const Flow &f, const 
 // |u(xCell)|^2 / 2.
 inline RelativeError kinetic_energy_error(const MpasArrays &m, const Flow &f, const Selection &s = {}) {
     const std::vector<double> u = normal_velocities(m, f);
-    ErrorSum err;
-    for (int64_t i = 0; i < m.n_cells; ++i) {
-        if (!selected(s.cell, i)) continue;
-        double sum = 0;
-        for (int j = 0; j < m.n_edges_on_cell[i]; ++j) {
-            const int32_t e = m.edges_on_cell[i * m.max_edges + j];
-            sum += 0.25 * m.dc_edge[e] * m.dv_edge[e] * u[e] * u[e];
-        }
-        const V3 w = f.velocity(m.x_cell[i]);
-        err.add(sum / m.area_cell[i], 0.5 * dot(w, w), m.area_cell[i]);
-    }
-    return err.result();
+    return cell_operator_error(
+        m, s, [&](int64_t, int32_t e) { return 0.25 * m.dc_edge[e] * m.dv_edge[e] * u[e] * u[e]; },
+        [&](int64_t i) {
+            const V3 w = f.velocity(m.x_cell[i]);
+            return 0.5 * dot(w, w);
+        });
 }
 
 // ------------------------------------------------------------ diagnostics
