@@ -367,7 +367,7 @@ private:
         if (territory_) {
             if (!insert_in_territory(c, p, &v)) return;
         } else {
-            v = tri_.insert(p, 0.0, stats_.next_id++, nullptr, c.t);
+            v = insert_serially(p, c.t);
             if (!tri_.in_triangulation(v)) {
                 give_up(c);
                 return;
@@ -379,6 +379,7 @@ private:
         if (!territory_ && nearest_neighbour(tri_, v) < options_.filter * h_(p)) {
             const std::vector<int32_t> link = tri_.link(v);
             tri_.remove(v);
+            if (options_.free_vertex_slots) options_.free_vertex_slots->push_back(v);
             for (int32_t u : link) tri_.for_each_in_star(u, [&](int32_t t) { classify(t); });
             give_up(c);
             return;
@@ -395,6 +396,14 @@ private:
         if (options_.gamma && may_reach && near_gamma(*options_.gamma, p, change_reach))
             stats_.near_gamma.push_back(v);
         after_insertion(v);
+    }
+
+    int32_t insert_serially(const Vec3 &p, int32_t hint) {
+        std::vector<int32_t> *slots = options_.free_vertex_slots;
+        if (!slots || slots->empty()) return tri_.insert(p, 0.0, stats_.next_id++, nullptr, hint);
+        const int32_t v = tri_.insert_into_removed(slots->back(), p, 0.0, stats_.next_id++, nullptr, hint);
+        slots->pop_back();
+        return v;
     }
 
     // The territory's insertion, with the serial path's proximity rule tested

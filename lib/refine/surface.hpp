@@ -32,6 +32,9 @@ struct SurfaceOptions {
     const geom::ArcTree *gamma = nullptr;
     double filter = 0.5;
     std::vector<int32_t> *on_gamma = nullptr;  // per vertex slot: Gamma arc or -1
+    // Slots of removed vertices the serial pass inserts into (last first)
+    // before it adds new slots (Triangulation::insert_into_removed).
+    std::vector<int32_t> *free_vertex_slots = nullptr;
 };
 
 // Target edge length in radians at a unit point (the spacing h / R).

@@ -746,6 +746,21 @@ int32_t Triangulation::insert(const Vec3 &direction, double weight, int32_t id,
     }
 }
 
+int32_t Triangulation::insert_into_removed(int32_t slot, const Vec3 &direction, double weight, int32_t id,
+                                           std::vector<int32_t> *buried, int32_t hint) {
+    if (slot < 0 || slot >= vertex_slots() || vertex_tri_[slot] != kRemoved)
+        fail(UM_ERR_INTERNAL, "insert_into_removed: vertex slot ", slot, " is not removed");
+    const Vec3 q = q_[slot];
+    const int32_t old_id = id_[slot];
+    q_[slot] = lifted_scale(weight) * direction, id_[slot] = id, vertex_tri_[slot] = kNone;
+    try {
+        return reinsert(slot, buried, hint);
+    } catch (...) {
+        q_[slot] = q, id_[slot] = old_id, vertex_tri_[slot] = kRemoved;  // removed, as before the call
+        throw;
+    }
+}
+
 // (Re)inserts the point already stored in slot v.
 int32_t Triangulation::reinsert(int32_t v, std::vector<int32_t> *buried, int32_t hint) {
     hint = live_triangle_near(hint);

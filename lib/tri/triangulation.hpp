@@ -243,6 +243,12 @@ public:
     // `hint` is a triangle near the point, where the walk starts.
     int32_t insert(const Vec3 &direction, double weight, int32_t id,
                    std::vector<int32_t> *buried = nullptr, int32_t hint = 0);
+    // insert(), into the slot of a removed vertex instead of a new one
+    // (which then holds the new point and id): a pass that takes many
+    // vertices out and puts as many in keeps the slot count, and with it
+    // every per-slot array, from growing.
+    int32_t insert_into_removed(int32_t slot, const Vec3 &direction, double weight, int32_t id,
+                                std::vector<int32_t> *buried = nullptr, int32_t hint = 0);
     // Removes vertex v (its slot becomes hidden); its star is re-triangulated
     // by ears that are facets of the hull of the remaining points.
     // Returns a live triangle where v was (a hint for later walks).

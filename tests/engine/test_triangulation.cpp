@@ -1,5 +1,6 @@
 // Engine tests of the Laguerre triangulation on the hard inputs.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdarg>
 #include <cstddef>
@@ -820,6 +821,56 @@ void hidden_and_removed_vertices_put_back(void **) {
         assert_memory_equal(t.lifted(static_cast<int32_t>(v)).data(), where[v].data(), sizeof(Vec3));
 }
 
+// Points inserted into the slots of removed vertices (the re-seeding of
+// defects): the same triangles as fresh slots would give, the slot count
+// unchanged, each slot with its new point and id; a slot that is not
+// removed is refused, leaving the triangulation as it was.
+void insertion_into_removed_slots(void **) {
+    const std::vector<Vec3> pts = test::random_points(2000, 71);
+    tri::Triangulation reused = build(pts), fresh = build(pts);
+    std::vector<int32_t> slots;
+    for (int32_t v = 0; v < reused.vertex_slots() && slots.size() < 300; v += 5) {
+        reused.remove(v), fresh.remove(v);
+        slots.push_back(v);
+    }
+    const std::vector<Vec3> more = test::random_points(300, 79);
+    const int32_t n_slots = reused.vertex_slots();
+    for (size_t i = 0; i < more.size(); ++i) {
+        const int32_t id = 5000 + static_cast<int32_t>(i);
+        const int32_t v = reused.insert_into_removed(slots[i], more[i], 0.0, id);
+        assert_int_equal(v, slots[i]);
+        assert_int_equal(reused.id(v), id);
+        assert_true(reused.in_triangulation(v));
+        fresh.insert(more[i], 0.0, id);
+    }
+    expect_valid(reused);
+    assert_int_equal(reused.vertex_slots(), n_slots);
+    assert_int_equal(reused.vertex_count(), fresh.vertex_count());
+    // The same triangles, by the ids of their vertices.
+    auto by_ids = [](const tri::Triangulation &t) {
+        std::set<std::array<int32_t, 3>> out;
+        for (int32_t f = 0; f < t.triangle_slots(); ++f) {
+            if (t.is_free(f)) continue;
+            std::array<int32_t, 3> k{t.id(t.vertex(f, 0)), t.id(t.vertex(f, 1)), t.id(t.vertex(f, 2))};
+            std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
+            out.insert(k);
+        }
+        return out;
+    };
+    assert_true(by_ids(reused) == by_ids(fresh));
+    const auto before = triangle_set(reused);
+    int32_t live = 0;
+    while (!reused.in_triangulation(live)) ++live;
+    bool refused = false;
+    try {
+        reused.insert_into_removed(live, more[0], 0.0, 9999);
+    } catch (const Error &) {
+        refused = true;
+    }
+    assert_true(refused);
+    assert_true(triangle_set(reused) == before);
+}
+
 // Removing vertices whose links lie along one great circle (a meridian
 // through the pole, a latitude-free grid of meridians): every hull ear of
 // such a link can be flat, and removal must still leave the exact regular
@@ -896,6 +947,7 @@ int main() {
         cmocka_unit_test(insert_remove_move_and_reweight),
         cmocka_unit_test(a_point_tried_and_removed_leaves_the_triangulation),
         cmocka_unit_test(hidden_and_removed_vertices_put_back),
+        cmocka_unit_test(insertion_into_removed_slots),
         cmocka_unit_test(flips_keep_a_valid_sphere),
     };
     return cmocka_run_group_tests_name("triangulation", tests, nullptr, nullptr);
