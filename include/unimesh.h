@@ -218,7 +218,7 @@ enum {
                                           from Gamma move (no flips, criteria kept) until their
                                           edges lie within [0.75, 1.35]*h where they can */
     /* optimisation (paper section 6, Algorithm 1) */
-    UM_OPT_OPTIM_OUTER_ITERATIONS = 200, /* int; N, default 16 */
+    UM_OPT_OPTIM_OUTER_ITERATIONS = 200, /* int; N, default 20 */
     UM_OPT_OPTIM_INNER_ITERATIONS = 201, /* int; M, default 8 */
     UM_OPT_OPTIM_TOLERANCE = 202,        /* real; early-stop tolerance, default 1e-4 */
     UM_OPT_OPTIM_WEIGHTS = 203,          /* int 0/1; optimise weights, default 1 */
@@ -227,8 +227,10 @@ enum {
     UM_OPT_OPTIM_SPLIT_RATIO = 206,      /* real; split edges longer than r*h, default 1.6 */
     UM_OPT_OPTIM_CORNER_VERTICES = 207,  /* int 0/1/2; vertices for obtuse corners on features (2: only where
                                             their cells stay clear of the features), default 1 */
-    UM_OPT_OPTIM_CENTROIDAL_SWEEPS = 208 /* int; Lloyd sweeps towards the power cells' centroids
+    UM_OPT_OPTIM_CENTROIDAL_SWEEPS = 208,/* int; Lloyd sweeps towards the power cells' centroids
                                             after the shape iterations, default 8 (0: none) */
+    UM_OPT_OPTIM_RESEED_ROUNDS = 209     /* int; at most this many rounds re-seeding the 5-7 defects
+                                            in the shape iterations, default 7 (0: none) */
 };
 enum {
     UM_OPTION_TYPE_INT = 1,
@@ -545,7 +547,13 @@ UM_API void um_mesh_destroy(um_mesh *m); /* NULL-safe */
  * such vertex fits, one of the triangle's vertices on the features taken out
  * when the edge left between its neighbours along the feature still meets
  * the boundary refinement's bounds (UM_OPT_REFINE_ALPHA and _BETA as the
- * mesh was refined) and no more triangles around are obtuse; an update of
+ * mesh was refined) and no more triangles around are obtuse; in the first
+ * iterations (at most UM_OPT_OPTIM_RESEED_ROUNDS, while each lowers the
+ * defects by a tenth, leaving three to relax), the vertices of degree other
+ * than 6 away from the features are taken out with the rings of vertices
+ * around them and the holes refilled by the refinement from the regular
+ * lattice around (fewer 5-7 defects: where the MPAS divergence, kinetic
+ * energy and TRSK errors sit); an update of
  * a vertex is taken only if it lets the features into no more cells of
  * vertices off them around it than before, and only if the worst
  * quality of its triangles improves (or stays, and their mean improves), a
@@ -559,8 +567,8 @@ UM_API void um_mesh_destroy(um_mesh *m); /* NULL-safe */
  * each step only as far as it keeps the star valid, lets the features into
  * no more cells and keeps every triangle's area-length ratio at least 0.925,
  * its angles at most 81 degrees and its Q^P at least 0.99 (or as they were); the second half then
- * changes only weights, and only around triangles whose Q^P is below 0.95
- * (0.99 within 2.5 h of the features), each only just past that (weights
+ * changes only weights, and only around triangles whose Q^P is below 0.99,
+ * each only just past that (or any triangle not holding its orthocentre; weights
  * move xEdge off the primal edge's midpoint, which costs the curl accuracy).
  * After the iterations, two serial joint searches: each triangle not containing its
  * orthocentre gets the weights (and, on the features, the slides) of its

@@ -20,7 +20,7 @@ const OptionSpec kSpecs[] = {
     {UM_OPT_REFINE_RHO, "refine_rho", UM_OPTION_TYPE_REAL, 1.0, 10.0, 1.05},
     {UM_OPT_REFINE_TOPOLOGY_CHECK, "refine_topology_check", UM_OPTION_TYPE_INT, 0, 1, 0},
     {UM_OPT_REFINE_RELAX, "refine_relax", UM_OPTION_TYPE_INT, 0, 1, 1},
-    {UM_OPT_OPTIM_OUTER_ITERATIONS, "optim_outer_iterations", UM_OPTION_TYPE_INT, 0, 1000, 16},
+    {UM_OPT_OPTIM_OUTER_ITERATIONS, "optim_outer_iterations", UM_OPTION_TYPE_INT, 0, 1000, 20},
     {UM_OPT_OPTIM_INNER_ITERATIONS, "optim_inner_iterations", UM_OPTION_TYPE_INT, 0, 1000, 8},
     {UM_OPT_OPTIM_TOLERANCE, "optim_tolerance", UM_OPTION_TYPE_REAL, 0.0, 1.0, 1e-4},
     {UM_OPT_OPTIM_WEIGHTS, "optim_weights", UM_OPTION_TYPE_INT, 0, 1, 1},
@@ -29,6 +29,7 @@ const OptionSpec kSpecs[] = {
     {UM_OPT_OPTIM_SPLIT_RATIO, "optim_split_ratio", UM_OPTION_TYPE_REAL, 1.0, kBig, 1.6},
     {UM_OPT_OPTIM_CORNER_VERTICES, "optim_corner_vertices", UM_OPTION_TYPE_INT, 0, 2, 1},
     {UM_OPT_OPTIM_CENTROIDAL_SWEEPS, "optim_centroidal_sweeps", UM_OPTION_TYPE_INT, 0, 1000, 8},
+    {UM_OPT_OPTIM_RESEED_ROUNDS, "optim_reseed_rounds", UM_OPTION_TYPE_INT, 0, 1000, 7},
 };
 constexpr size_t kCount = sizeof kSpecs / sizeof kSpecs[0];
 

@@ -301,6 +301,8 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     o.corner_vertices = options.integer(UM_OPT_OPTIM_CORNER_VERTICES) != 0;
     o.corner_cells_clear = options.integer(UM_OPT_OPTIM_CORNER_VERTICES) == 2;
     o.centroidal_sweeps = static_cast<int>(options.integer(UM_OPT_OPTIM_CENTROIDAL_SWEEPS));
+    o.reseed_rounds = static_cast<int>(options.integer(UM_OPT_OPTIM_RESEED_ROUNDS));
+    o.refill_alpha = options.real(UM_OPT_REFINE_ALPHA), o.refill_rho = options.real(UM_OPT_REFINE_RHO);
     o.gamma_alpha = m.boundary_alpha, o.gamma_beta = m.boundary_beta;
     // The optimisation inserts a few per cent of new vertex slots (splits)
     // and, as it also removes about as many vertices (collapses), needs few

@@ -1,16 +1,19 @@
 // The schedule of Algorithm 1 (optimise.hpp): the passes in their order.
 // Each pass is a unit of its own over the shared mesh state (mesh_state.hpp):
-// shape_sweeps, weight_sweeps, centroidal, topology, gamma_corners, mends.
+// shape_sweeps, defect_reseeding, weight_sweeps, centroidal, topology,
+// gamma_corners, mends.
 #include "optim/optimise.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <tuple>
 
 #include "core/text.hpp"
 #include "optim/centroidal.hpp"
+#include "optim/defect_reseeding.hpp"
 #include "optim/gamma_corners.hpp"
 #include "optim/mends.hpp"
 #include "optim/mesh_state.hpp"
@@ -25,26 +28,38 @@ namespace detail {
 
 namespace {
 
+// The re-seeding rounds (defect_reseeding.hpp): the first takes out more
+// rings around the defects than the later ones (it breaks up the grains the
+// refinement's fronts left; the later ones mend what is left locally); the
+// shape phase keeps kSettleIterations after the last round to relax its new
+// vertices (with one, the worst triangles were left poor); the rounds stop
+// when one would start from more than (1 - kLeastDefectDrop) of the defects
+// the last one started from. Measurements: tools/bench/HISTORY.md.
+constexpr int kFirstRings = 3, kLaterRings = 1;
+constexpr int kSettleIterations = 3;
+constexpr double kLeastDefectDrop = 0.1;
+
 // The passes of Algorithm 1 in their order over the shared mesh state.
 class Schedule {
 public:
     Schedule(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
              const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o)
         : s_(ctx, tri, on_segment, gamma, h, o), shape_(s_), weights_(s_), centroidal_(s_), topology_(s_),
-          corners_(s_), mends_(s_) {}
+          corners_(s_), mends_(s_), reseeding_(s_) {}
 
     OptimiseStats run();
 
 private:
     // What one outer iteration changed.
     struct Changes {
-        int64_t updates = 0, flips = 0, collapsed = 0, split = 0, valence = 0, corners = 0;
-        int64_t topology() const { return flips + collapsed + split + valence + corners; }
+        int64_t updates = 0, flips = 0, collapsed = 0, split = 0, valence = 0, corners = 0, reseeded = 0;
+        int64_t topology() const { return flips + collapsed + split + valence + corners + reseeded; }
     };
     void begin_weight_phase();
     int64_t inner_sweeps(bool shape_phase);
     int64_t polish_poor_stars();
     void change_topology(int n, bool shape_phase, int32_t outer_start, Changes &changes);
+    int64_t reseed_defects(int n);
     bool settled(const MeshState::Summary &now, const MeshState::Summary &last) const;
     void log_outer(int n, bool shape_phase, const Changes &changes, const MeshState::Summary &now);
     int64_t mend_off_centre_triangles();
@@ -58,7 +73,11 @@ private:
     Topology topology_;
     GammaCorners corners_;
     Mends mends_;
+    DefectReseeding reseeding_;
     std::unique_ptr<StarGraph> graph_;
+    int shape_iterations_ = 0;
+    int64_t last_defects_ = -1;  // the defects the last re-seeding round started from
+    bool reseeding_over_ = false;
 };
 
 OptimiseStats Schedule::run() {
@@ -73,6 +92,7 @@ OptimiseStats Schedule::run() {
     // a weighted triangulation keeps badly shaped triangles regular (and
     // well-centred), so no flip would ever mend them.
     const int shape_iterations = o.weights ? o.outer_iterations / 2 : o.outer_iterations;
+    shape_iterations_ = shape_iterations;
     for (int n = 0; n < o.outer_iterations; ++n) {
         s_.ctx.progress("optimise", double(n) / o.outer_iterations);
         const bool shape_phase = n < shape_iterations;
@@ -156,11 +176,30 @@ void Schedule::change_topology(int n, bool shape_phase, int32_t outer_start, Cha
     if (o.valence_repair && n + 1 < o.outer_iterations)
         c.valence = topology_.improve_valence() + (n < 2 ? topology_.flip_for_valence() : 0);
     c.corners = shape_phase && o.corner_vertices ? corners_.support_gamma_corners() : 0;
+    c.reseeded = shape_phase ? reseed_defects(n) : 0;
     s_.stats.flips += c.flips, s_.stats.collapses += c.collapsed, s_.stats.splits += c.split;
     // Else the spacing (h_at) and the graph are still those of the mesh.
     if (c.topology() > 0) s_.rebuild_graph(graph_);
     ++s_.clock;
     s_.stats.seconds_topology += seconds_since(t0);
+}
+
+// A round of the re-seeding of defects while they pay, in the first outer
+// iterations of the shape phase; the vertices it took out.
+int64_t Schedule::reseed_defects(int n) {
+    if (reseeding_over_ || n >= s_.options.reseed_rounds || n + kSettleIterations >= shape_iterations_) return 0;
+    const int64_t most = last_defects_ < 0 ? INT64_MAX
+                                           : static_cast<int64_t>((1 - kLeastDefectDrop) * static_cast<double>(last_defects_));
+    const DefectReseeding::Round r = reseeding_.reseed(n == 0 ? kFirstRings : kLaterRings, most);
+    s_.ctx.log(UM_LOG_INFO, concat("optimise: re-seeding round ", n + 1, ": ", r.defects, " defects away from Gamma; ",
+                                   r.removed, " vertices taken out, ", r.inserted, " put in"));
+    if (r.removed == 0) {
+        reseeding_over_ = true;
+        return 0;
+    }
+    last_defects_ = r.defects;
+    ++s_.stats.reseed_rounds, s_.stats.reseeded += r.removed;
+    return r.removed + r.inserted;
 }
 
 // No quality summary changed by more than the tolerance.

@@ -5,14 +5,16 @@
 // (section 6.4) and the repair of vertex degrees: removal of degree <= 4,
 // splitting of degree >= 8, and (first two iterations) flips that turn a
 // 7-7 diagonal between 5s into 6s, kept when a few ODT steps make them
-// regular.
+// regular; in the first iterations, the re-seeding of the 5-7 defects away
+// from Gamma (defect_reseeding.hpp).
 //
 // The first half of the outer iterations holds the weights (shape phase):
 // weights tuned early keep badly shaped triangles regular and would lock
 // the topology in. Then the centroidal pass (centroidal.cpp) takes the
 // generators to their power cells' centroids, and the second half runs the
-// weight ascent alone (no more moves, which would undo the centroids), on
-// the stars whose worst triangle scores below 0.95 (0.99 near Gamma) only,
+// weight ascent (moves only near Gamma, where the features force poor
+// triangles; in the bulk they would undo the centroids), on the stars whose
+// worst triangle scores below 0.99 only,
 // scored by Q^P less a penalty for a triangle that does not hold its
 // orthocentre: the bulk keeps equal weights, where xEdge is the primal
 // edge's midpoint.
@@ -36,7 +38,7 @@
 namespace um::optim {
 
 struct OptimiseOptions {
-    int outer_iterations = 16;  // N
+    int outer_iterations = 20;  // N
     int inner_iterations = 8;   // M
     // Stop when an outer iteration changes no quality summary (min and mean
     // of Q^T and Q^P) by more than this. An update is taken only if it raises
@@ -57,6 +59,11 @@ struct OptimiseOptions {
     // Lloyd sweeps towards the power cells' centroids after the shape phase
     // (centroidal.cpp; 0: none).
     int centroidal_sweeps = 8;
+    // At most this many rounds of the re-seeding of 5-7 defects in the shape
+    // phase (defect_reseeding.hpp; 0: none), and the refinement's bounds
+    // (refine_alpha, refine_rho) its holes are filled to.
+    int reseed_rounds = 7;
+    double refill_alpha = 4.0 / 3.0, refill_rho = 1.05;
     // The boundary refinement's bounds (refine_alpha, refine_beta): where a
     // vertex on Gamma at an obtuse corner is taken out, the restricted edge
     // left in its place must meet them.
@@ -68,6 +75,8 @@ struct OptimiseStats {
     int64_t moves = 0, weight_updates = 0, flips = 0, collapses = 0, splits = 0;
     int64_t corner_vertices = 0;  // added at obtuse corners on Gamma (not among the splits)
     int64_t gamma_vertices_removed = 0;  // taken out at obtuse corners on Gamma (not among the collapses)
+    int reseed_rounds = 0;               // rounds of the re-seeding of defects done
+    int64_t reseeded = 0;                // vertices those rounds took out (their holes refilled)
     double seconds_moves = 0, seconds_weights = 0, seconds_topology = 0;
 };
 

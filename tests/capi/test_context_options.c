@@ -195,7 +195,7 @@ static void options_typed_setters_and_bounds(void **state) {
 
     int64_t n = 0;
     assert_int_equal(um_options_get_int(o, UM_OPT_OPTIM_OUTER_ITERATIONS, &n), UM_OK);
-    assert_int_equal(n, 16);
+    assert_int_equal(n, 20);
     assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_OUTER_ITERATIONS, 4), UM_OK);
     assert_int_equal(um_options_get_int(o, UM_OPT_OPTIM_OUTER_ITERATIONS, &n), UM_OK);
     assert_int_equal(n, 4);
@@ -237,7 +237,7 @@ static void option_names_round_trip(void **state) {
     const um_option keys[] = {UM_OPT_SPHERE_RADIUS, UM_OPT_REFINE_ALPHA, UM_OPT_REFINE_BETA,
                               UM_OPT_REFINE_RHO, UM_OPT_OPTIM_OUTER_ITERATIONS,
                               UM_OPT_OPTIM_SPLIT_RATIO, UM_OPT_OPTIM_CORNER_VERTICES,
-                              UM_OPT_OPTIM_CENTROIDAL_SWEEPS};
+                              UM_OPT_OPTIM_CENTROIDAL_SWEEPS, UM_OPT_OPTIM_RESEED_ROUNDS};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i) {
         char name[64];
         int64_t needed = 0;
@@ -263,6 +263,14 @@ static void option_names_round_trip(void **state) {
     assert_int_equal(value, 8);
     assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_CENTROIDAL_SWEEPS, 0), UM_OK);
     assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_CENTROIDAL_SWEEPS, -1), UM_ERR_INVALID_ARGUMENT);
+    /* optim_reseed_rounds: 7 by default, 0 turns the re-seeding of defects off */
+    assert_int_equal(um_options_get_int(o, UM_OPT_OPTIM_RESEED_ROUNDS, &value), UM_OK);
+    assert_int_equal(value, 7);
+    assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_RESEED_ROUNDS, 0), UM_OK);
+    assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_RESEED_ROUNDS, -1), UM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(um_options_set_string(o, "optim_reseed_rounds=3"), UM_OK);
+    assert_int_equal(um_options_get_int(o, UM_OPT_OPTIM_RESEED_ROUNDS, &value), UM_OK);
+    assert_int_equal(value, 3);
     um_options_destroy(o);
     um_context_destroy(ctx);
 }

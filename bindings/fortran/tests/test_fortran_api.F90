@@ -242,7 +242,7 @@ contains
     call check_status(ierr, UM_ERR_INVALID_ARGUMENT, 'refine_rho=0.5 in a string')
     call check_contains(um_context_last_error(ctx), 'refine_rho', 'string message')
     call um_options_get_int(opts, UM_OPT_OPTIM_OUTER_ITERATIONS, i)
-    call check(i == 16, 'failed set_string changed nothing')
+    call check(i == 20, 'failed set_string changed nothing')
     call um_context_clear_error(ctx)
 
     call um_options_set_string(opts, 'no_such_option=1', ierr)
@@ -261,13 +261,14 @@ contains
         UM_OPT_OPTIM_OUTER_ITERATIONS, UM_OPT_OPTIM_INNER_ITERATIONS, &
         UM_OPT_OPTIM_TOLERANCE, UM_OPT_OPTIM_WEIGHTS, UM_OPT_OPTIM_FIX_BOUNDARY, &
         UM_OPT_OPTIM_COLLAPSE_RATIO, UM_OPT_OPTIM_SPLIT_RATIO, UM_OPT_OPTIM_CORNER_VERTICES, &
-        UM_OPT_OPTIM_CENTROIDAL_SWEEPS]
+        UM_OPT_OPTIM_CENTROIDAL_SWEEPS, UM_OPT_OPTIM_RESEED_ROUNDS]
     character(len=*), parameter :: names(*) = [character(len=32) :: 'UM_OPT_SPHERE_RADIUS', &
         'UM_OPT_REFINE_ALPHA', 'UM_OPT_REFINE_BETA', 'UM_OPT_REFINE_RHO', &
         'UM_OPT_REFINE_TOPOLOGY_CHECK', 'UM_OPT_REFINE_RELAX', 'UM_OPT_OPTIM_OUTER_ITERATIONS', &
         'UM_OPT_OPTIM_INNER_ITERATIONS', 'UM_OPT_OPTIM_TOLERANCE', 'UM_OPT_OPTIM_WEIGHTS', &
         'UM_OPT_OPTIM_FIX_BOUNDARY', 'UM_OPT_OPTIM_COLLAPSE_RATIO', 'UM_OPT_OPTIM_SPLIT_RATIO', &
-        'UM_OPT_OPTIM_CORNER_VERTICES', 'UM_OPT_OPTIM_CENTROIDAL_SWEEPS']
+        'UM_OPT_OPTIM_CORNER_VERTICES', 'UM_OPT_OPTIM_CENTROIDAL_SWEEPS', &
+        'UM_OPT_OPTIM_RESEED_ROUNDS']
     integer :: i, key, type, ierr
     real(real64) :: lo, hi, default
     character(len=:), allocatable :: name, expected

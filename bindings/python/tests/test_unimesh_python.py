@@ -345,7 +345,7 @@ class OptionsTests(unittest.TestCase):
         with self.assertRaises(UnimeshError) as caught:
             self.opts.update(optim_outer_iterations=3, refine_rho=0.5)
         self.assertIn("refine_rho", caught.exception.message)
-        self.assertEqual(self.opts["optim_outer_iterations"], 16)
+        self.assertEqual(self.opts["optim_outer_iterations"], 20)
         with self.assertRaises(UnimeshError) as caught:
             unimesh.Options(self.ctx, refine_beta=2.0)
         self.assertIn("refine_beta", caught.exception.message)

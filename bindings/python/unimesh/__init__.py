@@ -96,6 +96,7 @@ class Option(enum.IntEnum):
     OPTIM_SPLIT_RATIO = 206
     OPTIM_CORNER_VERTICES = 207
     OPTIM_CENTROIDAL_SWEEPS = 208
+    OPTIM_RESEED_ROUNDS = 209
 
 
 class OptionType(enum.IntEnum):
