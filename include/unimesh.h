@@ -671,7 +671,12 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * cells and more). The same mesh gives the same bytes for any thread count.
  * The progress callback sees stage "MPAS mesh" before the mesh is built and
  * before the file is written; cancelling there writes nothing.
- * Errors: UM_ERR_IO naming the file (a partly written file is removed),
+ * The file is written under a temporary name in path's directory (".NAME.part-
+ * PID-N"), flushed to disk and renamed over path only when complete: a failed
+ * or interrupted write leaves whatever was at path as it was (and removes its
+ * temporary file). A path that names a directory, a device, a FIFO or a
+ * socket is refused before anything is written.
+ * Errors: UM_ERR_IO naming the file,
  * UM_ERR_LIMIT when a count does not fit int32, UM_ERR_MEMORY_CAP, and the
  * spacing's errors if a callback spacing gives a value that is not finite
  * and > 0 at a generator. */
@@ -708,7 +713,8 @@ UM_API um_status um_mesh_copy_mpas_int(const um_mesh *m, const char *name, int32
 /* The triangulation in JIGSAW's .msh format (MSHID=3;EUCLIDEAN-MESH, for
  * interchange with the JIGSAW tools): POINT x;y;z of the generators on the
  * sphere (m), POWER their weights (m^2), TRIA3 the triangles (0-based, the
- * order of um_mesh_copy_triangles). UM_ERR_IO naming the file. */
+ * order of um_mesh_copy_triangles). Written and renamed into place as
+ * um_mesh_write_mpas does. UM_ERR_IO naming the file. */
 UM_API um_status um_mesh_write_jigsaw(const um_mesh *m, const char *path);
 
 /* Frees the staggered mesh kept by the calls above (m stays valid). */

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "core/error.hpp"
+#include "io/replacing_file.hpp"
 #include "mesh/refined_mesh.hpp"
 
 namespace um::io {
@@ -18,7 +19,8 @@ struct CloseFile {
 }  // namespace
 
 void write_jigsaw_mesh(const mesh::RefinedMesh &m, const std::string &path) {
-    std::unique_ptr<std::FILE, CloseFile> file(std::fopen(path.c_str(), "w"));
+    ReplacingFile out(path, "JIGSAW mesh file");
+    std::unique_ptr<std::FILE, CloseFile> file(std::fopen(out.temporary_path().c_str(), "w"));
     if (!file) fail(UM_ERR_IO, "cannot create JIGSAW mesh file '", path, "'");
     std::FILE *f = file.get();
     const double r = m.radius_m;
@@ -41,11 +43,8 @@ void write_jigsaw_mesh(const mesh::RefinedMesh &m, const std::string &path) {
                           m.vertex_of_slot[tri.vertex(t, 1)], m.vertex_of_slot[tri.vertex(t, 2)]) > 0;
     }
     if (ok) ok = std::fclose(file.release()) == 0;
-    if (!ok) {
-        std::error_code ignored;
-        std::filesystem::remove(path, ignored);
-        fail(UM_ERR_IO, "cannot write JIGSAW mesh file '", path, "'");
-    }
+    if (!ok) fail(UM_ERR_IO, "cannot write JIGSAW mesh file '", path, "'");  // the old file stays
+    out.commit();
 }
 
 }  // namespace um::io

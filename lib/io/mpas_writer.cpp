@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "dual/mpas_fields.hpp"
 #include "io/netcdf_lock.hpp"
+#include "io/replacing_file.hpp"
 
 namespace um::io {
 
@@ -52,38 +53,23 @@ struct Hash {
 // netCDF's own messages are fixed English; for system errors (> 0) it would
 // call strerror, which follows the host's locale, so those are spelled here.
 std::string nc_text(int status) {
-    switch (status) {
-        case ENOENT: return "no such file or directory";
-        case EACCES: return "permission denied";
-        case EISDIR: return "is a directory";
-        case ENOTDIR: return "a component of the path is not a directory";
-        case ENOSPC: return "no space left on device";
-        case EROFS: return "read-only file system";
-        default: break;
-    }
-    if (status > 0) return concat("system error ", status);
-    return nc_strerror(status);
+    return status > 0 ? system_error_text(status) : std::string(nc_strerror(status));
 }
 
-// A file being created: errors throw UM_ERR_IO naming it; unless close()
-// succeeded, the destructor aborts and removes the partial file.
+// A file being created under a temporary name (ReplacingFile): errors throw
+// UM_ERR_IO naming the final path; close() renames it into place, and
+// without that the destructor aborts it and removes the temporary file only.
 class NcOutput {
 public:
-    NcOutput(const std::string &path, int mode) : path_(path) {
-        std::error_code error;
-        if (std::filesystem::is_directory(path, error))
-            fail(UM_ERR_IO, "cannot write MPAS mesh file '", path, "': it is a directory");
-        int status = nc_create(path.c_str(), mode | NC_CLOBBER, &id_);
+    NcOutput(const std::string &path, int mode) : path_(path), file_(path, "MPAS mesh file") {
+        int status = nc_create(file_.temporary_path().c_str(), mode | NC_CLOBBER, &id_);
         if (status != NC_NOERR) {
             id_ = -1;
             fail(UM_ERR_IO, "cannot create MPAS mesh file '", path, "': ", nc_text(status));
         }
     }
     ~NcOutput() {
-        if (id_ < 0) return;
-        nc_abort(id_);
-        std::error_code error;
-        std::filesystem::remove(path_, error);
+        if (id_ >= 0) nc_abort(id_);
     }
     NcOutput(const NcOutput &) = delete;
     NcOutput &operator=(const NcOutput &) = delete;
@@ -96,18 +82,14 @@ public:
     }
     void close() {
         int status = nc_close(id_);
-        if (status != NC_NOERR) {
-            // nc_close frees the id even when flushing fails: remove the file only.
-            id_ = -1;
-            std::error_code error;
-            std::filesystem::remove(path_, error);
-            check(status, "closing the file");
-        }
-        id_ = -1;
+        id_ = -1;  // nc_close frees the id even when flushing fails
+        check(status, "closing the file");
+        file_.commit();
     }
 
 private:
     std::string path_;
+    ReplacingFile file_;
     int id_ = -1;
 };
 

@@ -13,6 +13,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -345,6 +350,86 @@ static void misuse_and_errors(void **state) {
     assert_int_equal(um_mesh_write_mpas(m, path), UM_ERR_INVALID_HANDLE);
 }
 
+/* Bytes of a file (malloc'd; *n its size), or NULL. */
+static unsigned char *slurp(const char *path, long *n) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    *n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    unsigned char *b = malloc((size_t)*n + 1);
+    if (fread(b, 1, (size_t)*n, f) != (size_t)*n) *n = -1;
+    fclose(f);
+    return b;
+}
+
+/* Entries of the output directory whose names start with prefix. */
+static int entries_starting(const char *prefix) {
+    DIR *d = opendir(UNIMESH_TEST_OUTPUT_DIR);
+    int n = 0;
+    for (struct dirent *e; d && (e = readdir(d));) n += strncmp(e->d_name, prefix, strlen(prefix)) == 0;
+    if (d) closedir(d);
+    return n;
+}
+
+/* A write that fails half way (the file-size limit of a child process:
+ * EFBIG, as a full disk gives ENOSPC) leaves the old file at the path
+ * byte for byte and no temporary file; a FIFO or a device at the path is
+ * refused and stays. Both writers. */
+static void failed_writes_keep_the_old_file(void **state) {
+    um_context *ctx = *state;
+    um_mesh *m = refine(ctx, 900.0, NULL);
+    const char *names[2] = {"test_mpas_keep.nc", "test_mpas_keep.msh"};
+    for (int w = 0; w < 2; ++w) {
+        char path[2048];
+        output_path(path, sizeof path, names[w]);
+        um_status (*write)(const um_mesh *, const char *) = w == 0 ? um_mesh_write_mpas : um_mesh_write_jigsaw;
+        assert_int_equal(write(m, path), UM_OK);
+        long n_before = 0, n_after = 0;
+        unsigned char *before = slurp(path, &n_before);
+        assert_non_null(before);
+        assert_true(n_before > 8192);
+        pid_t pid = fork();
+        if (pid == 0) {
+            signal(SIGXFSZ, SIG_IGN);
+            struct rlimit limit = {4096, 4096};
+            setrlimit(RLIMIT_FSIZE, &limit);
+            const um_status s = write(m, path);
+            const int named = strstr(um_context_last_error(ctx), path) != NULL;
+            _exit(s == UM_ERR_IO && named ? 0 : 1);
+        }
+        int status = -1;
+        waitpid(pid, &status, 0);
+        assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+        unsigned char *after = slurp(path, &n_after);
+        assert_non_null(after);
+        assert_int_equal(n_after, n_before);
+        assert_memory_equal(after, before, (size_t)n_before);
+        char prefix[256];
+        snprintf(prefix, sizeof prefix, ".%s.part-", names[w]);
+        assert_int_equal(entries_starting(prefix), 0);
+        free(before), free(after);
+        remove(path);
+
+        char fifo[2048];
+        output_path(fifo, sizeof fifo, "test_mpas_fifo");
+        remove(fifo);
+        assert_int_equal(mkfifo(fifo, 0600), 0);
+        assert_int_equal(write(m, fifo), UM_ERR_IO);
+        assert_non_null(strstr(um_context_last_error(ctx), "not a regular file"));
+        um_context_clear_error(ctx);
+        struct stat st;
+        assert_int_equal(stat(fifo, &st), 0);
+        assert_true(S_ISFIFO(st.st_mode));
+        remove(fifo);
+        assert_int_equal(write(m, "/dev/null"), UM_ERR_IO);
+        um_context_clear_error(ctx);
+        assert_int_equal(stat("/dev/null", &st), 0);
+        assert_true(S_ISCHR(st.st_mode));
+    }
+    um_mesh_destroy(m);
+}
+
 static void mesh_outlives_context(void **state) {
     (void)state;
     um_context *ctx = NULL;
@@ -366,6 +451,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(copy_out_matches_the_file, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(jigsaw_file, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(misuse_and_errors, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(failed_writes_keep_the_old_file, setup_context, teardown_context),
         cmocka_unit_test(mesh_outlives_context),
     };
     return cmocka_run_group_tests_name("mpas_api", tests, NULL, NULL);

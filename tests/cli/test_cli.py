@@ -5,8 +5,11 @@ flags, files and case files.
 
     UNIMESH_CLI=build/tools/unimesh UNIMESH_DATA=data python3 -m unittest test_cli
 """
+import fcntl
 import json
 import os
+import resource
+import signal
 import subprocess
 import tempfile
 import unittest
@@ -67,6 +70,78 @@ class Build(unittest.TestCase):
             r = run("build", "--case", case, "--out", elsewhere, "--spacing-km", "900")
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertTrue(os.path.exists(os.path.join(elsewhere, "mesh.nc")))
+
+
+def snapshot(folder):
+    """Every entry of a folder with its bytes (None for a folder)."""
+    out = {}
+    for name in sorted(os.listdir(folder)):
+        path = os.path.join(folder, name)
+        if os.path.isfile(path):
+            with open(path, "rb") as f:
+                out[name] = f.read()
+        else:
+            out[name] = None
+    return out
+
+
+def limit_file_size(ignore_signal):
+    """preexec_fn: files of the child stop at 64 KB (writes fail with EFBIG, or
+    SIGXFSZ kills the child mid-write)."""
+    def apply():
+        if ignore_signal:
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (65536, 65536))
+    return apply
+
+
+class Outputs(unittest.TestCase):
+    """A run publishes its files as a set: a failed or killed run leaves the
+    set before it as it was, manifest.json names the set, and a second run
+    into the same folder at once is refused."""
+
+    def build(self, out, km, **kwargs):
+        return subprocess.run([CLI, "build", "--spacing-km", str(km), "--threads", "1", "--out", out],
+                              capture_output=True, text=True, timeout=600, **kwargs)
+
+    def test_a_failed_or_killed_run_keeps_the_last_set(self):
+        with tempfile.TemporaryDirectory() as out:
+            r = self.build(out, 900)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            before = snapshot(out)
+            for ignore_signal in (True, False):
+                with self.subTest(killed=not ignore_signal):
+                    r = self.build(out, 700, preexec_fn=limit_file_size(ignore_signal))
+                    self.assertNotEqual(r.returncode, 0)
+                    after = snapshot(out)
+                    stale = [n for n in after if n.startswith(".unimesh-staging-")]
+                    if ignore_signal:  # a failure cleans up; a killed run cannot
+                        self.assertEqual(stale, [])
+                    for name in stale:
+                        del after[name]
+                    self.assertEqual(after, before)
+            self.assertIn("mesh.nc", before)
+
+    def test_manifest_names_the_set(self):
+        with tempfile.TemporaryDirectory() as out:
+            r = self.build(out, 900)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(out, "manifest.json")) as f:
+                manifest = json.load(f)
+            self.assertRegex(manifest["file_id"], "^[0-9a-z]{10}$")
+            names = {entry["name"]: entry["bytes"] for entry in manifest["files"]}
+            for name in FILES:
+                self.assertEqual(names[name], os.path.getsize(os.path.join(out, name)), name)
+            self.assertEqual([n for n in os.listdir(out) if n.startswith(".unimesh-staging-")], [])
+
+    def test_a_second_run_into_the_same_folder_is_refused(self):
+        with tempfile.TemporaryDirectory() as out:
+            with open(os.path.join(out, ".unimesh.lock"), "w") as lock:
+                fcntl.flock(lock, fcntl.LOCK_EX)
+                r = self.build(out, 900)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("another unimesh build is writing there", r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(out, "mesh.nc")))
 
 
 class Errors(unittest.TestCase):

@@ -12,7 +12,13 @@
 #include <fstream>
 #include <string>
 
+#include <memory>
+#include <netcdf.h>
+#include <stdexcept>
+#include <vector>
+
 #include "mpas_extras.hpp"
+#include "output_set.hpp"
 #include "unimesh.h"
 
 namespace {
@@ -117,7 +123,7 @@ void print_quality(const char *what, um_context *ctx, um_mesh *m) {
 // (Debian's matplotlib). A missing Python or matplotlib costs the picture,
 // not the mesh: a warning, and the exit status stays that of the mesh files.
 // Debian's own Python (where setup.sh installs python3-matplotlib) first.
-bool plot_quality(const std::string &json, const std::string &png) {
+bool plot_quality(const std::string &json, const std::string &png, const std::string &shown) {
     const char *script = UNIMESH_PLOT_SCRIPT;
     const char *python = access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
     pid_t pid = fork();
@@ -129,14 +135,29 @@ bool plot_quality(const std::string &json, const std::string &png) {
     if (pid > 0) waitpid(pid, &status, 0);
     if (pid > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
     std::fprintf(stderr, "unimesh build: warning: no %s (%s %s failed; is python3-matplotlib "
-                         "installed?)\n", png.c_str(), python, script);
+                         "installed?)\n", shown.c_str(), python, script);
     return false;
 }
 
 void write_text(const std::string &path, const std::string &text) {
     std::ofstream f(path, std::ios::binary);
     f << text;
+    f.flush();
     if (!f) throw Failure{"cannot write " + path};
+}
+
+// mesh.nc's global attribute file_id (a hash of its content), or "".
+std::string file_id_of(const std::string &mesh_nc) {
+    int id = -1;
+    std::string value;
+    size_t length = 0;
+    if (nc_open(mesh_nc.c_str(), NC_NOWRITE, &id) != NC_NOERR) return value;
+    if (nc_inq_attlen(id, NC_GLOBAL, "file_id", &length) == NC_NOERR && length < 4096) {
+        value.resize(length);
+        if (nc_get_att_text(id, NC_GLOBAL, "file_id", value.data()) != NC_NOERR) value.clear();
+    }
+    nc_close(id);
+    return value;
 }
 
 }  // namespace
@@ -162,9 +183,12 @@ int run_build(const BuildArgs &a) {
             for (const auto &g : a.geometry)
                 check(um_features_read_geojson(f, g.c_str(), nullptr, 0), ctx, "--geometry " + g);
         }
-        std::error_code ec;
-        std::filesystem::create_directories(a.out_dir, ec);
-        if (ec) throw Failure{"--out " + a.out_dir + ": " + ec.message()};
+        std::unique_ptr<OutputSet> out;
+        try {
+            out = std::make_unique<OutputSet>(a.out_dir);
+        } catch (const std::runtime_error &e) {
+            throw Failure{e.what()};
+        }
 
         auto t0 = std::chrono::steady_clock::now();
         check(um_mesh_refine(ctx, h, f, opts, &m), ctx, "refinement");
@@ -179,18 +203,28 @@ int run_build(const BuildArgs &a) {
         if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-60s\r", "");
 
         const std::string dir = a.out_dir + "/";
-        check(um_mesh_write_mpas(m, (dir + "mesh.nc").c_str()), ctx, "writing " + dir + "mesh.nc");
+        const std::string mesh_nc = out->staged("mesh.nc");
+        check(um_mesh_write_mpas(m, mesh_nc.c_str()), ctx, "writing " + dir + "mesh.nc");
         std::string extra_error;
-        if (!write_graph_info(dir + "mesh.nc", dir + "graph.info", &extra_error))
+        if (!write_graph_info(mesh_nc, out->staged("graph.info"), &extra_error))
             throw Failure{extra_error};
-        if (!write_cells_vtu(dir + "mesh.nc", dir + "mesh.vtu", &extra_error))
+        if (!write_cells_vtu(mesh_nc, out->staged("mesh.vtu"), &extra_error))
             throw Failure{extra_error};
-        if (!write_triangles_vtu(dir + "mesh.nc", dir + "triangles.vtu", &extra_error))
+        if (!write_triangles_vtu(mesh_nc, out->staged("triangles.vtu"), &extra_error))
             throw Failure{extra_error};
-        check(um_mesh_write_jigsaw(m, (dir + "mesh.msh").c_str()), ctx, "writing " + dir + "mesh.msh");
+        check(um_mesh_write_jigsaw(m, out->staged("mesh.msh").c_str()), ctx, "writing " + dir + "mesh.msh");
         const std::string quality = quality_json(ctx, m);
-        write_text(dir + "quality.json", quality);
-        const bool plotted = plot_quality(dir + "quality.json", dir + "quality.png");
+        write_text(out->staged("quality.json"), quality);
+        const bool plotted = plot_quality(out->staged("quality.json"), out->staged("quality.png"), dir + "quality.png");
+        std::vector<std::string> written{"mesh.nc", "graph.info", "mesh.vtu", "triangles.vtu", "mesh.msh",
+                                         "quality.json"};
+        std::vector<std::string> not_written;
+        (plotted ? written : not_written).push_back("quality.png");
+        try {
+            out->publish(written, not_written, file_id_of(mesh_nc));
+        } catch (const std::runtime_error &e) {
+            throw Failure{e.what()};
+        }
 
         int64_t nv = 0, nt = 0, nr = 0, nf = 0;
         um_mesh_counts(m, &nv, &nt, &nr, &nf);
@@ -200,8 +234,9 @@ int run_build(const BuildArgs &a) {
                     a.no_optimise ? 0.0 : optimise_s);
         print_quality(a.no_optimise ? "refined" : "optimised", ctx, m);
         std::printf("wrote %smesh.nc, %sgraph.info, %smesh.vtu, %striangles.vtu, %smesh.msh, "
-                    "%squality.json%s%s\n", dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(),
-                    dir.c_str(), plotted ? ", " : "", plotted ? (dir + "quality.png").c_str() : "");
+                    "%squality.json%s%s, %smanifest.json\n", dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(),
+                    dir.c_str(), dir.c_str(), plotted ? ", " : "", plotted ? (dir + "quality.png").c_str() : "",
+                    dir.c_str());
     } catch (const Failure &e) {
         if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-60s\r", "");
         std::fprintf(stderr, "unimesh build: %s\n", e.message.c_str());

@@ -32,6 +32,7 @@ bool write_graph_info(const std::string &mesh_nc, const std::string &path, std::
         }
         out << '\n';
     }
+    out.flush();
     return out ? true : fail(error, "cannot write " + path);
 }
 
@@ -78,6 +79,7 @@ bool write_vtu(const std::string &path, const VtuGrid &g, std::string *error) {
         out << "</DataArray>\n";
     }
     out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+    out.flush();
     return out ? true : fail(error, "cannot write " + path);
 }
 

@@ -1,0 +1,96 @@
+#include "io/replacing_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "core/text.hpp"
+
+namespace um::io {
+
+namespace {
+
+// Temporary names differ between the files one process writes at once.
+std::atomic<uint64_t> next_serial{0};
+
+std::string directory_of(const std::string &path) {
+    const size_t slash = path.find_last_of('/');
+    if (slash == std::string::npos) return ".";
+    return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+// Flushes a directory's entries (the rename) to disk; best effort: some
+// file systems refuse to open or sync directories.
+void sync_directory(const std::string &dir) {
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return;
+    (void)::fsync(fd);
+    ::close(fd);
+}
+
+}  // namespace
+
+std::string system_error_text(int error) {
+    switch (error) {
+        case ENOENT: return "no such file or directory";
+        case EACCES: return "permission denied";
+        case EPERM: return "operation not permitted";
+        case EISDIR: return "is a directory";
+        case ENOTDIR: return "a component of the path is not a directory";
+        case ENOSPC: return "no space left on device";
+        case EDQUOT: return "disk quota exceeded";
+        case EFBIG: return "file too large";
+        case EROFS: return "read-only file system";
+        case EIO: return "input/output error";
+        case EXDEV: return "not on the same file system";
+        default: return concat("system error ", error);
+    }
+}
+
+ReplacingFile::ReplacingFile(const std::string &path, const char *what) : path_(path), what_(what) {
+    if (path.empty()) fail(UM_ERR_IO, "cannot write ", what, ": the path is empty");
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0) {
+        if (S_ISDIR(st.st_mode)) fail(UM_ERR_IO, "cannot write ", what, " '", path, "': it is a directory");
+        if (!S_ISREG(st.st_mode))
+            fail(UM_ERR_IO, "cannot write ", what, " '", path, "': it is not a regular file (a device, FIFO or socket)");
+    }
+    const std::string dir = directory_of(path);
+    const std::string name = path.substr(path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/') + 1);
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        temporary_ = concat(dir, "/.", name, ".part-", static_cast<long long>(::getpid()), "-",
+                            static_cast<unsigned long long>(next_serial.fetch_add(1)));
+        const int fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd >= 0) {
+            ::close(fd);
+            return;
+        }
+        if (errno != EEXIST)
+            fail(UM_ERR_IO, "cannot write ", what, " '", path, "': cannot create a file in '", dir, "': ",
+                 system_error_text(errno));
+    }
+    fail(UM_ERR_IO, "cannot write ", what, " '", path, "': no free temporary name in '", dir, "'");
+}
+
+ReplacingFile::~ReplacingFile() {
+    if (!committed_) ::unlink(temporary_.c_str());
+}
+
+void ReplacingFile::commit() {
+    const int fd = ::open(temporary_.c_str(), O_RDONLY | O_CLOEXEC);
+    const bool synced = fd >= 0 && ::fsync(fd) == 0;
+    const int sync_error = errno;
+    if (fd >= 0) ::close(fd);
+    if (!synced) fail(UM_ERR_IO, "cannot write ", what_, " '", path_, "': flushing it: ", system_error_text(sync_error));
+    if (::rename(temporary_.c_str(), path_.c_str()) != 0)
+        fail(UM_ERR_IO, "cannot write ", what_, " '", path_, "': renaming it into place: ", system_error_text(errno));
+    committed_ = true;
+    sync_directory(directory_of(path_));
+}
+
+}  // namespace um::io

@@ -1,0 +1,40 @@
+// An output file written under a temporary name in the directory of its
+// final path and renamed over that path only when complete (after an
+// fsync), so that a failed or interrupted write never removes or damages
+// what was there: readers see the old file or the whole new one. A path
+// that names something other than a regular file (a directory, a device, a
+// FIFO) is refused before anything is written: renaming over it would
+// replace it, and writing into it in place could not be undone.
+#pragma once
+
+#include <string>
+
+namespace um::io {
+
+class ReplacingFile {
+public:
+    // `what` names the file in errors ("MPAS mesh file"). Throws UM_ERR_IO
+    // when the path cannot be written this way; creates the temporary file
+    // (empty, with the permissions a new file gets).
+    ReplacingFile(const std::string &path, const char *what);
+    ~ReplacingFile();  // removes the temporary file unless committed
+    ReplacingFile(const ReplacingFile &) = delete;
+    ReplacingFile &operator=(const ReplacingFile &) = delete;
+
+    // Where to write.
+    const std::string &temporary_path() const { return temporary_; }
+    // Flushes the temporary file to disk and renames it over the final
+    // path; throws UM_ERR_IO naming the path when that fails (the old file
+    // is then still there).
+    void commit();
+
+private:
+    std::string path_, temporary_, what_;
+    bool committed_ = false;
+};
+
+// A system error number as text, in English whatever the host's locale
+// (strerror follows it).
+std::string system_error_text(int error);
+
+}  // namespace um::io

@@ -1,0 +1,111 @@
+#include "output_set.hpp"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace {
+
+std::runtime_error failure(const std::string &what, int error) {
+    return std::runtime_error(what + ": " + std::strerror(error));
+}
+
+void sync_directory(const std::string &dir) {
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return;
+    (void)::fsync(fd);
+    ::close(fd);
+}
+
+// JSON string contents: quotes, backslashes and control characters escaped.
+std::string json_escaped(const std::string &s) {
+    std::string out;
+    for (unsigned char c : s) {
+        if (c == '"' || c == '\\') out += '\\', out += static_cast<char>(c);
+        else if (c < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", c);
+            out += buf;
+        } else out += static_cast<char>(c);
+    }
+    return out;
+}
+
+}  // namespace
+
+OutputSet::OutputSet(const std::string &out_dir) : dir_(out_dir.empty() ? "." : out_dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir_, ec);
+    if (ec) throw std::runtime_error("--out " + dir_ + ": " + ec.message());
+    if (!std::filesystem::is_directory(dir_, ec)) throw std::runtime_error("--out " + dir_ + ": not a directory");
+    const std::string lock = dir_ + "/.unimesh.lock";
+    lock_fd_ = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (lock_fd_ < 0) throw failure("--out " + dir_ + ": cannot write there", errno);
+    if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+        const int error = errno;
+        ::close(lock_fd_);
+        lock_fd_ = -1;
+        if (error == EWOULDBLOCK) throw std::runtime_error("--out " + dir_ + ": another unimesh build is writing there");
+        throw failure("--out " + dir_ + ": cannot lock it", error);
+    }
+    staging_ = dir_ + "/.unimesh-staging-" + std::to_string(static_cast<long long>(::getpid()));
+    std::filesystem::remove_all(staging_, ec);  // a dead run's with this pid
+    if (::mkdir(staging_.c_str(), 0777) != 0) {
+        const int error = errno;
+        ::close(lock_fd_);
+        lock_fd_ = -1;
+        throw failure("--out " + dir_ + ": cannot write there", error);
+    }
+}
+
+OutputSet::~OutputSet() {
+    std::error_code ec;
+    if (!staging_.empty()) std::filesystem::remove_all(staging_, ec);
+    if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the lock
+}
+
+std::string OutputSet::staged(const std::string &name) const { return staging_ + "/" + name; }
+
+void OutputSet::publish(const std::vector<std::string> &names, const std::vector<std::string> &not_written,
+                        const std::string &file_id) {
+    std::string manifest = "{\n  \"file_id\": \"" + json_escaped(file_id) + "\",\n  \"files\": [";
+    for (size_t i = 0; i < names.size(); ++i) {
+        std::error_code ec;
+        const auto bytes = std::filesystem::file_size(staged(names[i]), ec);
+        if (ec) throw std::runtime_error("cannot read " + staged(names[i]) + ": " + ec.message());
+        manifest += std::string(i ? "," : "") + "\n    {\"name\": \"" + json_escaped(names[i]) +
+                    "\", \"bytes\": " + std::to_string(bytes) + "}";
+    }
+    manifest += "\n  ]\n}\n";
+    {
+        std::ofstream out(staged("manifest.json"), std::ios::binary);
+        out << manifest;
+        out.flush();
+        if (!out) throw std::runtime_error("cannot write " + staged("manifest.json"));
+    }
+    std::vector<std::string> all = names;
+    all.push_back("manifest.json");  // last: it names the set
+    for (const std::string &name : all) {
+        const int fd = ::open(staged(name).c_str(), O_RDONLY | O_CLOEXEC);
+        const bool synced = fd >= 0 && ::fsync(fd) == 0;
+        if (fd >= 0) ::close(fd);
+        if (!synced) throw failure("cannot write " + dir_ + "/" + name, errno);
+    }
+    sync_directory(staging_);
+    // The old set's manifest goes first: while the files are being moved,
+    // no manifest claims a mix of two runs.
+    std::error_code ec;
+    std::filesystem::remove(dir_ + "/manifest.json", ec);
+    for (const std::string &name : not_written) std::filesystem::remove(dir_ + "/" + name, ec);
+    for (const std::string &name : all)
+        if (::rename(staged(name).c_str(), (dir_ + "/" + name).c_str()) != 0)
+            throw failure("cannot move " + staged(name) + " to " + dir_ + "/" + name, errno);
+    sync_directory(dir_);
+}
