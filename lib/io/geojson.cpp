@@ -1,4 +1,5 @@
 #include "io/geojson.hpp"
+#include "io/input_file.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -47,16 +48,14 @@ struct FileCloser {
 
 std::string read_whole_file(const std::string &path, const Context *context) {
     namespace fs = std::filesystem;
+    require_regular_input(path, "GeoJSON file");
     std::error_code ec;
     const fs::file_status status = fs::status(path, ec);
-    // fopen opens a directory on POSIX systems; say what it is instead.
-    if (!ec && fs::is_directory(status))
-        fail(UM_ERR_IO, "cannot read '", path, "': it is a directory");
     errno = 0;
     std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
     if (!file) fail(UM_ERR_IO, "cannot open '", path, "' for reading: ", errno_text(errno));
     std::string text;
-    // A regular file's size sizes the buffer and the memory check (pipes have none).
+    // The file size sizes the buffer and the memory check.
     if (!ec && fs::is_regular_file(status)) {
         const uintmax_t size = fs::file_size(path, ec);
         if (!ec && size > 0) {
@@ -96,7 +95,11 @@ const json *member(const json &object, const char *key) {
 const json *member(const json &object, const std::string &key) { return member(object, key.c_str()); }
 
 // A JSON value as it reads in a message (strings quoted, long values cut).
+// Arrays and objects are named, not written out: json::dump recurses, and a
+// value nested 100,000 deep (a small file) would overflow the stack.
 std::string shown(const json &j) {
+    if (j.is_array() || j.is_object())
+        return concat(type_name(j), " of ", j.size(), j.is_array() ? " value" : " member", j.size() == 1 ? "" : "s");
     std::string s = j.dump();
     if (s.size() > 60) s = s.substr(0, 57) + "...";
     return s;

@@ -10,6 +10,7 @@
 #include <netcdf.h>
 
 #include "core/error.hpp"
+#include "io/input_file.hpp"
 #include "io/netcdf_header.hpp"
 #include "io/netcdf_lock.hpp"
 
@@ -43,9 +44,7 @@ template <class... Parts>
 class NcFile {
 public:
     explicit NcFile(const std::string &path) {
-        std::error_code error;
-        if (std::filesystem::is_directory(path, error))
-            fail(UM_ERR_IO, "cannot open spacing file '", path, "': it is a directory");
+        require_regular_input(path, "spacing file");
         // netCDF-C trusts a classic header's counts and name lengths.
         const std::string problem = classic_header_problem(path);
         if (!problem.empty()) format_error(path, "its netCDF header is malformed: ", problem);

@@ -7,6 +7,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <unistd.h>
 
 #include <cmocka.h>
 
@@ -257,6 +260,29 @@ static void read_geojson_errors(void **state) {
         counts(f, &np, &nv, NULL);
         assert_true(np == 2 && nv == 5);
     }
+    /* A value nested 100,000 deep (a 200 KB file) is named in the message,
+     * not written out (that recursed until the stack overflowed); a FIFO is
+     * refused instead of read (which blocked for ever). */
+    char deep[] = "/tmp/unimesh_deep_XXXXXX";
+    const int fd = mkstemp(deep);
+    assert_true(fd >= 0);
+    FILE *out = fdopen(fd, "w");
+    fputs("{\"type\": \"FeatureCollection\", \"features\": [{\"type\": \"Feature\", \"properties\": {\"kind\": ", out);
+    for (int i = 0; i < 100000; ++i) fputc('[', out);
+    for (int i = 0; i < 100000; ++i) fputc(']', out);
+    fputs("}, \"geometry\": {\"type\": \"LineString\", \"coordinates\": [[0, 0], [1, 1]]}}]}", out);
+    fclose(out);
+    assert_int_equal(um_features_read_geojson(f, deep, NULL, 0), UM_ERR_INPUT);
+    expect_message(ctx, "properties.kind = an array of 1 value is not");
+    remove(deep);
+    char fifo[] = "/tmp/unimesh_fifo_XXXXXX";
+    assert_true(mkdtemp(fifo) != NULL);
+    char fifo_path[64];
+    snprintf(fifo_path, sizeof fifo_path, "%s/in.geojson", fifo);
+    assert_int_equal(mkfifo(fifo_path, 0600), 0);
+    assert_int_equal(um_features_read_geojson(f, fifo_path, NULL, 0), UM_ERR_IO);
+    expect_message(ctx, "not a regular file");
+    remove(fifo_path), rmdir(fifo);
     /* With a default kind an unknown value is no error. */
     assert_int_equal(um_features_read_geojson(f, TEST_DATA("unknown_kind.geojson"), NULL, UM_FEATURE_OTHER), UM_OK);
     assert_int_equal(um_features_read_geojson(f, NULL, NULL, 0), UM_ERR_NULL_ARGUMENT);

@@ -315,6 +315,12 @@ static void malformed_spacing_files(void **state) {
     /* Files that cannot be opened at all. */
     expect_file_error(ctx, "missing.nc", NULL, NULL, NULL, NULL, UM_ERR_IO, "no such file");
     EXPECT_CREATE_ERROR(ctx, s, um_spacing_create_from_file(ctx, temp_dir, &s), UM_ERR_IO, "is a directory", NULL);
+    /* A FIFO is refused, not opened (which blocked until a writer came). */
+    const char *fifo = temp_path("fifo.nc");
+    remove(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    EXPECT_CREATE_ERROR(ctx, s, um_spacing_create_from_file(ctx, fifo, &s), UM_ERR_IO, "not a regular file", NULL);
+    remove(fifo);
     EXPECT_CREATE_ERROR(ctx, s, um_spacing_create_from_file(ctx, NULL, &s), UM_ERR_NULL_ARGUMENT, "path", NULL);
 }
 
