@@ -144,6 +144,40 @@ class Outputs(unittest.TestCase):
             self.assertFalse(os.path.exists(os.path.join(out, "mesh.nc")))
 
 
+class DamagedFiles(unittest.TestCase):
+    """check and quality on damaged or hostile MPAS files: a one-line error
+    and exit 1, never a crash or a PASS (a cut classic file reads its missing
+    tail as zeros)."""
+
+    def test_cut_and_wrong_index_files_are_refused(self):
+        import netCDF4  # python3-netcdf4, installed by tools/setup.sh
+        with tempfile.TemporaryDirectory() as out:
+            r = run("build", "--spacing-km", "900", "--threads", "1", "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(out, "mesh.nc"), "rb") as f:
+                data = f.read()
+            damaged = {}
+            for fraction in (0.5, 0.95, 0.999):
+                path = os.path.join(out, f"cut_{fraction}.nc")
+                with open(path, "wb") as f:
+                    f.write(data[:int(len(data) * fraction)])
+                damaged[path] = "truncated"
+            for var, index, value in (("cellsOnVertex", (0, 0), 0), ("nEdgesOnCell", (0,), 100),
+                                      ("edgesOnEdge", (0, 0), 10 ** 6), ("cellsOnEdge", (3, 1), -7)):
+                path = os.path.join(out, f"{var}.nc")
+                with open(path, "wb") as f:
+                    f.write(data)
+                with netCDF4.Dataset(path, "a") as d:
+                    d.variables[var][index] = value
+                damaged[path] = var
+            for path, word in damaged.items():
+                for command in ("check", "quality"):
+                    with self.subTest(path=os.path.basename(path), command=command):
+                        r = run(command, path)
+                        self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
+                        self.assertIn(word, r.stderr)
+
+
 class Errors(unittest.TestCase):
     def assert_fails(self, args, *words):
         r = run(*args)
@@ -155,6 +189,7 @@ class Errors(unittest.TestCase):
     def test_bad_flags_and_files(self):
         with tempfile.TemporaryDirectory() as out:
             self.assert_fails(["build", "--spacing-km", "-5", "--out", out], "spacing")
+            self.assert_fails(["build", "--spacing-km", "0", "--out", out], "--spacing-km", "0")
             self.assert_fails(["build", "--spacing-km", "100", "--option", "refine_rho=0.5", "--out", out],
                               "refine_rho", "0.5")
             self.assert_fails(["build", "--spacing-km", "100", "--geometry", "/no/such.geojson"], "no/such")

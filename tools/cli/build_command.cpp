@@ -52,10 +52,11 @@ int32_t report_progress(void *user, const char *stage, double fraction) {
 
 um_spacing *make_spacing(um_context *ctx, const BuildArgs &a) {
     um_spacing *h = nullptr;
-    int given = (a.spacing_km > 0) + !a.spacing_file.empty() + !a.spacing_preset.empty();
+    const bool km = !std::isnan(a.spacing_km);
+    int given = km + !a.spacing_file.empty() + !a.spacing_preset.empty();
     if (given != 1)
         throw Failure{"give exactly one of --spacing-km, --spacing-file, --spacing-preset"};
-    if (a.spacing_km > 0)
+    if (km)  // the library names a value that is not > 0
         check(um_spacing_create_constant(ctx, a.spacing_km, &h), ctx, "--spacing-km");
     else if (!a.spacing_file.empty())
         check(um_spacing_create_from_file(ctx, a.spacing_file.c_str(), &h), ctx,

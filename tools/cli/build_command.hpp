@@ -2,12 +2,13 @@
 // directory. Uses the public C API only.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
 struct BuildArgs {
     std::vector<std::string> geometry;  // GeoJSON files
-    double spacing_km = 0;              // one of these three
+    double spacing_km = std::nan("");   // one of these three (NaN: not given)
     std::string spacing_file, spacing_preset;
     int threads = 0;
     bool no_optimise = false;

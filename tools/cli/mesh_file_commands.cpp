@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "nc_read.hpp"
@@ -42,7 +43,54 @@ bool positions(const NcFile &f, const char *what, size_t n, std::vector<V3> &out
     return true;
 }
 
+// Every count and index the commands use, checked before use: "" or the
+// first one out of range (a damaged or hostile file must not make them read
+// outside the arrays). A global mesh has no 0 (boundary) in its
+// connectivity.
+std::string connectivity_problem(const MeshFile &m) {
+    auto index = [](const std::vector<int32_t> &a, size_t at, size_t n) { return a[at] >= 1 && size_t(a[at]) <= n; };
+    auto bad = [](const char *name, size_t row, int32_t value, size_t n) {
+        return std::string(name) + "(" + std::to_string(row + 1) + ") = " + std::to_string(value) +
+               " is not an index in [1, " + std::to_string(n) + "]";
+    };
+    if (m.max_edges < 3 || m.n_cells < 4 || m.n_edges < 6 || m.n_vertices < 4)
+        return "nCells, nEdges, nVertices or maxEdges is too small for a mesh of the sphere";
+    if (!(m.radius > 0) || !std::isfinite(m.radius)) return "sphere_radius is not a length > 0";
+    for (size_t c = 0; c < m.n_cells; ++c) {
+        const int32_t n = m.n_edges_on_cell[c];
+        if (n < 3 || size_t(n) > m.max_edges)
+            return "nEdgesOnCell(" + std::to_string(c + 1) + ") = " + std::to_string(n) + " is not in [3, maxEdges]";
+        for (int32_t j = 0; j < n; ++j) {
+            const size_t at = c * m.max_edges + size_t(j);
+            if (!index(m.edges_on_cell, at, m.n_edges)) return bad("edgesOnCell", c, m.edges_on_cell[at], m.n_edges);
+            if (!index(m.vertices_on_cell, at, m.n_vertices))
+                return bad("verticesOnCell", c, m.vertices_on_cell[at], m.n_vertices);
+        }
+    }
+    for (size_t e = 0; e < 2 * m.n_edges; ++e) {
+        if (!index(m.cells_on_edge, e, m.n_cells)) return bad("cellsOnEdge", e / 2, m.cells_on_edge[e], m.n_cells);
+        if (!index(m.vertices_on_edge, e, m.n_vertices))
+            return bad("verticesOnEdge", e / 2, m.vertices_on_edge[e], m.n_vertices);
+    }
+    for (size_t k = 0; k < 3 * m.n_vertices; ++k)
+        if (!index(m.cells_on_vertex, k, m.n_cells)) return bad("cellsOnVertex", k / 3, m.cells_on_vertex[k], m.n_cells);
+    for (size_t e = 0; e < m.n_edges; ++e) {
+        const int32_t n = m.n_edges_on_edge[e];
+        if (n < 0 || size_t(n) > m.max_edges2)
+            return "nEdgesOnEdge(" + std::to_string(e + 1) + ") = " + std::to_string(n) + " is not in [0, maxEdges2]";
+        for (int32_t j = 0; j < n; ++j)
+            if (!index(m.edges_on_edge, e * m.max_edges2 + size_t(j), m.n_edges))
+                return bad("edgesOnEdge", e, m.edges_on_edge[e * m.max_edges2 + size_t(j)], m.n_edges);
+    }
+    return "";
+}
+
 bool read_mesh(const std::string &path, MeshFile &m) {
+    const std::string truncated = NcFile::truncation(path);
+    if (!truncated.empty()) {
+        std::fprintf(stderr, "unimesh: %s: %s\n", path.c_str(), truncated.c_str());
+        return false;
+    }
     NcFile f(path);
     if (!f.ok()) {
         std::fprintf(stderr, "unimesh: cannot read %s as netCDF\n", path.c_str());
@@ -64,10 +112,18 @@ bool read_mesh(const std::string &path, MeshFile &m) {
               f.var("kiteAreasOnVertex", m.kites, 3 * m.n_vertices) && f.var("dcEdge", m.dc_edge, m.n_edges) &&
               f.var("dvEdge", m.dv_edge, m.n_edges) &&
               f.var("weightsOnEdge", m.weights, m.n_edges * m.max_edges2);
-    if (!ok)
+    if (!ok) {
         std::fprintf(stderr, "unimesh: %s is not an MPAS mesh file (a dimension, variable or the "
-                             "sphere_radius attribute is missing)\n", path.c_str());
-    return ok;
+                             "sphere_radius attribute is missing, or a variable's size does not match "
+                             "its dimensions)\n", path.c_str());
+        return false;
+    }
+    const std::string problem = connectivity_problem(m);
+    if (!problem.empty()) {
+        std::fprintf(stderr, "unimesh: %s: %s\n", path.c_str(), problem.c_str());
+        return false;
+    }
+    return true;
 }
 
 struct Checker {
