@@ -1,21 +1,12 @@
 #include "optim/defect_reseeding.hpp"
 
 #include <algorithm>
-#include <cmath>
 
 #include "optim/star_graph.hpp"
 #include "refine/surface.hpp"
 
 namespace um::optim::detail {
 
-namespace {
-
-// The farthest (radians) a vertex's neighbour may be when it is taken out:
-// 0.5 (29 degrees) is far below a hemisphere and far above the holes of a
-// mesh whose spacing is below 1,000 km.
-constexpr double kLargestHole = 0.5;
-
-}  // namespace
 
 DefectReseeding::Round DefectReseeding::reseed(int rings, int64_t most_defects) {
     const std::vector<uint8_t> free = free_to_move();
@@ -83,19 +74,14 @@ void DefectReseeding::add_rings(std::vector<int32_t> &vertices, int rings, const
 
 // Takes the vertices out; their slots go to *slots (to be filled again) and
 // the vertices left around the holes are returned, sorted. A vertex whose
-// star already reaches kLargestHole from it (the holes of its neighbours
-// merged) stays: the star of a removal must stay far from a hemisphere,
-// where its re-triangulation by hull facets fails (coarse meshes, whose
-// defects and rings cover most of the sphere).
+// star has grown too large to take out (MeshState::removable: the holes of
+// its neighbours merged, on coarse meshes whose defects and rings cover most
+// of the sphere) stays.
 std::vector<int32_t> DefectReseeding::remove(const std::vector<int32_t> &vertices, std::vector<int32_t> &slots) {
-    const double cos_largest = std::cos(kLargestHole);
     std::vector<int32_t> rim;
     slots.clear();
     for (int32_t v : vertices) {
-        const Vec3 x = s_.tri.direction(v);
-        bool small = true;
-        s_.tri.for_each_neighbour(v, [&](int32_t u) { small = small && geom::dot(x, s_.tri.direction(u)) > cos_largest; });
-        if (!small) continue;
+        if (!s_.removable(v)) continue;
         s_.tri.for_each_neighbour(v, [&](int32_t u) { rim.push_back(u); });
         s_.tri.remove(v);
         slots.push_back(v);

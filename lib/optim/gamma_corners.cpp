@@ -348,7 +348,7 @@ bool GammaCorners::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner
     const std::vector<int32_t> link = s_.tri.link(v);
     auto at = [&](int32_t u) { return s_.generator(u); };
     const int crossed = s_.stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
-    if (crossed < 0) return false;
+    if (crossed < 0 || !s_.removable(v)) return false;
     const int32_t near = s_.tri.remove(v);
     bool ok = chord_carries_gamma(along[0], along[1]);
     for (const auto &[a, c] : corner.gamma_edges) ok = ok && (a == v || c == v || has_edge(a, c));

@@ -1,6 +1,7 @@
 #include "optim/mesh_state.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 
 #include "core/growth.hpp"
@@ -145,6 +146,14 @@ void MeshState::mark_changed_links(const std::vector<uint32_t> &before, const St
                 before[v] != folded(link_fingerprint(now, static_cast<int32_t>(v))))
                 changed_at[v] = clock;
     });
+}
+
+bool MeshState::removable(int32_t v) const {
+    const double cos_largest = std::cos(kLargestRemovableStar);
+    const Vec3 x = tri.direction(v);
+    bool small = true;
+    tri.for_each_neighbour(v, [&](int32_t u) { small = small && geom::dot(x, tri.direction(u)) > cos_largest; });
+    return small;
 }
 
 void MeshState::rebuild_graph(std::unique_ptr<StarGraph> &graph) {

@@ -212,6 +212,12 @@ public:
     double position_along_part(int32_t v) const;
 
     // Topology -------------------------------------------------------------
+    // Whether v may be taken out: every neighbour within kLargestRemovableStar
+    // of it. A star reaching towards a hemisphere (the 12-vertex start of a
+    // spacing of 10,000 km or a radius of 1 mm; a merged hole of the
+    // re-seeding) cannot be re-triangulated by hull facets.
+    static constexpr double kLargestRemovableStar = 0.5;  // radians (29 degrees)
+    bool removable(int32_t v) const;
     int64_t restore_regularity(int32_t since);
     void mark_changed_links(const std::vector<uint32_t> &before, const StarGraph &now);
     // After a topology change: the spacing reloaded, the graph built anew

@@ -51,6 +51,7 @@ int64_t Topology::collapse_short_edges(std::vector<Topology::EdgeRatio> edges) {
         // case: 2 -> 4 triangles not holding their orthocentre).
         if (s_.on_segment[e.a] >= 0 || s_.on_segment[e.b] >= 0) continue;
         const int32_t gone = e.b, kept = e.a;  // e.a < e.b
+        if (!s_.removable(gone)) continue;
         const Vec3 mid = geom::normalized(s_.tri.direction(e.a) + s_.tri.direction(e.b));
         if (leaves_long_edge(mid, static_cast<double>(s_.h_at[kept]), {gone, kept})) continue;
         if (!s_.lock_neighbourhood({e.a, e.b}, locked)) continue;
@@ -163,6 +164,7 @@ int64_t Topology::improve_valence() {
         if (degree_now > 4 && degree_now < 8) continue;
         if (!s_.lock_neighbourhood({v}, locked)) continue;
         if (degree_now <= 4) {
+            if (!s_.removable(v)) continue;
             for (int32_t t : st)  // before removal frees these triangles
                 for (int k = 0; k < 3; ++k) s_.changed_at[s_.tri.vertex(t, k)] = s_.clock;
             s_.tri.remove(v);

@@ -393,6 +393,32 @@ static void memory_cap_refuses_up_front(void **state) {
     um_mesh_destroy(m);
 }
 
+/* Valid extremes optimise: spacings of 5,000 km to 1e300 km and a sphere of
+ * 1 mm radius leave a dozen vertices whose stars span tens of degrees,
+ * which no pass may take out (that failed with "vertex removal found no
+ * ear to clip"). Coarse meshes, whose defects and re-seeding rings cover
+ * most of the sphere, too. */
+static void coarse_meshes_optimise(void **state) {
+    um_context *ctx = *state;
+    const double km[] = {600, 1000, 2000, 5000, 10000, 20000, 1e300};
+    for (size_t i = 0; i < sizeof km / sizeof km[0]; ++i) {
+        um_mesh *m = refine(ctx, km[i], 0);
+        if (um_mesh_optimise(m, NULL) != UM_OK) fail_msg("%g km: %s", km[i], um_context_last_error(ctx));
+        um_mesh_destroy(m);
+    }
+    um_spacing *h = NULL;
+    um_options *o = NULL;
+    um_mesh *m = NULL;
+    assert_int_equal(um_spacing_create_constant(ctx, 100, &h), UM_OK);
+    assert_int_equal(um_options_create(ctx, &o), UM_OK);
+    assert_int_equal(um_options_set_string(o, "sphere_radius=0.001"), UM_OK);
+    assert_int_equal(um_mesh_refine(ctx, h, NULL, o, &m), UM_OK);
+    if (um_mesh_optimise(m, o) != UM_OK) fail_msg("radius 1 mm: %s", um_context_last_error(ctx));
+    um_mesh_destroy(m);
+    um_options_destroy(o);
+    um_spacing_destroy(h);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(optimise_improves_uniform, setup_context, teardown_context),
@@ -403,6 +429,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(cancelling_leaves_the_mesh_unchanged, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(options_and_bad_arguments, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(memory_cap_refuses_up_front, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(coarse_meshes_optimise, setup_context, teardown_context),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
