@@ -55,6 +55,16 @@ class Build(unittest.TestCase):
             self.assertEqual(from_file["not_well_centred"], report["not_well_centred"])
             self.assertAlmostEqual(from_file["primal_dual"]["min"], report["primal_dual"]["min"], places=9)
 
+    def test_quality_json_of_a_path_with_quotes(self):
+        with tempfile.TemporaryDirectory() as folder:
+            out = os.path.join(folder, 'say "hi"\\ there')
+            r = run("build", "--spacing-km", "900", "--threads", "1", "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            mesh = os.path.join(out, "mesh.nc")
+            quality = run("quality", "--json", mesh)
+            self.assertEqual(quality.returncode, 0, quality.stderr)
+            self.assertEqual(json.loads(quality.stdout)["file"], mesh)
+
     def test_case_file_and_flags_that_win(self):
         with tempfile.TemporaryDirectory() as folder:
             case = os.path.join(folder, "case.toml")
@@ -209,6 +219,8 @@ class Errors(unittest.TestCase):
                 'spacing_km = 100\ngeometry = "one.geojson"\n': "geometry",
                 "spacing_km = 600\noptimise = t\n": "line 2",  # found by fuzzing: a two-line message
                 "spacing_km = 600\nthreads = 5.1e27\n": "threads",  # found by fuzzing: UB in toml++
+                "spacing_km = 600\n[options]\nrefine_bta = 0.2\n": "options.refine_bta is not a known option",
+                'spacing_km = 600\n[options]\n"refine_beta=0.1;refine_rho" = 1.1\n': "is not a known option",
             }
             for text, word in cases.items():
                 path = os.path.join(folder, "case.toml")

@@ -6,6 +6,8 @@
 
 #include <toml++/toml.h>
 
+#include "unimesh.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -87,7 +89,16 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
         const toml::table *opts = n->as_table();
         if (!opts) throw CaseError{"'options' must be a table" + where(*n)};
         std::string text;
-        for (const auto &[key, value] : *opts) text += std::string(key.str()) + "=" + option_text(value, std::string(key.str())) + ";";
+        for (const auto &[key, value] : *opts) {
+            // Each key must name an option by itself: "a=1;b" would pass two
+            // options to um_options_set_string, and a misspelt one is the
+            // case file's error (at its line), not --option's.
+            const std::string name(key.str());
+            um_option known = 0;
+            if (name.find_first_of("=;") != std::string::npos || um_option_key(name.c_str(), &known) != UM_OK)
+                throw CaseError{"options." + name + " is not a known option" + where(value)};
+            text += name + "=" + option_text(value, name) + ";";
+        }
         // The command line's --option comes last: it wins.
         a.options = text + a.options;
     }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "json_text.hpp"
 #include "nc_read.hpp"
 
 namespace {
@@ -292,7 +293,7 @@ int run_quality(const std::string &path, bool json) {
                 {"angle_min_deg", stats(amin)},
                 {"angle_max_deg", stats(amax)}};
     if (json) {
-        std::printf("{\"file\": \"%s\", \"triangles\": %zu", path.c_str(), m.n_vertices);
+        std::printf("{\"file\": \"%s\", \"triangles\": %zu", json_escaped(path).c_str(), m.n_vertices);
         for (const auto &r : rows)
             std::printf(", \"%s\": {\"min\": %.17g, \"p1\": %.17g, \"mean\": %.17g, \"max\": %.17g}", r.name,
                         r.s.min, r.s.p1, r.s.sum / double(r.s.n), r.s.max);

@@ -11,6 +11,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "json_text.hpp"
+
 namespace {
 
 std::runtime_error failure(const std::string &what, int error) {
@@ -22,20 +24,6 @@ void sync_directory(const std::string &dir) {
     if (fd < 0) return;
     (void)::fsync(fd);
     ::close(fd);
-}
-
-// JSON string contents: quotes, backslashes and control characters escaped.
-std::string json_escaped(const std::string &s) {
-    std::string out;
-    for (unsigned char c : s) {
-        if (c == '"' || c == '\\') out += '\\', out += static_cast<char>(c);
-        else if (c < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", c);
-            out += buf;
-        } else out += static_cast<char>(c);
-    }
-    return out;
 }
 
 }  // namespace
