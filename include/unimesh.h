@@ -343,7 +343,11 @@ UM_API um_status um_triangulation_check(const um_triangulation *t);
  *     their longitudes differ by a multiple of 360 (or both are one pole);
  *   - kept as given: self-intersecting, self-touching and overlapping lines
  *     (restricted meshing filters them out where they are smaller than the
- *     spacing), longitudes outside [-180, 180].
+ *     spacing), longitudes outside [-180, 180];
+ *   - refused (UM_ERR_INPUT): a closed part that repeats a closed ring
+ *     already held or given earlier in the call (the same points from any
+ *     start, either way round; a file read twice): the land and ocean sides
+ *     count the rings around a point, so two copies would cancel.
  * A failing call adds nothing; its message names the argument, the part and
  * the index (for files: the feature and coordinate, as a JSON path). */
 typedef struct um_features um_features;

@@ -1,6 +1,9 @@
 #include "features/network.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <unordered_map>
 
 #include "core/error.hpp"
 
@@ -174,7 +177,73 @@ public:
         out.length.push_back(length);
     }
 
+    // Refuses a closed part of the batch that repeats a closed ring of the
+    // network or of the batch (the same points, from any start, either way
+    // round): the side of a point (refine/sides.cpp) counts the rings
+    // around it, so a coastline given twice (a file read twice) turned all
+    // land into ocean.
+    void refuse_repeated_rings(const Network &net, const Staged &staged) const {
+        std::unordered_map<uint64_t, std::vector<int64_t>> seen;  // hash -> parts (batch ones after the network's)
+        auto ring = [&](int64_t q) {
+            if (q < net.part_count()) {
+                const Part &part = net.part(q);
+                std::vector<Vec3> points(static_cast<size_t>(part.n_points));
+                for (int64_t i = 0; i < part.n_points; ++i) points[i] = net.point(part.first_point + i);
+                return canonical_ring(points);
+            }
+            const Part &part = staged.parts[static_cast<size_t>(q - net.part_count())];
+            return canonical_ring(std::vector<Vec3>(staged.points.begin() + part.first_point,
+                                                    staged.points.begin() + part.first_point + part.n_points));
+        };
+        const int64_t total = net.part_count() + static_cast<int64_t>(staged.parts.size());
+        for (int64_t q = 0; q < total; ++q) {
+            const bool closed = q < net.part_count() ? net.part(q).closed : staged.parts[q - net.part_count()].closed;
+            if (!closed) continue;
+            const std::vector<Vec3> canonical = ring(q);
+            std::vector<int64_t> &same_hash = seen[hash_of(canonical)];
+            for (int64_t other : same_hash)
+                if (q >= net.part_count() && same_ring(ring(other), canonical))
+                    fail(UM_ERR_INPUT, place(q - net.part_count(), -1, -1), " is the same closed ring as ",
+                         other < net.part_count() ? concat("part ", other, " read before")
+                                                  : place(other - net.part_count(), -1, -1),
+                         ": a ring given twice (a file read twice?) would cancel itself in the land and "
+                         "ocean sides");
+            same_hash.push_back(q);
+        }
+    }
+
 private:
+    // The ring from its least point on (by x, y, z), in the direction whose
+    // sequence is the lesser: the same for the same ring from any start,
+    // either way round.
+    static std::vector<Vec3> canonical_ring(const std::vector<Vec3> &p) {
+        auto less = [](const Vec3 &a, const Vec3 &b) {
+            return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
+        };
+        const size_t n = p.size();
+        const size_t m = static_cast<size_t>(std::min_element(p.begin(), p.end(), less) - p.begin());
+        std::vector<Vec3> forward(n), backward(n);
+        for (size_t i = 0; i < n; ++i) forward[i] = p[(m + i) % n], backward[i] = p[(m + n - i) % n];
+        return std::lexicographical_compare(backward.begin(), backward.end(), forward.begin(), forward.end(), less)
+                   ? backward
+                   : forward;
+    }
+    static bool same_ring(const std::vector<Vec3> &a, const std::vector<Vec3> &b) {
+        return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](const Vec3 &u, const Vec3 &v) {
+                   return u.x == v.x && u.y == v.y && u.z == v.z;
+               });
+    }
+    static uint64_t hash_of(const std::vector<Vec3> &ring) {
+        uint64_t h = 1469598103934665603ull;
+        for (const Vec3 &v : ring)
+            for (double c : {v.x, v.y, v.z}) {
+                uint64_t bits;
+                std::memcpy(&bits, &c, sizeof bits);
+                h = (h ^ bits) * 1099511628211ull;
+            }
+        return h;
+    }
+
     std::string place(int64_t part, int64_t point, int coordinate) const {
         return where_ ? where_(part, point, coordinate) : default_place(part, point, coordinate);
     }
@@ -227,6 +296,7 @@ void Network::add(const PartsInput &in, const Locator &where) {
     staged.length.reserve(static_cast<size_t>(in.n_parts));
     staged.segment_part.reserve(static_cast<size_t>(in.n_points));
     for (int64_t p = 0; p < in.n_parts; ++p) checker.add_part(p, staged);
+    checker.refuse_repeated_rings(*this, staged);
 
     // Commit: reserve everything first (the only step that can throw, and
     // reserve leaves a vector as it was when it throws), then append.

@@ -86,8 +86,10 @@ static void create_add_count_copy(void **state) {
     /* Without the offsets, n_parts elements are enough. */
     assert_int_equal(um_features_copy_parts(f, NULL, NULL, kind, NULL, 2), UM_OK);
 
-    /* part_id NULL: the index in the network, counting earlier parts. */
-    assert_int_equal(um_features_add(f, 8, kLon, kLat, 2, kOffsets, kClosed, kKind, NULL), UM_OK);
+    /* part_id NULL: the index in the network, counting earlier parts (the
+     * ring moved: the same ring twice is refused). */
+    const double lon_moved[] = {0, 1, 1, 2, 30, 31, 31, 30};
+    assert_int_equal(um_features_add(f, 8, lon_moved, kLat, 2, kOffsets, kClosed, kKind, NULL), UM_OK);
     int64_t off4[5];
     int32_t id4[4];
     assert_int_equal(um_features_copy_parts(f, off4, NULL, NULL, id4, 5), UM_OK);
@@ -178,6 +180,7 @@ static void bad_input_is_rejected_and_changes_nothing(void **state) {
     counts(f, &np, &nv, &ns);
     assert_true(np == 2 && nv == 6 && ns == 5);
     RESET();
+    for (int i = 4; i < 8; ++i) lon[i] += 20; /* the same ring again would be refused */
     assert_int_equal(ADD(), UM_OK);
     counts(f, &np, NULL, NULL);
     assert_int_equal(np, 4);
@@ -395,9 +398,43 @@ static void shipped_data(void **state) {
     um_features_destroy(f);
 }
 
+/* A closed ring given twice - again in a later call, in the same call,
+ * from another start or the other way round - is refused (the sides count
+ * the rings around a point: two copies cancel, and all land became ocean),
+ * leaving the features as they were; an open line given twice is not a
+ * ring and stays allowed. */
+static void repeated_rings_are_refused(void **state) {
+    um_context *ctx = *state;
+    um_features *f = NULL;
+    assert_int_equal(um_features_create(ctx, &f), UM_OK);
+    assert_int_equal(um_features_add(f, 8, kLon, kLat, 2, kOffsets, kClosed, kKind, NULL), UM_OK);
+    assert_int_equal(um_features_add(f, 8, kLon, kLat, 2, kOffsets, kClosed, kKind, NULL), UM_ERR_INPUT);
+    expect_message(ctx, "is the same closed ring as part 1 read before");
+    /* The same ring from its third point, the other way round, twice in one call. */
+    const double lon[] = {11, 11, 10, 10, 11, 11};
+    const double lat[] = {10, 11, 10, 10, 11, 10};
+    const int64_t offsets[] = {0, 3, 6};
+    const int32_t closed[] = {1, 1}, kind[] = {UM_FEATURE_LAKE, UM_FEATURE_LAKE};
+    um_features *g = NULL;
+    assert_int_equal(um_features_create(ctx, &g), UM_OK);
+    assert_int_equal(um_features_add(g, 6, lon, lat, 2, offsets, closed, kind, NULL), UM_ERR_INPUT);
+    expect_message(ctx, "the same closed ring as part 0");
+    assert_int_equal(um_features_add(g, 3, lon, lat, 1, offsets, closed, kind, NULL), UM_OK);
+    assert_int_equal(um_features_add(f, 3, lon, lat, 1, offsets, closed, kind, NULL), UM_ERR_INPUT);
+    int64_t np, nv;
+    counts(f, &np, &nv, NULL);
+    assert_true(np == 2);
+    const int32_t open[] = {0};
+    assert_int_equal(um_features_add(f, 3, kLon, kLat, 1, offsets, open, kind, NULL), UM_OK);
+    assert_int_equal(um_features_add(f, 3, kLon, kLat, 1, offsets, open, kind, NULL), UM_OK);
+    um_features_destroy(g);
+    um_features_destroy(f);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(create_add_count_copy, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(repeated_rings_are_refused, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(bad_input_is_rejected_and_changes_nothing, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(dateline_and_self_intersections_are_accepted, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(read_geojson, setup_context, teardown_context),
