@@ -200,6 +200,12 @@ class Errors(unittest.TestCase):
         with tempfile.TemporaryDirectory() as out:
             self.assert_fails(["build", "--spacing-km", "-5", "--out", out], "spacing")
             self.assert_fails(["build", "--spacing-km", "0", "--out", out], "--spacing-km", "0")
+            # An impossible size is refused up front under the default cap
+            # (the available memory), with the estimate; a cap of 1 MiB too.
+            self.assert_fails(["build", "--spacing-km", "0.03", "--out", out], "cells needs about", "memory cap")
+            self.assert_fails(["build", "--spacing-km", "100", "--memory-cap", "1M", "--out", out], "memory cap")
+            self.assert_fails(["build", "--spacing-km", "100", "--memory-cap", "lots", "--out", out],
+                              "--memory-cap", "lots")
             self.assert_fails(["build", "--spacing-km", "100", "--option", "refine_rho=0.5", "--out", out],
                               "refine_rho", "0.5")
             self.assert_fails(["build", "--spacing-km", "100", "--geometry", "/no/such.geojson"], "no/such")

@@ -50,6 +50,36 @@ int32_t report_progress(void *user, const char *stage, double fraction) {
     return 0;
 }
 
+// The machine's available memory (MemAvailable), or 0 when unknown.
+int64_t available_memory() {
+    std::ifstream meminfo("/proc/meminfo");
+    std::string key;
+    int64_t kb = 0;
+    std::string unit;
+    while (meminfo >> key >> kb >> unit)
+        if (key == "MemAvailable:") return kb * 1024;
+    return 0;
+}
+
+// --memory-cap as bytes (see BuildArgs::memory_cap).
+int64_t memory_cap_bytes(const std::string &text) {
+    if (text == "auto") return available_memory();
+    double value = 0;
+    const char *begin = text.data(), *end = text.data() + text.size();
+    const auto [rest, error] = std::from_chars(begin, end, value);
+    int shift = 0;
+    const std::string suffix(rest, end);
+    if (suffix == "K" || suffix == "k") shift = 10;
+    else if (suffix == "M") shift = 20;
+    else if (suffix == "G") shift = 30;
+    else if (suffix == "T") shift = 40;
+    else if (!suffix.empty()) shift = -1;
+    const double bytes = std::ldexp(value, shift);
+    if (error != std::errc() || rest == begin || shift < 0 || !(value >= 0) || !(bytes < 9e18))
+        throw Failure{"--memory-cap " + text + ": not auto, 0 or a size in bytes (with K, M, G or T)"};
+    return static_cast<int64_t>(bytes);
+}
+
 um_spacing *make_spacing(um_context *ctx, const BuildArgs &a) {
     um_spacing *h = nullptr;
     const bool km = !std::isnan(a.spacing_km);
@@ -174,6 +204,7 @@ int run_build(const BuildArgs &a) {
     try {
         if (um_context_create(&ctx) != UM_OK) throw Failure{"cannot create a context"};
         check(um_context_set_threads(ctx, a.threads), ctx, "--threads");
+        check(um_context_set_memory_cap(ctx, memory_cap_bytes(a.memory_cap)), ctx, "--memory-cap " + a.memory_cap);
         um_context_set_progress(ctx, report_progress, &stage);
         if (a.verbose) um_context_set_log(ctx, print_log, nullptr, UM_LOG_INFO);
         check(um_options_create(ctx, &opts), ctx, "options");

@@ -16,6 +16,10 @@ struct BuildArgs {
     std::string out_dir = "out";
     bool progress_bar = false;
     bool verbose = false;  // the library's info messages on stderr
+    // The context's memory cap: "auto" (the machine's available memory, so
+    // an impossible size is refused up front), "0" (none), or bytes with an
+    // optional K, M, G or T (powers of 1024).
+    std::string memory_cap = "auto";
 };
 
 // 0 when every file was written; prints one-line errors to stderr.

@@ -40,6 +40,8 @@ int main(int argc, char **argv) {
     build->add_flag("--no-optimise", b.no_optimise, "skip the primal-dual optimisation");
     build->add_flag("--verbose", b.verbose, "print the library's progress messages (per optimisation iteration)");
     build->add_option("--option", b.options, "library options, \"name=value;...\" (e.g. refine_beta=0.1)");
+    build->add_option("--memory-cap", b.memory_cap,
+                      "memory cap: auto (the available memory, the default), 0 (none), or bytes with K, M, G, T");
     build->add_option("--out", b.out_dir, "output directory (mesh.nc, graph.info, mesh.vtu, quality.json)");
     auto *check = app.add_subcommand("check", "check an MPAS mesh file against the mesh contract");
     std::string check_path;
