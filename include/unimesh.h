@@ -25,6 +25,10 @@
  *   - A context and every object created from it may be used by one host
  *     thread at a time. Separate contexts may be used concurrently from
  *     different host threads.
+ *   - One call at a time per mesh: a call on a mesh while another call uses
+ *     it (from inside that call's progress, log or spacing callback, or from
+ *     another thread) fails with UM_ERR_USAGE and changes nothing;
+ *     um_mesh_destroy then keeps the mesh and records the error.
  *   - Destroying a context while objects created from it are alive is allowed:
  *     the objects keep what they need and stay valid until destroyed.
  *   - Parallel work runs inside the context's own task arena with the number of

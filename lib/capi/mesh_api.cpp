@@ -8,6 +8,7 @@
 
 using um::fail;
 using um::capi::HandleKind;
+using um::capi::MeshInUse;
 using um::capi::require_handle;
 using um::capi::check_base;
 using um::capi::check_capacity;
@@ -76,6 +77,7 @@ UM_API um_status um_mesh_refine(um_context *ctx, const um_spacing *spacing,
 UM_API um_status um_mesh_optimise(um_mesh *m, const um_options *options) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     if (options) require_handle(options, HandleKind::options, "options");
     um::Options defaults;
     const um::Options &opts = options ? options->values : defaults;
@@ -96,6 +98,14 @@ UM_API um_status um_mesh_optimise(um_mesh *m, const um_options *options) {
 }
 
 UM_API void um_mesh_destroy(um_mesh *m) {
+    // Not while a call uses it (from inside that call's callback, or from
+    // another thread): the mesh stays, and its context says so.
+    if (um::capi::is_live(m, HandleKind::mesh) && m->in_use.load()) {
+        um::capi::usage_error(m->context.get(), UM_ERR_USAGE,
+                              "um_mesh_destroy: the mesh is in use by another call (this one came from inside "
+                              "its callback, or from another thread); it was not destroyed");
+        return;
+    }
     if (um::capi::unregister_handle(m, HandleKind::mesh)) delete m;
 }
 
@@ -103,6 +113,7 @@ UM_API um_status um_mesh_counts(const um_mesh *m, int64_t *n_vertices, int64_t *
                                 int64_t *n_restricted_edges, int64_t *n_filtered) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     if (n_vertices) *n_vertices = m->mesh.vertex_count();
     if (n_triangles) *n_triangles = m->mesh.tri.triangle_count();
     if (n_restricted_edges) *n_restricted_edges = static_cast<int64_t>(m->mesh.restricted.size());
@@ -115,6 +126,7 @@ UM_API um_status um_mesh_copy_vertices(const um_mesh *m, double *lon_deg, double
                                        int64_t capacity) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     check_capacity(capacity, m->mesh.vertex_count(), "the vertices");
     require_pointer(lon_deg, "lon_deg");
     require_pointer(lat_deg, "lat_deg");
@@ -129,6 +141,7 @@ UM_API um_status um_mesh_copy_triangles(const um_mesh *m, int32_t base, int32_t 
                                         int64_t capacity) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     check_base(base);
     const auto &tri = m->mesh.tri;
     check_capacity(capacity, 3 * int64_t(tri.triangle_count()), "the triangles");
@@ -143,6 +156,7 @@ UM_API um_status um_mesh_copy_vertex_parts(const um_mesh *m, int32_t base, int32
                                            int64_t capacity) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     check_base(base);
     check_capacity(capacity, m->mesh.vertex_count(), "the vertex parts");
     require_pointer(out, "out");
@@ -159,6 +173,7 @@ UM_API um_status um_mesh_copy_restricted_edges(const um_mesh *m, int32_t base,
                                                int64_t capacity) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     check_base(base);
     const auto &r = m->mesh.restricted;
     check_capacity(capacity, static_cast<int64_t>(r.size()), "the restricted edges");
@@ -178,6 +193,7 @@ UM_API um_status um_mesh_copy_restricted_edges(const um_mesh *m, int32_t base,
 UM_API um_status um_mesh_copy_vertex_sides(const um_mesh *m, int32_t *out, int64_t capacity) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     check_capacity(capacity, m->mesh.vertex_count(), "the vertex sides");
     require_pointer(out, "out");
     for (int64_t i = 0; i < m->mesh.vertex_count(); ++i)
@@ -189,6 +205,7 @@ UM_API um_status um_mesh_copy_vertex_sides(const um_mesh *m, int32_t *out, int64
 UM_API um_status um_mesh_copy_triangle_sides(const um_mesh *m, int32_t *out, int64_t capacity) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     const auto &tri = m->mesh.tri;
     check_capacity(capacity, tri.triangle_count(), "the triangle sides");
     require_pointer(out, "out");
@@ -202,6 +219,7 @@ UM_API um_status um_mesh_quality_json(const um_mesh *m, char *buf, int64_t capac
                                       int64_t *needed) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     return um::capi::copy_out_string(m->context.get(), quality_json(m), buf, capacity, needed);
     UM_API_END(state_or_null(m))
 }
@@ -210,6 +228,7 @@ UM_API um_status um_mesh_quality_summary(const um_mesh *m, const char *metric, d
                                          double *p1, double *mean, double *max) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     require_pointer(metric, "metric");
     const um::quality::Report &r = quality_of(m);
     const std::string name = metric;
@@ -239,6 +258,7 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
                                         int64_t *not_well_centred) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     const um::quality::Report &r = quality_of(m);
     if (obtuse) *obtuse = r.obtuse;
     if (not_well_centred) *not_well_centred = r.not_well_centred;

@@ -12,6 +12,7 @@
 
 using um::fail;
 using um::capi::HandleKind;
+using um::capi::MeshInUse;
 using um::capi::require_handle;
 using um::capi::check_base;
 using um::capi::check_capacity;
@@ -51,6 +52,7 @@ UM_API um_status um_mesh_mpas_dimensions(const um_mesh *m, int64_t *n_cells, int
                                          int64_t *n_vertices, int64_t *max_edges) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     const um::dual::MpasMesh &mpas = mpas_of(m);
     if (n_cells) *n_cells = mpas.n_cells;
     if (n_edges) *n_edges = mpas.n_edges;
@@ -64,6 +66,7 @@ UM_API um_status um_mesh_mpas_variable(const um_mesh *m, const char *name, int32
                                        int64_t *n_rows, int64_t *n_columns) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     require_pointer(name, "name");
     const um::dual::MpasMesh &mpas = mpas_of(m);
     const um::dual::MpasField f = field_of(mpas, name, 0);
@@ -78,6 +81,7 @@ UM_API um_status um_mesh_copy_mpas_real(const um_mesh *m, const char *name, doub
                                         int64_t capacity) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     require_pointer(name, "name");
     const um::dual::MpasMesh &mpas = mpas_of(m);
     const um::dual::MpasField f = field_of(mpas, name, UM_MPAS_REAL);
@@ -93,6 +97,7 @@ UM_API um_status um_mesh_copy_mpas_int(const um_mesh *m, const char *name, int32
                                        int32_t *out, int64_t capacity) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     require_pointer(name, "name");
     check_base(base);
     const um::dual::MpasMesh &mpas = mpas_of(m);
@@ -114,6 +119,7 @@ UM_API um_status um_mesh_copy_mpas_int(const um_mesh *m, const char *name, int32
 UM_API um_status um_mesh_write_jigsaw(const um_mesh *m, const char *path) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     require_pointer(path, "path");
     if (path[0] == '\0') fail(UM_ERR_INVALID_ARGUMENT, "path is empty");
     um::io::write_jigsaw_mesh(m->mesh, path);
@@ -124,6 +130,7 @@ UM_API um_status um_mesh_write_jigsaw(const um_mesh *m, const char *path) {
 UM_API um_status um_mesh_release_mpas(um_mesh *m) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     m->mpas.reset();
     return UM_OK;
     UM_API_END(mesh_context(m))
@@ -132,6 +139,7 @@ UM_API um_status um_mesh_release_mpas(um_mesh *m) {
 UM_API um_status um_mesh_write_mpas(const um_mesh *m, const char *path) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
+    const MeshInUse in_use(m);
     require_pointer(path, "path");
     if (path[0] == '\0') fail(UM_ERR_INVALID_ARGUMENT, "path is empty");
     um::Context &ctx = *m->context;

@@ -3,6 +3,7 @@
 // Each holds a share of its context's state, so it outlives the context.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <optional>
 
@@ -39,4 +40,30 @@ struct um_mesh {
     // The MPAS staggered mesh of `mesh`, built on the first copy-out and kept
     // until released or the mesh changes.
     mutable std::unique_ptr<um::dual::MpasMesh> mpas;
+    // Set while a call uses the mesh: a call on it from inside another's
+    // callback (progress, log, a spacing callback) or from a second thread
+    // gets UM_ERR_USAGE instead of a mesh that changes or vanishes under
+    // the first.
+    mutable std::atomic<bool> in_use{false};
 };
+
+namespace um::capi {
+
+// Claims a mesh for the call in scope; throws UM_ERR_USAGE when another
+// call holds it.
+class MeshInUse {
+public:
+    explicit MeshInUse(const um_mesh *m) : m_(m) {
+        if (m_->in_use.exchange(true))
+            fail(UM_ERR_USAGE, "the mesh is in use by another call (this one came from inside its progress, "
+                               "log or spacing callback, or from another thread): one call at a time per mesh");
+    }
+    ~MeshInUse() { m_->in_use.store(false); }
+    MeshInUse(const MeshInUse &) = delete;
+    MeshInUse &operator=(const MeshInUse &) = delete;
+
+private:
+    const um_mesh *m_;
+};
+
+}  // namespace um::capi

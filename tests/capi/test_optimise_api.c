@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <unistd.h>
+
 #include <cmocka.h>
 
 #include "unimesh.h"
@@ -393,6 +395,47 @@ static void memory_cap_refuses_up_front(void **state) {
     um_mesh_destroy(m);
 }
 
+/* Calls on the mesh from inside its optimisation's progress callback - a
+ * nested optimise, a write, a copy-out, a destroy - get UM_ERR_USAGE and
+ * change nothing (they crashed); the optimisation then finishes and the
+ * mesh is still there to be destroyed. */
+typedef struct {
+    um_mesh *m;
+    int calls;
+    um_status nested[5];
+} reentry;
+
+static int32_t call_back_into_the_mesh(void *user, const char *stage, double fraction) {
+    (void)stage, (void)fraction;
+    reentry *r = user;
+    if (r->calls++ > 0) return 0;
+    int64_t nv = 0;
+    r->nested[0] = um_mesh_optimise(r->m, NULL);
+    r->nested[1] = um_mesh_write_mpas(r->m, "/tmp/unimesh_reentry_never_written.nc");
+    r->nested[2] = um_mesh_counts(r->m, &nv, NULL, NULL, NULL);
+    r->nested[3] = um_mesh_release_mpas(r->m);
+    um_mesh_destroy(r->m);  /* refused: the mesh stays */
+    r->nested[4] = um_mesh_counts(r->m, &nv, NULL, NULL, NULL) == UM_ERR_USAGE ? UM_ERR_USAGE : UM_OK;
+    return 0;
+}
+
+static void calls_from_inside_a_callback_are_refused(void **state) {
+    um_context *ctx = *state;
+    um_mesh *m = refine(ctx, 900.0, 0);
+    reentry r = {m, 0, {UM_OK, UM_OK, UM_OK, UM_OK, UM_OK}};
+    assert_int_equal(um_context_set_progress(ctx, call_back_into_the_mesh, &r), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
+    assert_int_equal(um_context_set_progress(ctx, NULL, NULL), UM_OK);
+    for (int i = 0; i < 5; ++i)
+        if (r.nested[i] != UM_ERR_USAGE) fail_msg("nested call %d returned %d", i, r.nested[i]);
+    assert_int_equal(access("/tmp/unimesh_reentry_never_written.nc", F_OK), -1);
+    int64_t nv = 0;
+    assert_int_equal(um_mesh_counts(m, &nv, NULL, NULL, NULL), UM_OK);
+    assert_true(nv > 0);
+    um_context_clear_error(ctx);
+    um_mesh_destroy(m);
+}
+
 /* Valid extremes optimise: spacings of 5,000 km to 1e300 km and a sphere of
  * 1 mm radius leave a dozen vertices whose stars span tens of degrees,
  * which no pass may take out (that failed with "vertex removal found no
@@ -430,6 +473,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(options_and_bad_arguments, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(memory_cap_refuses_up_front, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(coarse_meshes_optimise, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(calls_from_inside_a_callback_are_refused, setup_context, teardown_context),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
