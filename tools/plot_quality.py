@@ -11,10 +11,16 @@ python3-matplotlib, without a display.
 import json
 import sys
 
-import matplotlib
+# Exit status 3: matplotlib is missing (the caller's hint names the package);
+# any other failure (a full disk, say) is reported on stderr as it is.
+try:
+    import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402  (the backend is chosen first)
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: E402  (the backend is chosen first)
+except ImportError as e:
+    print(f"plot_quality.py: {e}", file=sys.stderr)
+    sys.exit(3)
 
 PANELS = (
     ("area_length_ratio", "area-length ratio $Q^T$", None),
@@ -58,7 +64,11 @@ def main(argv):
     fig.suptitle(f"{report['triangles']} triangles; {report['obtuse_triangles']} obtuse, "
                  f"{report['not_well_centred']} not containing their orthocentre", fontsize=10)
     fig.tight_layout()
-    fig.savefig(argv[2], dpi=110)
+    try:
+        fig.savefig(argv[2], dpi=110)
+    except OSError as e:  # a full disk, a missing folder: one line, not a traceback
+        print(f"plot_quality.py: cannot write {argv[2]}: {e.strerror}", file=sys.stderr)
+        return 1
     return 0
 
 

@@ -165,8 +165,11 @@ bool plot_quality(const std::string &json, const std::string &png, const std::st
     int status = -1;
     if (pid > 0) waitpid(pid, &status, 0);
     if (pid > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
-    std::fprintf(stderr, "unimesh build: warning: no %s (%s %s failed; is python3-matplotlib "
-                         "installed?)\n", shown.c_str(), python, script);
+    // The script says why on stderr; the hint only where it applies (status
+    // 3: no matplotlib; 127: no Python).
+    const int code = pid > 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    const char *hint = code == 3 ? "; is python3-matplotlib installed?" : code == 127 ? "; is python3 installed?" : "";
+    std::fprintf(stderr, "unimesh build: warning: no %s (%s %s failed%s)\n", shown.c_str(), python, script, hint);
     return false;
 }
 
