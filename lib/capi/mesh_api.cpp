@@ -42,6 +42,7 @@ std::string quality_json(const um_mesh *m) {
         ", \"weight_updates\": ", o.weight_updates, ", \"flips\": ", o.flips,
         ", \"collapses\": ", o.collapses, ", \"splits\": ", o.splits,
         ", \"corner_vertices\": ", o.corner_vertices, ", \"gamma_vertices_removed\": ", o.gamma_vertices_removed,
+        ", \"reseed_rounds\": ", o.reseed_rounds, ", \"reseeded\": ", o.reseeded,
         ", \"seconds_moves\": ", o.seconds_moves, ", \"seconds_weights\": ", o.seconds_weights,
         ", \"seconds_topology\": ", o.seconds_topology, "}");
     return um::quality::to_json(quality_of(m), "", extra);

@@ -38,6 +38,8 @@ class Build(unittest.TestCase):
             with open(os.path.join(out, "quality.json")) as f:
                 report = json.load(f)
             self.assertIn("before_optimisation", report)
+            self.assertGreaterEqual(report["optimisation"]["reseed_rounds"], 1)  # the 5-7 defects re-seeded
+            self.assertGreater(report["optimisation"]["reseeded"], 0)
             diagnostics = report["operator_diagnostics"]
             for name in ("centroid_offset", "dual_edge_offset", "primal_edge_offset"):
                 self.assertEqual(set(diagnostics[name]), {"rms", "max"}, name)
