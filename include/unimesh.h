@@ -36,7 +36,10 @@
  *     callback are only ever called from the host thread that made the call, never
  *     from a worker thread. A spacing (user) callback may be called from worker
  *     threads concurrently and must be thread-safe.
- *   - While a call runs in parallel (Linux), up to 8 of the worker threads that
+ *   - Only when asked for (um_context_set_worker_placement, or
+ *     UNIMESH_WORKER_PLACEMENT=on in the environment; off by default since it
+ *     changes the affinity of threads the whole process shares): while a call
+ *     runs in parallel (Linux), up to 8 of the worker threads that
  *     ran parts of the context's calls are kept off the CPU the calling thread
  *     is on: their affinity mask loses that CPU for the length of the call and
  *     gets it back when the last call holding it off returns, unless someone
@@ -47,7 +50,7 @@
  *     threads onto few CPUs, 3-6 ms), which is the whole of a short call. The
  *     workers are oneTBB's, shared by everything in the process that uses
  *     oneTBB: the environment variable UNIMESH_WORKER_PLACEMENT=off (read once
- *     per process) turns this off.
+ *     per process) keeps this off whatever a context asks.
  *
  * Errors
  *   - Status codes come in numbered bands (see um_status); um_status_class()
@@ -182,6 +185,12 @@ UM_API um_status um_context_set_log(um_context *ctx, um_log_fn fn, void *user_da
  * before allocating. */
 UM_API um_status um_context_set_memory_cap(um_context *ctx, int64_t bytes);
 UM_API um_status um_context_get_memory_cap(const um_context *ctx, int64_t *bytes);
+
+/* on = 1: keep the oneTBB workers off the calling thread's CPU during this
+ * context's parallel calls (see Thread rules; it changes their affinity
+ * masks for the length of a call); 0 (the default, unless
+ * UNIMESH_WORKER_PLACEMENT=on): leave every thread's affinity alone. */
+UM_API um_status um_context_set_worker_placement(um_context *ctx, int32_t on);
 
 /* mode is UM_ERROR_MODE_RETURN or UM_ERROR_MODE_ABORT; abort mode needs a hook. */
 UM_API um_status um_context_set_error_mode(um_context *ctx, int32_t mode, um_abort_fn hook,

@@ -145,6 +145,7 @@ module unimesh
   public :: um_status_string, um_status_class
   public :: um_context_create, um_context_destroy, um_context_set_threads, &
       um_context_get_threads, um_context_set_memory_cap, um_context_get_memory_cap, &
+      um_context_set_worker_placement, &
       um_context_last_error, um_context_last_status, um_context_clear_error
   public :: um_options_create, um_options_destroy, um_options_set_double, um_options_set_int, &
       um_options_get_double, um_options_get_int, um_options_set_string
@@ -425,6 +426,16 @@ contains
     call finish(c_um_context_get_threads(ctx%ptr, n), ctx%ptr, 'um_context_get_threads', ierr)
     n_threads = int(n)
   end subroutine um_context_get_threads
+
+  !> Keep oneTBB's workers off the calling thread's CPU during the context's
+  !> parallel calls (changes their affinity; off by default).
+  subroutine um_context_set_worker_placement(ctx, on, ierr)
+    type(um_context_t), intent(in) :: ctx
+    logical, intent(in) :: on
+    integer, optional, intent(out) :: ierr
+    call finish(c_um_context_set_worker_placement(ctx%ptr, merge(1_c_int32_t, 0_c_int32_t, on)), ctx%ptr, &
+        'um_context_set_worker_placement', ierr)
+  end subroutine um_context_set_worker_placement
 
   !> Memory cap in bytes for the context's large allocations (0 = no cap).
   subroutine context_set_memory_cap(ctx, bytes, ierr)

@@ -211,6 +211,13 @@ module unimesh_cint
       integer(c_int32_t), value :: min_level
     end function c_um_context_set_log
 
+    integer(c_int32_t) function c_um_context_set_worker_placement(ctx, on) &
+        bind(c, name="um_context_set_worker_placement")
+      import :: c_int32_t, c_ptr
+      type(c_ptr), value :: ctx
+      integer(c_int32_t), value :: on
+    end function c_um_context_set_worker_placement
+
     integer(c_int32_t) function c_um_context_set_memory_cap(ctx, bytes) &
         bind(c, name="um_context_set_memory_cap")
       import :: c_int32_t, c_int64_t, c_ptr

@@ -77,6 +77,15 @@ UM_API um_status um_context_set_memory_cap(um_context *ctx, int64_t bytes) {
     UM_API_END(state_or_null(ctx))
 }
 
+UM_API um_status um_context_set_worker_placement(um_context *ctx, int32_t on) {
+    UM_API_BEGIN
+    require_handle(ctx, HandleKind::context, "ctx");
+    if (on != 0 && on != 1) um::fail(UM_ERR_INVALID_ARGUMENT, "on = ", on, " is not 0 or 1");
+    live_state(ctx)->set_worker_placement(on == 1);
+    return UM_OK;
+    UM_API_END(state_or_null(ctx))
+}
+
 UM_API um_status um_context_get_memory_cap(const um_context *ctx, int64_t *bytes) {
     UM_API_BEGIN
     require_handle(ctx, HandleKind::context, "ctx");

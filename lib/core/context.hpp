@@ -121,6 +121,7 @@ public:
 
     // Limits ---------------------------------------------------------------
     void set_memory_cap(int64_t bytes) { memory_cap_ = bytes; }
+    void set_worker_placement(bool on) { placement_.ask(on); }
     int64_t memory_cap() const { return memory_cap_; }
     // Throws UM_ERR_MEMORY_CAP, naming `what` and the estimate, when the
     // estimate exceeds the cap.

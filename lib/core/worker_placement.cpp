@@ -23,19 +23,24 @@ thread_local uint64_t t_recorded_by = 0;
 
 std::atomic<uint64_t> next_placement_id{1};
 
-// UNIMESH_WORKER_PLACEMENT=off (or 0, no, false) turns the placement off for
-// the process: the workers are oneTBB's, shared by everything in it that uses
-// oneTBB, and an application that places its threads itself may not want a
-// library to touch them. Read once.
-bool placement_enabled() {
-    static const bool enabled = [] {
+// The placement changes the affinity of oneTBB's workers, shared by
+// everything in the process that uses oneTBB: a process-wide side effect, so
+// it runs only when asked for. UNIMESH_WORKER_PLACEMENT=on (or 1, yes, true)
+// in the environment asks for it for every context; =off (or 0, no, false)
+// forbids it, whatever a context asks (an application that places its
+// threads itself). Read once.
+enum class Switch { unset, on, off };
+Switch environment_switch() {
+    static const Switch value = [] {
         const char *v = std::getenv("UNIMESH_WORKER_PLACEMENT");
-        if (!v) return true;
+        if (!v) return Switch::unset;
         for (const char *off : {"off", "0", "no", "false", "OFF", "NO", "FALSE"})
-            if (std::strcmp(v, off) == 0) return false;
-        return true;
+            if (std::strcmp(v, off) == 0) return Switch::off;
+        for (const char *on : {"on", "1", "yes", "true", "ON", "YES", "TRUE"})
+            if (std::strcmp(v, on) == 0) return Switch::on;
+        return Switch::unset;
     }();
-    return enabled;
+    return value;
 }
 
 #if defined(__linux__)
@@ -184,7 +189,14 @@ NarrowedMasks &narrowed_masks() {
 #endif
 }  // namespace
 
-WorkerPlacement::WorkerPlacement() : id_(next_placement_id.fetch_add(1, std::memory_order_relaxed)) {}
+WorkerPlacement::WorkerPlacement()
+    : id_(next_placement_id.fetch_add(1, std::memory_order_relaxed)), asked_(environment_switch() == Switch::on) {}
+
+void WorkerPlacement::ask(bool on) { asked_.store(on, std::memory_order_relaxed); }
+
+bool WorkerPlacement::enabled() const {
+    return environment_switch() != Switch::off && asked_.load(std::memory_order_relaxed);
+}
 
 int WorkerPlacement::recorded_workers() const {
     int n = 0;
@@ -201,7 +213,7 @@ bool WorkerPlacement::is_recorded(int32_t tid) const {
 
 void WorkerPlacement::note_part_runner() {
 #if defined(__linux__)
-    if (t_hosting || t_recorded_by == id_ || !placement_enabled()) return;  // the host, or recorded here
+    if (t_hosting || t_recorded_by == id_ || !enabled()) return;  // the host, or recorded here, or off
     t_worker = true;
     t_recorded_by = id_;
     const int32_t tid = this_thread_id();
@@ -237,7 +249,7 @@ void WorkerPlacement::record(int32_t tid) {
 
 WorkerPlacement::Scope::Scope(WorkerPlacement &placement) {
 #if defined(__linux__)
-    if (t_hosting || t_worker || !placement_enabled()) return;  // nested, or off
+    if (t_hosting || t_worker || !placement.enabled()) return;  // nested, or off
     t_hosting = true;  // (before anything else: the host's parts must not record it)
     placement_ = &placement;
     const int32_t cpu = static_cast<int32_t>(sched_getcpu());

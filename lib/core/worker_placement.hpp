@@ -27,7 +27,10 @@
 // thread that saved the mask during a call and restored it after our
 // give-back: the next call undoes it). So nothing is pinned between calls.
 // Best effort: a failed system call leaves that worker where the kernel puts
-// it. UNIMESH_WORKER_PLACEMENT=off in the environment turns it all off.
+// it. Off unless the caller asks for it (um_context_set_worker_placement, or
+// UNIMESH_WORKER_PLACEMENT=on in the environment): it changes the affinity
+// of threads the whole process shares. UNIMESH_WORKER_PLACEMENT=off keeps it
+// off whatever is asked.
 //
 // Known limits: on kernels that keep a requested mask across cpuset changes
 // (6.2 and later), a worker once narrowed no longer follows a cpuset that
@@ -77,6 +80,11 @@ public:
     // that runs it: records a worker the first time.
     void note_part_runner();
 
+    // Off unless asked for (here, or by UNIMESH_WORKER_PLACEMENT=on);
+    // UNIMESH_WORKER_PLACEMENT=off keeps it off whatever is asked.
+    void ask(bool on);
+    bool enabled() const;
+
     // For tests: the CPU kept free for the host during a call (else -1), and
     // how many workers were recorded.
     int32_t host_cpu() const { return host_cpu_.load(std::memory_order_acquire); }
@@ -98,6 +106,7 @@ private:
     bool is_recorded(int32_t tid) const;
     void record(int32_t tid);
     const uint64_t id_;  // unique in the process (a thread's last placement)
+    std::atomic<bool> asked_;
     std::array<Worker, kMaxWorkers> workers_;
     std::atomic<int> claimed_{0};          // slots claimed (at most kMaxWorkers)
     std::atomic<int32_t> host_cpu_{-1};    // the host's CPU during a call, else -1

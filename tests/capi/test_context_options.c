@@ -268,6 +268,14 @@ static void option_names_round_trip(void **state) {
     assert_int_equal(value, 7);
     assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_RESEED_ROUNDS, 0), UM_OK);
     assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_RESEED_ROUNDS, -1), UM_ERR_INVALID_ARGUMENT);
+    /* Worker placement: asked for with 1, off again with 0, nothing else. */
+    um_context_clear_error(ctx);
+    assert_int_equal(um_context_set_worker_placement(ctx, 1), UM_OK);
+    assert_int_equal(um_context_set_worker_placement(ctx, 0), UM_OK);
+    assert_int_equal(um_context_set_worker_placement(ctx, 2), UM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(um_context_last_error(ctx), "on = 2"));
+    um_context_clear_error(ctx);
+    assert_int_equal(um_context_set_worker_placement(NULL, 1), UM_ERR_NULL_ARGUMENT);
     assert_int_equal(um_options_set_string(o, "optim_reseed_rounds=3"), UM_OK);
     assert_int_equal(um_options_get_int(o, UM_OPT_OPTIM_RESEED_ROUNDS, &value), UM_OK);
     assert_int_equal(value, 3);

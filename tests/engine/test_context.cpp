@@ -124,6 +124,7 @@ void workers_stay_off_the_host_cpu_during_a_call(void **) {
     const cpu_set_t original = mask_of(0);
     if (CPU_COUNT(&original) < 2) skip();
     WorkerPlacement placement;
+    placement.ask(true);
     Helper helper;
     for (int round = 0; round < 4; ++round) {
         Seen seen;
@@ -174,6 +175,7 @@ void two_hosts_at_once_give_every_cpu_back(void **) {
     for (int c = 0; c < CPU_SETSIZE && found < 2; ++c)
         if (CPU_ISSET(c, &original)) cpus[found++] = c;
     WorkerPlacement a, b;
+    a.ask(true), b.ask(true);
     Helper helper;
     const pid_t worker = record_helper(helper, {&a, &b});
     assert_int_equal(a.recorded_workers(), 1);
@@ -202,6 +204,7 @@ void a_narrowing_put_back_by_another_is_undone(void **) {
     const cpu_set_t original = mask_of(0);
     if (CPU_COUNT(&original) < 2) skip();
     WorkerPlacement placement;
+    placement.ask(true);
     Helper helper;
     const pid_t worker = record_helper(helper, {&placement});
     for (bool widened_first : {true, false}) {
@@ -221,17 +224,34 @@ void a_narrowing_put_back_by_another_is_undone(void **) {
     }
 }
 
-// UNIMESH_WORKER_PLACEMENT=off (ctest engine.test_context_off): nothing is
-// recorded or narrowed.
-void the_switch_turns_it_off(void **) {
+// Nothing of `placement` is recorded or narrowed around a call.
+void expect_nothing_placed(WorkerPlacement &placement) {
     const cpu_set_t original = mask_of(0);
-    WorkerPlacement placement;
     Helper helper;
     const pid_t worker = record_helper(helper, {&placement});
     assert_int_equal(placement.recorded_workers(), 0);
     WorkerPlacement::Scope scope(placement);
     assert_int_equal(placement.host_cpu(), -1);
     assert_true(same(mask_of(worker), original));
+}
+
+// UNIMESH_WORKER_PLACEMENT=off (ctest engine.test_context_off): nothing is
+// recorded or narrowed, even when asked for.
+void the_switch_turns_it_off(void **) {
+    WorkerPlacement placement;
+    placement.ask(true);
+    expect_nothing_placed(placement);
+}
+
+// Without being asked for (the default: it changes the affinity of threads
+// the whole process shares), nothing is recorded or narrowed; asked for and
+// then not, the same.
+void off_unless_asked_for(void **) {
+    for (bool asked_then_not : {false, true}) {
+        WorkerPlacement placement;
+        if (asked_then_not) placement.ask(true), placement.ask(false);
+        expect_nothing_placed(placement);
+    }
 }
 
 #ifndef UNIMESH_PLAIN_THREADS
@@ -242,6 +262,7 @@ void a_context_places_its_workers_and_gives_them_back(void **) {
     const cpu_set_t original = mask_of(0);
     if (CPU_COUNT(&original) < 2) skip();
     Context ctx;
+    ctx.set_worker_placement(true);
     ctx.set_threads(2);
     const pid_t host = this_tid();
     std::vector<pid_t> earlier;
@@ -286,6 +307,7 @@ int main() {
         return cmocka_run_group_tests_name("context (placement off)", off, nullptr, nullptr);
     }
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(off_unless_asked_for),
         cmocka_unit_test(workers_stay_off_the_host_cpu_during_a_call),
         cmocka_unit_test(two_hosts_at_once_give_every_cpu_back),
         cmocka_unit_test(a_narrowing_put_back_by_another_is_undone),

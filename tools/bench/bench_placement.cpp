@@ -71,6 +71,7 @@ struct Sample {
 // In a fresh child: one wake of a sleeping helper by a busy host.
 Sample one_wake(bool placed) {
     um::WorkerPlacement placement;
+    placement.ask(true);  // (off unless asked for)
     Wake w;
     std::atomic<bool> recorded{false};
     std::thread helper([&] {
@@ -115,6 +116,7 @@ void print_stats(const char *what, std::vector<double> v, double over) {
 
 double placement_cost_us(int loops) {
     um::WorkerPlacement placement;
+    placement.ask(true);  // (off unless asked for)
     std::mutex m;
     std::condition_variable cv;
     bool done = false, recorded = false;

@@ -389,6 +389,12 @@ class Context(_Handle):
     def memory_cap(self, n_bytes):
         self._check(C.um_context_set_memory_cap(self._handle, operator.index(n_bytes)))
 
+    def set_worker_placement(self, on):
+        """Keep oneTBB's workers off the calling thread's CPU during this
+        context's parallel calls (it changes their affinity masks; off by
+        default)."""
+        self._check(C.um_context_set_worker_placement(self._handle, 1 if on else 0))
+
     @property
     def last_error(self):
         """The kept error message ("" when none). Failed calls made through

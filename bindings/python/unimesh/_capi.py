@@ -53,6 +53,7 @@ SIGNATURES = (
     ("um_context_set_progress", status_t, (handle_t, PROGRESS_FN, c_void_p)),
     ("um_context_set_log", status_t, (handle_t, LOG_FN, c_void_p, c_int32)),
     ("um_context_set_memory_cap", status_t, (handle_t, c_int64)),
+    ("um_context_set_worker_placement", status_t, (handle_t, c_int32)),
     ("um_context_get_memory_cap", status_t, (handle_t, _i64p)),
     ("um_context_set_error_mode", status_t, (handle_t, c_int32, ABORT_FN, c_void_p)),
     ("um_context_last_error", c_char_p, (handle_t,)),
