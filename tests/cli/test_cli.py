@@ -67,6 +67,12 @@ class Build(unittest.TestCase):
             self.assertEqual(quality.returncode, 0, quality.stderr)
             self.assertEqual(json.loads(quality.stdout)["file"], mesh)
 
+    def test_version_flag_and_command(self):
+        for args in (["--version"], ["version"]):
+            r = run(*args)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertRegex(r.stdout, r"^unimesh \S+ \(library \S+\)$")
+
     def test_case_file_and_flags_that_win(self):
         with tempfile.TemporaryDirectory() as folder:
             case = os.path.join(folder, "case.toml")

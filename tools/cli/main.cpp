@@ -21,6 +21,8 @@ int print_version() {
 int main(int argc, char **argv) {
     CLI::App app{"unimesh: unified Laguerre-Power meshes of the sphere for MPAS-type models"};
     app.require_subcommand(1);
+    // `unimesh --version` as well as `unimesh version` (the same line).
+    app.set_version_flag("--version", std::string("unimesh ") + UM_VERSION_STRING + " (library " + um_version_string() + ")");
     auto *version = app.add_subcommand("version", "print the version");
     auto *build = app.add_subcommand("build", "refine a mesh to features and a spacing, write it");
     BuildArgs b;
