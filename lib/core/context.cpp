@@ -33,6 +33,7 @@ void Context::set_threads(int32_t n_threads) {
 }
 
 void Context::progress(const char *stage, double fraction) const {
+    last_report_ = std::chrono::steady_clock::now();
     if (progress_fn_ && progress_fn_(progress_user_, stage, fraction) != 0)
         fail(UM_CANCELLED, "cancelled by the progress callback during '", stage, "'");
 }

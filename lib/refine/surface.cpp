@@ -198,7 +198,6 @@ public:
         for (int32_t t : measure) classify(t);
         for (int32_t t : queue)
             if (bad(t)) enqueue(t);
-        int64_t steps = 0;
         Candidate c;
         while (pop(&c)) {
             if (territory_ && territory_->vertex_budget_left() == 0) break;  // the rest is the serial pass's
@@ -206,7 +205,7 @@ public:
             state_[c.t] &= ~kOnFront;  // its entry is taken: it may join again
             if (territory_ && !tri_.owns(*territory_, c.t)) continue;  // the serial pass's
             if (given_up_.count(key_of(c)) || deferred_.count(key_of(c))) continue;
-            if (!territory_ && ++steps % 65536 == 0) ctx_.progress("refine surface", 0.0);
+            if (!territory_) ctx_.heartbeat("refine surface", 0.0);
             refine(c);
         }
         return std::move(stats_);

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <cmocka.h>
 
@@ -336,6 +337,48 @@ static void spacing_callback_failure_names_the_point(void **state) {
     um_spacing_destroy(h);
 }
 
+/* A slow spacing callback (200 us a call) does not keep cancel out: the
+ * refinement reports progress every quarter of a second whatever its
+ * steps cost. The 240 km refinement takes some 60,000 calls (12 s); a
+ * cancel asked for at the first report after 2,000 calls (so a report
+ * made during the surface refinement, not at its start) ends it after a
+ * few thousand. */
+typedef struct {
+    long calls;
+    int reports;
+} slow_run;
+
+static double slow_spacing(void *user, double lon, double lat) {
+    (void)lon, (void)lat;
+    ++((slow_run *)user)->calls;
+    struct timespec pause = {0, 200000};
+    nanosleep(&pause, NULL);
+    return 240.0;
+}
+
+static int32_t cancel_after_2000_calls(void *user, const char *stage, double fraction) {
+    (void)fraction;
+    slow_run *run = user;
+    run->reports += strcmp(stage, "refine surface") == 0;
+    return strcmp(stage, "refine surface") == 0 && run->calls > 2000;
+}
+
+static void a_slow_spacing_callback_can_be_cancelled(void **state) {
+    um_context *ctx = *state;
+    slow_run run = {0, 0};
+    um_spacing *h = NULL;
+    um_mesh *m = NULL;
+    assert_int_equal(um_spacing_create_callback(ctx, slow_spacing, &run, &h), UM_OK);
+    assert_int_equal(um_context_set_progress(ctx, cancel_after_2000_calls, &run), UM_OK);
+    assert_int_equal(um_mesh_refine(ctx, h, NULL, NULL, &m), UM_CANCELLED);
+    assert_null(m);
+    print_message("spacing calls before the cancel took: %ld\n", run.calls);
+    assert_true(run.calls < 20000);
+    assert_int_equal(um_context_set_progress(ctx, NULL, NULL), UM_OK);
+    um_context_clear_error(ctx);
+    um_spacing_destroy(h);
+}
+
 static void quality_report(void **state) {
     um_context *ctx = *state;
     um_spacing *h = NULL;
@@ -401,6 +444,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(bad_input, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(spacing_callback_failure_names_the_point, setup_context,
                                         teardown_context),
+        cmocka_unit_test_setup_teardown(a_slow_spacing_callback_can_be_cancelled, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(quality_report, setup_context, teardown_context),
     };
     return cmocka_run_group_tests_name("mesh_api", tests, NULL, NULL);
