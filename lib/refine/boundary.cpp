@@ -110,6 +110,7 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
         ctx.progress("refine boundary", 0.0);
         std::vector<Bad> bad;
         for (const RestrictedEdge &e : candidates) {
+            ctx.heartbeat("refine boundary", 0.0);  // (a slow spacing callback: still cancellable)
             EdgeMeasure m;
             if (!bad_edge(e, &m)) continue;
             int32_t a = tri.vertex(e.triangle, (e.edge + 1) % 3);

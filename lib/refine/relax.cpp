@@ -479,7 +479,10 @@ std::vector<int32_t> relax_towards(Context &ctx, Relaxer &relaxer, const Band &t
         ctx.progress("refine relax", 0.0);
         left.clear();
         const int64_t moves_before = relaxer.moves();
-        for (int32_t v : todo) relaxer.relax(v, left);
+        for (int32_t v : todo) {
+            ctx.heartbeat("refine relax", 0.0);  // (a slow spacing callback: still cancellable)
+            relaxer.relax(v, left);
+        }
         if (region)
             left.erase(std::remove_if(left.begin(), left.end(), [&](int32_t u) { return !(*region)[u]; }),
                        left.end());
