@@ -67,6 +67,26 @@ class Build(unittest.TestCase):
             self.assertEqual(quality.returncode, 0, quality.stderr)
             self.assertEqual(json.loads(quality.stdout)["file"], mesh)
 
+    def test_default_kind_reads_features_without_one(self):
+        with tempfile.TemporaryDirectory() as out:
+            with open(COAST) as f:
+                collection = json.load(f)
+            for feature in collection["features"]:
+                feature.get("properties", {}).pop("kind", None)
+            plain = os.path.join(out, "no_kind.geojson")
+            with open(plain, "w") as f:
+                json.dump(collection, f)
+            r = run("build", "--spacing-km", "900", "--geometry", plain, "--out", out)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn('no property "kind"', r.stderr)
+            r = run("build", "--spacing-km", "900", "--geometry", plain, "--default-kind", "coastline",
+                    "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertRegex(r.stdout, r"[1-9][0-9]* restricted edges")
+            r = run("build", "--spacing-km", "900", "--geometry", plain, "--default-kind", "sea", "--out", out)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("--default-kind sea", r.stderr)
+
     def test_version_flag_and_command(self):
         for args in (["--version"], ["version"]):
             r = run(*args)

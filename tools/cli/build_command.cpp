@@ -80,6 +80,19 @@ int64_t memory_cap_bytes(const std::string &text) {
     return static_cast<int64_t>(bytes);
 }
 
+// --default-kind as a UM_FEATURE_* value (0: none given).
+int32_t kind_code(const std::string &name) {
+    static const struct {
+        const char *name;
+        int32_t code;
+    } kinds[] = {{"coastline", UM_FEATURE_COASTLINE}, {"lake", UM_FEATURE_LAKE}, {"river", UM_FEATURE_RIVER},
+                 {"watershed", UM_FEATURE_WATERSHED}, {"other", UM_FEATURE_OTHER}};
+    if (name.empty()) return 0;
+    for (const auto &k : kinds)
+        if (name == k.name) return k.code;
+    throw Failure{"--default-kind " + name + ": not coastline, lake, river, watershed or other"};
+}
+
 um_spacing *make_spacing(um_context *ctx, const BuildArgs &a) {
     um_spacing *h = nullptr;
     const bool km = !std::isnan(a.spacing_km);
@@ -216,7 +229,8 @@ int run_build(const BuildArgs &a) {
         if (!a.geometry.empty()) {
             check(um_features_create(ctx, &f), ctx, "features");
             for (const auto &g : a.geometry)
-                check(um_features_read_geojson(f, g.c_str(), nullptr, 0), ctx, "--geometry " + g);
+                check(um_features_read_geojson(f, g.c_str(), nullptr, kind_code(a.default_kind)), ctx,
+                      "--geometry " + g);
         }
         std::unique_ptr<OutputSet> out;
         try {

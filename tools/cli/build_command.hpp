@@ -8,6 +8,9 @@
 
 struct BuildArgs {
     std::vector<std::string> geometry;  // GeoJSON files
+    // The kind of a GeoJSON feature without a "kind" property (coastline,
+    // lake, river, watershed or other); "" = such a feature is an error.
+    std::string default_kind;
     double spacing_km = std::nan("");   // one of these three (NaN: not given)
     std::string spacing_file, spacing_preset;
     int threads = 0;

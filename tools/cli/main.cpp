@@ -31,6 +31,9 @@ int main(int argc, char **argv) {
         ->check(CLI::ExistingFile);
     build->add_option("--geometry", b.geometry, "GeoJSON features (coastlines, lakes, rivers); repeatable")
         ->check(CLI::ExistingFile);
+    build->add_option("--default-kind", b.default_kind,
+                      "kind of a GeoJSON feature without a \"kind\" property: coastline, lake, river, "
+                      "watershed or other (default: such a feature is an error)");
     auto *km = build->add_option("--spacing-km", b.spacing_km, "constant spacing h, km");
     auto *file = build->add_option("--spacing-file", b.spacing_file,
                                    "MPAS-tools spacing file: netCDF lon, lat, cellWidth(lat, lon) km");
