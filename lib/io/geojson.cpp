@@ -1,4 +1,5 @@
 #include "io/geojson.hpp"
+#include "io/error_text.hpp"
 #include "io/input_file.hpp"
 
 #include <cerrno>
@@ -26,22 +27,6 @@ using features::Network;
 constexpr int64_t kParseBytesPerTextByte = 8;
 constexpr int kMaxCollectionDepth = 32;
 
-// errno as fixed English text: strerror follows the host's locale.
-std::string errno_text(int e) {
-    switch (e) {
-        case ENOENT: return "no such file or directory";
-        case EACCES: return "permission denied";
-        case EISDIR: return "is a directory";
-        case ENOTDIR: return "a component of the path is not a directory";
-        case ENAMETOOLONG: return "file name too long";
-        case EMFILE:
-        case ENFILE: return "too many open files";
-        case ENOMEM: return "out of memory";
-        case EIO: return "input/output error";
-        default: return concat("errno ", e);
-    }
-}
-
 struct FileCloser {
     void operator()(std::FILE *f) const { std::fclose(f); }
 };
@@ -53,7 +38,7 @@ std::string read_whole_file(const std::string &path, const Context *context) {
     const fs::file_status status = fs::status(path, ec);
     errno = 0;
     std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
-    if (!file) fail(UM_ERR_IO, "cannot open '", path, "' for reading: ", errno_text(errno));
+    if (!file) fail(UM_ERR_IO, "cannot open '", path, "' for reading: ", system_error_text(errno));
     std::string text;
     // The file size sizes the buffer and the memory check.
     if (!ec && fs::is_regular_file(status)) {
@@ -69,7 +54,7 @@ std::string read_whole_file(const std::string &path, const Context *context) {
     size_t got;
     while ((got = std::fread(buffer, 1, sizeof buffer, file.get())) > 0) text.append(buffer, got);
     if (std::ferror(file.get()))
-        fail(UM_ERR_IO, "cannot read '", path, "': ", errno_text(errno));
+        fail(UM_ERR_IO, "cannot read '", path, "': ", system_error_text(errno));
     return text;
 }
 

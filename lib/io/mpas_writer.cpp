@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "dual/mpas_fields.hpp"
+#include "io/error_text.hpp"
 #include "io/netcdf_lock.hpp"
 #include "io/replacing_file.hpp"
 
@@ -50,11 +51,6 @@ struct Hash {
 
 // ----------------------------------------------------------------- netCDF
 
-// netCDF's own messages are fixed English; for system errors (> 0) it would
-// call strerror, which follows the host's locale, so those are spelled here.
-std::string nc_text(int status) {
-    return status > 0 ? system_error_text(status) : std::string(nc_strerror(status));
-}
 
 // A file being created under a temporary name (ReplacingFile): errors throw
 // UM_ERR_IO naming the final path; close() renames it into place, and
@@ -65,7 +61,7 @@ public:
         int status = nc_create(file_.temporary_path().c_str(), mode | NC_CLOBBER, &id_);
         if (status != NC_NOERR) {
             id_ = -1;
-            fail(UM_ERR_IO, "cannot create MPAS mesh file '", path, "': ", nc_text(status));
+            fail(UM_ERR_IO, "cannot create MPAS mesh file '", path, "': ", netcdf_status_text(status));
         }
     }
     ~NcOutput() {
@@ -78,7 +74,7 @@ public:
     void check(int status, const char *what, const char *name = "") const {
         if (status != NC_NOERR)
             fail(UM_ERR_IO, "cannot write MPAS mesh file '", path_, "': ", what, name, ": ",
-                 nc_text(status));
+                 netcdf_status_text(status));
     }
     void close() {
         int status = nc_close(id_);

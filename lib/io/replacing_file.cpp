@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "io/error_text.hpp"
 
 namespace um::io {
 
@@ -34,23 +35,6 @@ void sync_directory(const std::string &dir) {
 }
 
 }  // namespace
-
-std::string system_error_text(int error) {
-    switch (error) {
-        case ENOENT: return "no such file or directory";
-        case EACCES: return "permission denied";
-        case EPERM: return "operation not permitted";
-        case EISDIR: return "is a directory";
-        case ENOTDIR: return "a component of the path is not a directory";
-        case ENOSPC: return "no space left on device";
-        case EDQUOT: return "disk quota exceeded";
-        case EFBIG: return "file too large";
-        case EROFS: return "read-only file system";
-        case EIO: return "input/output error";
-        case EXDEV: return "not on the same file system";
-        default: return concat("system error ", error);
-    }
-}
 
 ReplacingFile::ReplacingFile(const std::string &path, const char *what) : path_(path), what_(what) {
     if (path.empty()) fail(UM_ERR_IO, "cannot write ", what, ": the path is empty");

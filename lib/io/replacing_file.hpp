@@ -33,8 +33,4 @@ private:
     bool committed_ = false;
 };
 
-// A system error number as text, in English whatever the host's locale
-// (strerror follows it).
-std::string system_error_text(int error);
-
 }  // namespace um::io

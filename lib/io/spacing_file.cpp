@@ -10,6 +10,7 @@
 #include <netcdf.h>
 
 #include "core/error.hpp"
+#include "io/error_text.hpp"
 #include "io/input_file.hpp"
 #include "io/netcdf_header.hpp"
 #include "io/netcdf_lock.hpp"
@@ -21,19 +22,6 @@ namespace {
 constexpr int64_t kMaxCells = int64_t(1) << 40;
 const hfun::GridNames kFileNames{"lon", "lat", "cellWidth"};
 
-// netCDF's own messages are fixed English text; for system errors it would
-// call strerror, which follows the host's locale, so those are spelled here.
-std::string nc_text(int status) {
-    switch (status) {
-        case ENOENT: return "no such file or directory";
-        case EACCES: return "permission denied";
-        case EISDIR: return "is a directory";
-        case ENOTDIR: return "a component of the path is not a directory";
-        default: break;
-    }
-    if (status > 0) return concat("system error ", status);
-    return nc_strerror(status);
-}
 
 template <class... Parts>
 [[noreturn]] void format_error(const std::string &path, const Parts &...parts) {
@@ -51,9 +39,9 @@ public:
         int status = nc_open(path.c_str(), NC_NOWRITE, &id_);
         // netCDF returns errno values (> 0) for system errors and its own
         // negative codes when the bytes are not a readable netCDF file.
-        if (status > 0) fail(UM_ERR_IO, "cannot open spacing file '", path, "': ", nc_text(status));
+        if (status > 0) fail(UM_ERR_IO, "cannot open spacing file '", path, "': ", netcdf_status_text(status));
         if (status != NC_NOERR)
-            format_error(path, "not a readable netCDF file (", nc_text(status),
+            format_error(path, "not a readable netCDF file (", netcdf_status_text(status),
                          "): not netCDF, damaged or truncated");
     }
     ~NcFile() { nc_close(id_); }
@@ -91,7 +79,7 @@ Variable find_variable(const NcFile &file, const std::string &path, const char *
         for (size_t k = 0; k < v.dims.size() && status == NC_NOERR; ++k)
             status = nc_inq_dimlen(file.id(), v.dims[k], &v.shape[k]);
     }
-    if (status != NC_NOERR) format_error(path, "variable '", name, "': ", nc_text(status));
+    if (status != NC_NOERR) format_error(path, "variable '", name, "': ", netcdf_status_text(status));
     if (!numeric(v.type)) format_error(path, "variable '", name, "' is not numeric");
     return v;
 }
@@ -157,7 +145,7 @@ std::vector<double> read_values(const NcFile &file, const Variable &v, size_t co
     std::vector<double> values(count);
     int status = nc_get_var_double(file.id(), v.id, values.data());
     if (status != NC_NOERR)
-        format_error(path, "cannot read variable '", v.name, "': ", nc_text(status));
+        format_error(path, "cannot read variable '", v.name, "': ", netcdf_status_text(status));
     return values;
 }
 
