@@ -7,7 +7,6 @@
 
 namespace um::optim::detail {
 
-
 DefectReseeding::Round DefectReseeding::reseed(int rings, int64_t most_defects) {
     const std::vector<uint8_t> free = free_to_move();
     std::vector<int32_t> out = defects(free);

@@ -703,10 +703,10 @@ SurfaceStats refine_by_territories(Context &ctx, tri::Triangulation &tri, const 
     std::vector<uint8_t> state;
     std::vector<int32_t> all = live_triangles(tri);
     // Seeds only serve the territories. A seed is a point no front placed:
-    // the fronts that meet around it leave 5-7 defects there (uniform
-    // 120 km: 997 pairs after the optimisation against 816 without seeds).
-    // When they are too few for territories (a small mesh), the serial pass
-    // starts from the triangulation as it was before them.
+    // the fronts that meet around it leave 5-7 defects there (measurements:
+    // tools/bench/HISTORY.md). When they are too few for territories (a
+    // small mesh), the serial pass starts from the triangulation as it was
+    // before them.
     tri::Triangulation unseeded = tri;
     const std::vector<int32_t> on_gamma_unseeded = options.on_gamma ? *options.on_gamma : std::vector<int32_t>{};
     SurfaceOptions seed_options = options;
