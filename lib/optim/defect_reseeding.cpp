@@ -46,12 +46,37 @@ std::vector<uint8_t> DefectReseeding::free_to_move() const {
     return free;
 }
 
-// The free vertices of degree other than 6, in slot order.
+// The free vertices of degree other than 6 with a defect of the other sign
+// (degree above 6 against below) within kPairReach edges, in slot order. A
+// lone defect is a disclination the sphere's topology needs (the twelve
+// pentagons of a geodesic lattice): a hole around it holds the same net
+// charge after the refill, so re-seeding it would only move it and break
+// the lattice around it.
+constexpr int kPairReach = 4;
 std::vector<int32_t> DefectReseeding::defects(const std::vector<uint8_t> &free) const {
     const std::vector<int32_t> degree = vertex_degrees(s_.ctx, s_.tri);
+    auto sign = [&](int32_t v) { return degree[v] < 6 ? -1 : degree[v] > 6 ? 1 : 0; };
     std::vector<int32_t> found;
-    for (int32_t v = 0; v < s_.tri.vertex_slots(); ++v)
-        if (free[v] && degree[v] != 6) found.push_back(v);
+    std::vector<int32_t> reached;
+    std::vector<uint8_t> seen(degree.size(), 0);
+    for (int32_t v = 0; v < s_.tri.vertex_slots(); ++v) {
+        if (!free[v] || sign(v) == 0) continue;
+        reached.assign(1, v);
+        seen[v] = 1;
+        bool paired = false;
+        for (size_t ring_begin = 0, r = 0; r < kPairReach && !paired; ++r) {
+            const size_t ring_end = reached.size();
+            for (size_t i = ring_begin; i < ring_end; ++i)
+                s_.tri.for_each_neighbour(reached[i], [&](int32_t u) {
+                    if (seen[u]) return;
+                    seen[u] = 1, reached.push_back(u);
+                    paired = paired || sign(u) == -sign(v);
+                });
+            ring_begin = ring_end;
+        }
+        for (int32_t u : reached) seen[u] = 0;
+        if (paired) found.push_back(v);
+    }
     return found;
 }
 

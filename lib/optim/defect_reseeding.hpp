@@ -3,7 +3,9 @@
 // on a uniform mesh) that no move or flip of the sweeps removes: each sits
 // in a local minimum of the sweeps' objective. They are where the MPAS
 // divergence, kinetic energy and TRSK errors concentrate. A round takes the
-// defects out with the rings of vertices around them and fills the holes
+// defects that have one of the other sign nearby (a lone pentagon is a
+// disclination the sphere needs: it can be moved, not removed) out with the
+// rings of vertices around them and fills the holes
 // again by the frontal refinement (refine_surface), which grows each hole's
 // new points from the regular lattice of its rim; the shape sweeps of the
 // next outer iteration relax them. Each round leaves fewer defects, the

@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "refine/lattice.hpp"
 #include "refine/restricted.hpp"
 
 namespace um::refine {
@@ -144,11 +145,9 @@ void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, dou
 }
 
 tri::Triangulation icosahedron(Context &ctx) {
-    const double p = (1.0 + std::sqrt(5.0)) / 2.0;
-    const Vec3 v[12] = {{-1, p, 0}, {1, p, 0},  {-1, -p, 0}, {1, -p, 0}, {0, -1, p},  {0, 1, p},
-                        {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1},  {-p, 0, -1}, {-p, 0, 1}};
+    const std::vector<Vec3> corners = geodesic_lattice(1);
     tri::Triangulation tri;
-    tri.build(ctx, 12, [&](int64_t i) { return geom::normalized(v[i]); }, nullptr);
+    tri.build(ctx, 12, [&](int64_t i) { return corners[i]; }, nullptr);
     return tri;
 }
 

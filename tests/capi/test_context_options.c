@@ -235,7 +235,7 @@ static void options_from_string_all_or_nothing(void **state) {
 static void option_names_round_trip(void **state) {
     (void)state;
     const um_option keys[] = {UM_OPT_SPHERE_RADIUS, UM_OPT_REFINE_ALPHA, UM_OPT_REFINE_BETA,
-                              UM_OPT_REFINE_RHO, UM_OPT_OPTIM_OUTER_ITERATIONS,
+                              UM_OPT_REFINE_RHO, UM_OPT_REFINE_LATTICE, UM_OPT_OPTIM_OUTER_ITERATIONS,
                               UM_OPT_OPTIM_SPLIT_RATIO, UM_OPT_OPTIM_CORNER_VERTICES,
                               UM_OPT_OPTIM_CENTROIDAL_SWEEPS, UM_OPT_OPTIM_RESEED_ROUNDS};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i) {

@@ -103,6 +103,8 @@ static void uniform_edges_within_the_band(void **state) {
         assert_int_equal(um_spacing_create_constant(ctx, km, &h), UM_OK);
         um_options *o = NULL;
         assert_int_equal(um_options_create(ctx, &o), UM_OK);
+        /* the frontal refinement's edges (a lattice's are inside already) */
+        assert_int_equal(um_options_set_int(o, UM_OPT_REFINE_LATTICE, 0), UM_OK);
         int64_t cells[2];
         for (int relax = 1; relax >= 0; --relax) {
             assert_int_equal(um_options_set_int(o, UM_OPT_REFINE_RELAX, relax), UM_OK);

@@ -28,10 +28,15 @@ static int teardown_context(void **state) {
 }
 
 /* with_coast: 0 none, 1 the coastlines, 2 the coastlines and rivers. */
+/* The frontal refinement's meshes, which give every pass of the optimisation
+ * work (a uniform spacing's lattice leaves most of them none). */
 static um_mesh *refine(um_context *ctx, double km, int with_coast) {
     um_spacing *h = NULL;
     um_features *f = NULL;
     um_mesh *m = NULL;
+    um_options *o = NULL;
+    assert_int_equal(um_options_create(ctx, &o), UM_OK);
+    assert_int_equal(um_options_set_int(o, UM_OPT_REFINE_LATTICE, 0), UM_OK);
     assert_int_equal(um_spacing_create_constant(ctx, km, &h), UM_OK);
     if (with_coast) {
         assert_int_equal(um_features_create(ctx, &f), UM_OK);
@@ -41,7 +46,8 @@ static um_mesh *refine(um_context *ctx, double km, int with_coast) {
     if (with_coast == 2)
         assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/rivers_global_l.geojson", NULL, 0),
                          UM_OK);
-    assert_int_equal(um_mesh_refine(ctx, h, f, NULL, &m), UM_OK);
+    assert_int_equal(um_mesh_refine(ctx, h, f, o, &m), UM_OK);
+    um_options_destroy(o);
     um_features_destroy(f);
     um_spacing_destroy(h);
     return m;

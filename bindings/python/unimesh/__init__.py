@@ -87,6 +87,7 @@ class Option(enum.IntEnum):
     REFINE_RHO = 102
     REFINE_TOPOLOGY_CHECK = 103
     REFINE_RELAX = 104
+    REFINE_LATTICE = 105
     OPTIM_OUTER_ITERATIONS = 200
     OPTIM_INNER_ITERATIONS = 201
     OPTIM_TOLERANCE = 202
@@ -916,8 +917,9 @@ class Mesh(_Handle):
 
     @classmethod
     def refine(cls, context, spacing, features=None, options=None):
-        """Refines the icosahedron to the spacing, with vertices placed on
-        the features when given (see um_mesh_refine)."""
+        """Refines the spacing's mesh from the icosahedron (or a uniform
+        spacing's geodesic lattice), with vertices placed on the features
+        when given (see um_mesh_refine)."""
         return cls(context, spacing, features, options)
 
     def _check(self, status):

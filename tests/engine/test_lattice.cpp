@@ -1,0 +1,150 @@
+// Engine tests: the geodesic lattice (refine/lattice) and the refinement that
+// starts from it when the spacing is uniform (mesh/refined_mesh).
+#include <cmath>
+#include <cstdarg>
+#include <cstddef>
+#include <csetjmp>
+#include <limits>
+#include <vector>
+
+#include "core/options.hpp"
+#include "hfun/spacing.hpp"
+#include "mesh/refined_mesh.hpp"
+#include "optim/star_graph.hpp"
+#include "refine/lattice.hpp"
+#include "tri/validate.hpp"
+
+// cmocka last: it defines a fail() macro.
+extern "C" {
+#include <cmocka.h>
+}
+
+using namespace um;
+using geom::Vec3;
+
+namespace {
+
+constexpr double kRadiusKm = 6371.22;
+
+struct Degrees {
+    int64_t five = 0, six = 0, other = 0;
+};
+
+Degrees count_degrees(Context &ctx, const tri::Triangulation &tri) {
+    const std::vector<int32_t> degree = optim::vertex_degrees(ctx, tri);
+    Degrees d;
+    for (int32_t v = 0; v < tri.vertex_slots(); ++v) {
+        if (!tri.in_triangulation(v)) continue;
+        if (degree[v] == 5) ++d.five;
+        else if (degree[v] == 6) ++d.six;
+        else ++d.other;
+    }
+    return d;
+}
+
+// The lattice of every frequency: 10 n^2 + 2 distinct unit points whose
+// triangulation is the lattice's (12 five-valent corners, every other point
+// six-valent) with edges within 12 % of their mean.
+void lattice_points_and_degrees(void **) {
+    for (int64_t n : {1, 2, 3, 7, 32}) {
+        const std::vector<Vec3> points = refine::geodesic_lattice(n);
+        assert_int_equal(points.size(), 10 * n * n + 2);
+        for (const Vec3 &p : points) assert_true(std::fabs(geom::norm(p) - 1) < 1e-14);
+        Context ctx;
+        tri::Triangulation tri;
+        tri.build(ctx, static_cast<int64_t>(points.size()), [&](int64_t i) { return points[i]; }, nullptr);
+        assert_string_equal(tri::check_triangulation(tri).c_str(), "");
+        assert_int_equal(tri.vertex_count(), points.size());  // none hidden: all distinct
+        const Degrees d = count_degrees(ctx, tri);
+        assert_int_equal(d.five, 12);
+        assert_int_equal(d.other, 0);
+        double lo = 1e300, hi = 0, sum = 0;
+        int64_t edges = 0;
+        for (int32_t t = 0; t < tri.triangle_slots(); ++t) {
+            if (tri.is_free(t)) continue;
+            for (int k = 0; k < 3; ++k) {
+                const double e = geom::arc_length(tri.direction(tri.vertex(t, k)), tri.direction(tri.vertex(t, (k + 1) % 3)));
+                lo = std::min(lo, e), hi = std::max(hi, e), sum += e, ++edges;
+            }
+        }
+        const double mean = sum / static_cast<double>(edges);
+        print_message("frequency %lld: edges %.4f..%.4f of their mean\n", static_cast<long long>(n), lo / mean, hi / mean);
+        assert_true(lo > 0.88 * mean && hi < 1.12 * mean);
+        // The frequency that spacing gives back is n.
+        assert_int_equal(refine::lattice_frequency(mean, int64_t{1} << 31), n);
+    }
+}
+
+void frequency_of_degenerate_spacings(void **) {
+    const int64_t cap = int64_t{1} << 31;
+    assert_int_equal(refine::lattice_frequency(0.0, cap), 0);
+    assert_int_equal(refine::lattice_frequency(-1.0, cap), 0);
+    assert_int_equal(refine::lattice_frequency(std::numeric_limits<double>::quiet_NaN(), cap), 0);
+    assert_int_equal(refine::lattice_frequency(std::numeric_limits<double>::infinity(), cap), 1);
+    assert_int_equal(refine::lattice_frequency(10.0, cap), 1);  // wider than the sphere: the icosahedron
+    assert_int_equal(refine::lattice_frequency(1e-6, cap), 0);  // more points than the cap
+    assert_int_equal(refine::lattice_frequency(100.0 / kRadiusKm, 1000), 0);
+}
+
+struct Built {
+    mesh::RefinedMesh m;
+    Degrees refined, optimised;
+};
+
+Built build(hfun::SpacingPtr h, int lattice, int threads) {
+    Context ctx;
+    ctx.set_threads(threads);
+    Options options;
+    options.set_int(UM_OPT_REFINE_LATTICE, lattice);
+    Built b{mesh::refine_mesh(ctx, std::move(h), nullptr, options), {}, {}};
+    b.refined = count_degrees(ctx, b.m.tri);
+    mesh::optimise_mesh(ctx, b.m, options);
+    b.optimised = count_degrees(ctx, b.m.tri);
+    return b;
+}
+
+// A uniform spacing's mesh is the lattice of that spacing, and stays one
+// through the optimisation (the re-seeding leaves the lone pentagons alone),
+// the same for any thread count; the frontal refinement (refine_lattice 0)
+// leaves hundreds of 5-7 defects.
+void uniform_spacing_meshes_from_the_lattice(void **) {
+    const double km = 240;
+    const int64_t n = refine::lattice_frequency(km / kRadiusKm, int64_t{1} << 31);
+    const Built one = build(hfun::make_constant(km), 1, 1);
+    assert_int_equal(one.m.vertex_count(), 10 * n * n + 2);
+    assert_int_equal(one.refined.five, 12);
+    assert_int_equal(one.refined.other, 0);
+    assert_int_equal(one.optimised.five, 12);
+    assert_int_equal(one.optimised.other, 0);
+    const Built three = build(hfun::make_constant(km), 1, 3);
+    assert_int_equal(three.m.vertex_count(), one.m.vertex_count());
+    for (int32_t v = 0; v < one.m.tri.vertex_slots(); ++v) {
+        const Vec3 a = one.m.tri.lifted(v), b = three.m.tri.lifted(v);
+        assert_true(a.x == b.x && a.y == b.y && a.z == b.z);
+    }
+    const Built frontal = build(hfun::make_constant(km), 0, 1);
+    print_message("240 km: lattice %lld cells, 12 pentagons; frontal %lld cells, %lld + %lld defects\n",
+                  static_cast<long long>(one.m.vertex_count()), static_cast<long long>(frontal.m.vertex_count()),
+                  static_cast<long long>(frontal.optimised.five), static_cast<long long>(frontal.optimised.other));
+    assert_true(frontal.optimised.five + frontal.optimised.other > 100);
+}
+
+// A spacing that varies by more than the 1 % the lattice allows is refined
+// frontally: its mesh is not a lattice of 12 pentagons.
+double varying_km(void *, double, double lat_deg) { return 240.0 * (1.0 + 0.05 * std::sin(lat_deg * M_PI / 180)); }
+void varying_spacing_is_refined_frontally(void **) {
+    const Built b = build(hfun::make_callback(varying_km, nullptr), 1, 2);
+    assert_true(b.refined.five + b.refined.other > 12);
+}
+
+}  // namespace
+
+int main() {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(lattice_points_and_degrees),
+        cmocka_unit_test(frequency_of_degenerate_spacings),
+        cmocka_unit_test(uniform_spacing_meshes_from_the_lattice),
+        cmocka_unit_test(varying_spacing_is_refined_frontally),
+    };
+    return cmocka_run_group_tests(tests, nullptr, nullptr);
+}
