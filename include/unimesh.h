@@ -230,11 +230,12 @@ enum {
     UM_OPT_REFINE_RELAX = 104,         /* int 0/1; default 1. 1: after refinement, vertices away
                                           from Gamma move (no flips, criteria kept) until their
                                           edges lie within [0.75, 1.35]*h where they can */
-    UM_OPT_REFINE_LATTICE = 105,       /* int 0/1; default 1. 1: a spacing the same everywhere
-                                          (within 1 %) starts from the geodesic lattice of that
-                                          spacing (10 n^2 + 2 points, only its 12 corners not
-                                          six-valent) instead of the icosahedron; 0: always
-                                          the frontal refinement from the icosahedron */
+    UM_OPT_REFINE_LATTICE = 105,       /* int 0/1; default 1. 1: where the spacing is flat at
+                                          its coarsest value h0 (within 1 %), the refinement
+                                          starts from the geodesic lattice of h0 (10 n^2 + 2
+                                          points, only its 12 corners not six-valent): a
+                                          uniform spacing's whole sphere, a graded one's
+                                          background; 0: the frontal refinement everywhere */
     /* optimisation (paper section 6, Algorithm 1) */
     UM_OPT_OPTIM_OUTER_ITERATIONS = 200, /* int; N, default 20 */
     UM_OPT_OPTIM_INNER_ITERATIONS = 201, /* int; M, default 8 */
@@ -518,10 +519,11 @@ UM_API um_status um_spacing_evaluate(const um_spacing *s, int64_t n, const doubl
 /* --------------------------------------------------------------------- mesh */
 
 /* The restricted triangulation of the sphere (paper section 5): starting from
- * the icosahedron - or, for a spacing the same everywhere (UM_OPT_REFINE_LATTICE,
- * on by default), from the geodesic lattice of that spacing less its points
- * within h of Gamma, so that away from Gamma the mesh keeps only the twelve
- * pentagons the sphere needs - boundary refinement puts vertices on the features (Gamma)
+ * the icosahedron - and, where the spacing is flat at its coarsest value h0
+ * (UM_OPT_REFINE_LATTICE, on by default), the geodesic lattice of h0 less its
+ * points within h0 of Gamma, so that there the mesh has no 5-7 defects; a
+ * uniform spacing's mesh keeps only the twelve pentagons the sphere needs -
+ * boundary refinement puts vertices on the features (Gamma)
  * until every restricted edge (an edge whose dual power edge crosses Gamma) is
  * shorter than alpha*h and closer to Gamma than beta*h, leaving out features
  * smaller than the local spacing (no new edge below h/2); surface refinement

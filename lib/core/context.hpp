@@ -61,6 +61,26 @@ public:
 #endif
     }
 
+    // parallel_for(n, grain, fn) in consecutive blocks with a heartbeat
+    // (stage, the share done) between them, for loops whose steps may call
+    // slow user code (a spacing callback): cancel gets in every few tenths
+    // of a second. The blocks grow while they take under kBlockSeconds, so
+    // that a fast loop pays few of them; fn sees the same indices either way.
+    template <class Fn>
+    void parallel_for_with_heartbeat(const char *stage, int64_t n, int64_t grain, Fn &&fn) {
+        constexpr double kBlockSeconds = 0.05;
+        int64_t block = std::max<int64_t>(grain, 16);
+        for (int64_t begin = 0; begin < n;) {
+            heartbeat(stage, static_cast<double>(begin) / static_cast<double>(n));
+            const int64_t end = std::min(n, begin + block);
+            const auto start = std::chrono::steady_clock::now();
+            parallel_for(end - begin, grain, [&](int64_t b, int64_t e) { fn(begin + b, begin + e); });
+            if (std::chrono::steady_clock::now() - start < std::chrono::duration<double>(kBlockSeconds))
+                block = std::min<int64_t>(2 * block, int64_t{1} << 24);
+            begin = end;
+        }
+    }
+
     // Calls fn(i, out) for every i in [0, n) in parallel over fixed blocks of
     // `block` indices, each block appending to its own list, and returns the
     // lists joined in block order: the same result for any thread count.

@@ -140,57 +140,15 @@ void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
     }
 }
 
-// The geodesic lattice of the spacing, when the spacing is the same
-// everywhere: within kUniformSpacing of its value at the north pole at every
-// lattice point. None else, or for more than 2^31 points.
-constexpr double kUniformSpacing = 0.01;
-std::vector<geom::Vec3> uniform_lattice(Context &ctx, const refine::SpacingRadians &hr) {
-    const double h0 = hr(geom::Vec3{0.0, 0.0, 1.0});
-    const int64_t n = refine::lattice_frequency(h0, int64_t{1} << 31);
-    if (n == 0) return {};
-    std::vector<geom::Vec3> points = refine::geodesic_lattice(n);
-    std::vector<uint8_t> off(points.size(), 0);
-    ctx.parallel_for(static_cast<int64_t>(points.size()), 4096, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) off[i] = std::abs(hr(points[i]) - h0) > kUniformSpacing * h0;
-    });
-    if (std::find(off.begin(), off.end(), uint8_t{1}) != off.end()) return {};
-    return points;
-}
-
-// Lattice points within kGammaClearance h of Gamma are left out: the
-// boundary refinement puts Gamma's own points there, and the surface
-// refinement fills the band between them and the lattice.
-constexpr double kGammaClearance = 1.0;
-void clear_gamma(Context &ctx, std::vector<geom::Vec3> &points, const geom::ArcTree &arcs,
-                 const refine::SpacingRadians &hr) {
-    if (arcs.size() == 0) return;
-    std::vector<uint8_t> near(points.size(), 0);
-    ctx.parallel_for(static_cast<int64_t>(points.size()), 1024, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) {
-            double d = 0;
-            arcs.nearest(points[i], &d);
-            near[i] = d < kGammaClearance * hr(points[i]);
-        }
-    });
-    size_t kept = 0;
-    for (size_t i = 0; i < points.size(); ++i)
-        if (!near[i]) points[kept++] = points[i];
-    points.resize(kept);
-}
-
-// The triangulation the refinement starts from: the lattice of a uniform
-// spacing or the icosahedron. The lattice keeps its points near Gamma: the
-// boundary refinement puts Gamma's points among them and the optimisation
-// collapses the short edges that makes. Measured (tools/bench/HISTORY.md),
-// that leaves a coastline mesh fewer defects and smaller operator errors
-// next to Gamma than clearing a band along Gamma for the frontal refinement.
-tri::Triangulation starting_triangulation(Context &ctx, const refine::SpacingRadians &hr, const geom::ArcTree &arcs, bool lattice_allowed) {
-    std::vector<geom::Vec3> lattice;
-    if (lattice_allowed) lattice = uniform_lattice(ctx, hr);
-    clear_gamma(ctx, lattice, arcs, hr);
-    if (lattice.size() < 12) return refine::icosahedron(ctx);
+// The triangulation the refinement starts from: the icosahedron, with the
+// geodesic lattice of the spacing where the spacing is flat
+// (refine::background_lattice) unless the options say no.
+tri::Triangulation starting_triangulation(Context &ctx, const refine::SpacingRadians &hr,
+                                          const geom::ArcTree &arcs, bool lattice_allowed) {
+    if (!lattice_allowed) return refine::icosahedron(ctx);
+    const std::vector<geom::Vec3> points = refine::background_lattice(ctx, hr, arcs);
     tri::Triangulation tri;
-    tri.build(ctx, static_cast<int64_t>(lattice.size()), [&](int64_t i) { return lattice[i]; }, nullptr);
+    tri.build(ctx, static_cast<int64_t>(points.size()), [&](int64_t i) { return points[i]; }, nullptr);
     return tri;
 }
 

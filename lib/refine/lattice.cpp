@@ -1,5 +1,6 @@
 #include "refine/lattice.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -74,6 +75,63 @@ std::vector<Vec3> geodesic_lattice(int64_t n) {
                                                           row_point(C, A, B, k, j, n)));
                     }
             }
+    return points;
+}
+
+namespace {
+
+constexpr double kFlat = 0.01;            // relative spread of h that counts as one value
+constexpr int64_t kSampleFrequency = 64;  // 40,962 samples for the coarsest spacing
+constexpr int kProbes = 6;                // around each lattice point, at distance h0
+constexpr double kGammaClearance = 1.0;   // in units of h0
+constexpr const char *kStage = "refine lattice";  // progress (the spacing may be a slow callback)
+
+double coarsest_spacing(Context &ctx, const SpacingRadians &h) {
+    const std::vector<Vec3> samples = geodesic_lattice(kSampleFrequency);
+    std::vector<double> value(samples.size());
+    ctx.parallel_for_with_heartbeat(kStage, static_cast<int64_t>(samples.size()), 16, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) value[i] = h(samples[i]);
+    });
+    return *std::max_element(value.begin(), value.end());
+}
+
+// Whether h is h0 (within kFlat) at p and at kProbes points h0 around it.
+bool flat_around(const SpacingRadians &h, const Vec3 &p, double h0) {
+    auto flat = [&](const Vec3 &q) { return std::fabs(h(q) - h0) <= kFlat * h0; };
+    if (!flat(p)) return false;
+    const Vec3 axis = std::fabs(p.z) < 0.9 ? Vec3{0, 0, 1} : Vec3{1, 0, 0};
+    const Vec3 e1 = geom::normalized(geom::cross(p, axis)), e2 = geom::cross(p, e1);
+    for (int k = 0; k < kProbes; ++k) {
+        const double angle = 2 * M_PI * k / kProbes;
+        const Vec3 q = std::cos(h0) * p + std::sin(h0) * (std::cos(angle) * e1 + std::sin(angle) * e2);
+        if (!flat(geom::normalized(q))) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, const geom::ArcTree &gamma) {
+    const double h0 = coarsest_spacing(ctx, h);
+    const int64_t n = lattice_frequency(h0, int64_t{1} << 31);
+    std::vector<Vec3> points = geodesic_lattice(std::max<int64_t>(n, 1));
+    std::vector<uint8_t> keep(points.size(), 0);
+    ctx.parallel_for_with_heartbeat(kStage, static_cast<int64_t>(points.size()), 16, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            double d = 1e300;
+            if (gamma.size() > 0) gamma.nearest(points[i], &d);
+            const bool near_gamma = d < kGammaClearance * h0;
+            const bool flat = n > 0 && !(i >= 12 && near_gamma) && flat_around(h, points[i], h0);
+            // A corner stays where the lattice does not reach (the
+            // icosahedron's start there), unless the lattice has a band
+            // along Gamma there.
+            keep[i] = i < 12 ? !(flat && near_gamma) : flat && !near_gamma;
+        }
+    });
+    size_t kept = 0;
+    for (size_t i = 0; i < points.size(); ++i)
+        if (keep[i]) points[kept++] = points[i];
+    points.resize(kept);
     return points;
 }
 

@@ -10,7 +10,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/context.hpp"
+#include "geom/arc_tree.hpp"
 #include "geom/sphere.hpp"
+#include "refine/surface.hpp"
 
 namespace um::refine {
 
@@ -26,5 +29,16 @@ int64_t lattice_frequency(double spacing, int64_t max_points);
 // lattice keeps the icosahedron's symmetry and its cells differ in area by a
 // few percent only (a gnomonic projection's differ by twice).
 std::vector<geom::Vec3> geodesic_lattice(int64_t frequency);
+
+// The points the refinement starts from: the icosahedron's 12 corners (but
+// those in the lattice's band along Gamma), and the points of the geodesic lattice of the coarsest spacing h0 (sampled
+// over the sphere) where the spacing holds that value - within 1 % of h0 at
+// the point and at six points h0 around it - farther than h0 from Gamma.
+// For a uniform spacing that is the whole lattice but for a band along
+// Gamma; for a graded one the background where it is flat (beyond the
+// refined regions), the rest being the frontal refinement's. Only the
+// corners when no lattice point qualifies or the lattice would exceed 2^31
+// points.
+std::vector<geom::Vec3> background_lattice(Context &ctx, const SpacingRadians &h, const geom::ArcTree &gamma);
 
 }  // namespace um::refine
