@@ -167,8 +167,22 @@ void print_quality(const char *what, um_context *ctx, um_mesh *m) {
 // (Debian's matplotlib). A missing Python or matplotlib costs the picture,
 // not the mesh: a warning, and the exit status stays that of the mesh files.
 // Debian's own Python (where setup.sh installs python3-matplotlib) first.
+// The script installed beside this executable, else the source tree's.
+std::string plot_script() {
+    char exe[4096];
+    const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n > 0) {
+        std::string dir(exe, static_cast<size_t>(n));
+        dir.erase(dir.find_last_of('/') + 1);
+        const std::string installed = dir + UNIMESH_INSTALLED_PLOT_SCRIPT;
+        if (access(installed.c_str(), R_OK) == 0) return installed;
+    }
+    return UNIMESH_PLOT_SCRIPT;
+}
+
 bool plot_quality(const std::string &json, const std::string &png, const std::string &shown) {
-    const char *script = UNIMESH_PLOT_SCRIPT;
+    const std::string script_path = plot_script();
+    const char *script = script_path.c_str();
     const char *python = access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
     pid_t pid = fork();
     if (pid == 0) {
