@@ -80,13 +80,25 @@ class Build(unittest.TestCase):
             r = run("build", "--spacing-km", "900", "--geometry", plain, "--out", out)
             self.assertNotEqual(r.returncode, 0)
             self.assertIn('no property "kind"', r.stderr)
-            r = run("build", "--spacing-km", "900", "--geometry", plain, "--default-kind", "coastline",
+            r = run("build", "--spacing-km", "900", "--geometry", plain, "--kind", "coastline",
                     "--out", out)
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertRegex(r.stdout, r"[1-9][0-9]* restricted edges")
-            r = run("build", "--spacing-km", "900", "--geometry", plain, "--default-kind", "sea", "--out", out)
+            r = run("build", "--spacing-km", "900", "--geometry", plain, "--kind", "sea", "--out", out)
             self.assertNotEqual(r.returncode, 0)
-            self.assertIn("--default-kind sea", r.stderr)
+            self.assertIn("--kind sea", r.stderr)
+            # The longer spelling of earlier versions still works.
+            r = run("build", "--spacing-km", "900", "--geometry", plain, "--default-kind", "river", "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            # A case file says it with `kind`; the flag wins over it.
+            case = os.path.join(out, "case.toml")
+            with open(case, "w") as f:
+                f.write(f'geometry = ["{plain}"]\nkind = "coastline"\nspacing_km = 900\n')
+            r = run("build", "--case", case, "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertRegex(r.stdout, r"[1-9][0-9]* restricted edges")
+            r = run("build", "--case", case, "--kind", "sea", "--out", out)
+            self.assertIn("--kind sea", r.stderr)
 
     def test_version_flag_and_command(self):
         for args in (["--version"], ["version"]):

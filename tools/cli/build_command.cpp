@@ -80,7 +80,7 @@ int64_t memory_cap_bytes(const std::string &text) {
     return static_cast<int64_t>(bytes);
 }
 
-// --default-kind as a UM_FEATURE_* value (0: none given).
+// --kind as a UM_FEATURE_* value (0: none given).
 int32_t kind_code(const std::string &name) {
     static const struct {
         const char *name;
@@ -90,7 +90,7 @@ int32_t kind_code(const std::string &name) {
     if (name.empty()) return 0;
     for (const auto &k : kinds)
         if (name == k.name) return k.code;
-    throw Failure{"--default-kind " + name + ": not coastline, lake, river, watershed or other"};
+    throw Failure{"--kind " + name + ": not coastline, lake, river, watershed or other"};
 }
 
 um_spacing *make_spacing(um_context *ctx, const BuildArgs &a) {

@@ -47,13 +47,13 @@ std::string option_text(const toml::node &node, const std::string &key) {
 }
 
 void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given, BuildArgs &a) {
-    static const std::set<std::string> known = {"geometry", "spacing_km", "spacing_file", "spacing_preset",
-                                                "threads", "optimise", "out", "options"};
+    static const std::set<std::string> known = {"geometry", "kind",  "spacing_km", "spacing_file",
+                                                "spacing_preset", "threads", "optimise", "out", "options"};
     for (const auto &[key, node] : t) {
         const std::string k(key.str());
         if (!known.count(k))
             throw CaseError{"unknown key '" + k + "'" + where(node) +
-                            "; known: geometry, spacing_km, spacing_file, spacing_preset, threads, "
+                            "; known: geometry, kind, spacing_km, spacing_file, spacing_preset, threads, "
                             "optimise, out, [options]"};
     }
     if (const toml::node *g = t.get("geometry"); g && !given.geometry) {
@@ -62,6 +62,7 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
         a.geometry.clear();
         for (const toml::node &item : *list) a.geometry.push_back(resolve(folder, string_value(item, "geometry")));
     }
+    if (const toml::node *n = t.get("kind"); n && !given.kind) a.default_kind = string_value(*n, "kind");
     if (!given.spacing) {
         if (const toml::node *n = t.get("spacing_km")) {
             auto v = n->value<double>();

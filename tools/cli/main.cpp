@@ -31,7 +31,7 @@ int main(int argc, char **argv) {
         ->check(CLI::ExistingFile);
     build->add_option("--geometry", b.geometry, "GeoJSON features (coastlines, lakes, rivers); repeatable")
         ->check(CLI::ExistingFile);
-    build->add_option("--default-kind", b.default_kind,
+    build->add_option("--kind,--default-kind", b.default_kind,
                       "kind of a GeoJSON feature without a \"kind\" property: coastline, lake, river, "
                       "watershed or other (default: such a feature is an error)");
     auto *km = build->add_option("--spacing-km", b.spacing_km, "constant spacing h, km");
@@ -72,6 +72,7 @@ int main(int argc, char **argv) {
         if (!case_file.empty()) {
             GivenFlags given;
             given.geometry = build->count("--geometry") > 0;
+            given.kind = build->count("--kind") > 0;
             given.spacing = build->count("--spacing-km") + build->count("--spacing-file") +
                                 build->count("--spacing-preset") > 0;
             given.threads = build->count("--threads") > 0;
