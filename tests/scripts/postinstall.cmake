@@ -22,11 +22,13 @@ endfunction()
 # A sanitizer build of the library needs the consumers built with the same flags.
 string(REPLACE ";" " " flags "${CONSUMER_FLAGS}")
 run("consumer configure" ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/build
-    -DCMAKE_PREFIX_PATH=${prefix} "-DCMAKE_C_FLAGS=${flags}" "-DCMAKE_Fortran_FLAGS=${flags}"
+    -DCMAKE_PREFIX_PATH=${prefix} -DWITH_FORTRAN=${WITH_FORTRAN} "-DCMAKE_C_FLAGS=${flags}" "-DCMAKE_Fortran_FLAGS=${flags}"
     "-DCMAKE_EXE_LINKER_FLAGS=${flags}")
 run("consumer build" ${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run("C consumer" ${WORK_DIR}/build/consumer)
-run("Fortran consumer" ${WORK_DIR}/build/consumer_fortran)
+if(WITH_FORTRAN)
+  run("Fortran consumer" ${WORK_DIR}/build/consumer_fortran)
+endif()
 
 # pkg-config, from the installed .pc files (relocatable: found from their place).
 file(GLOB pc_dir LIST_DIRECTORIES true ${prefix}/lib*/pkgconfig ${prefix}/lib/*/pkgconfig)
@@ -38,12 +40,14 @@ get_filename_component(libdir ${pc_dir} DIRECTORY)
 run("pkg-config C build" cc ${CONSUMER_FLAGS} ${CONSUMER_DIR}/consumer.c ${pc_flags} -Wl,-rpath,${libdir}
     -o ${WORK_DIR}/consumer_pc)
 run("pkg-config C consumer" ${WORK_DIR}/consumer_pc)
-run("pkg-config fortran" pkg-config --cflags --libs unimesh-fortran)
-string(STRIP "${output}" pc_flags)
-separate_arguments(pc_flags UNIX_COMMAND "${pc_flags}")
-run("pkg-config Fortran build" gfortran ${CONSUMER_FLAGS} ${CONSUMER_DIR}/consumer.F90 ${pc_flags}
-    -Wl,-rpath,${libdir} -J ${WORK_DIR} -o ${WORK_DIR}/consumer_fortran_pc)
-run("pkg-config Fortran consumer" ${WORK_DIR}/consumer_fortran_pc)
+if(WITH_FORTRAN)
+  run("pkg-config fortran" pkg-config --cflags --libs unimesh-fortran)
+  string(STRIP "${output}" pc_flags)
+  separate_arguments(pc_flags UNIX_COMMAND "${pc_flags}")
+  run("pkg-config Fortran build" gfortran ${CONSUMER_FLAGS} ${CONSUMER_DIR}/consumer.F90 ${pc_flags}
+      -Wl,-rpath,${libdir} -J ${WORK_DIR} -o ${WORK_DIR}/consumer_fortran_pc)
+  run("pkg-config Fortran consumer" ${WORK_DIR}/consumer_fortran_pc)
+endif()
 
 # The CLI from the prefix: it finds its library and its plotting script there.
 run("CLI --version" ${prefix}/bin/unimesh --version)
