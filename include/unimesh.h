@@ -147,7 +147,12 @@ typedef struct um_context um_context;
 
 /* Progress: called from the host thread with a stage name and a fraction in
  * [0, 1]. Return non-zero to cancel: the running call then returns
- * UM_CANCELLED and leaves its handles valid. */
+ * UM_CANCELLED and leaves its handles valid. Stages include "refine",
+ * "refine lattice", "refine boundary", "refine surface", "refine relax",
+ * "refine tags", "optimise", "quality" (any call that measures the mesh) and
+ * "MPAS mesh";
+ * every loop that may call a spacing callback reports at least every few
+ * seconds of a slow one. */
 typedef int32_t (*um_progress_fn)(void *user_data, const char *stage, double fraction);
 
 /* Log levels. */

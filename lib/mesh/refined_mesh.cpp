@@ -160,7 +160,7 @@ int64_t estimated_cells(Context &ctx, const hfun::Spacing &h) {
     constexpr int kLat = 180, kLon = 360;
     const double radius_km = 6371.22;
     std::vector<double> band(kLat, 0.0);
-    ctx.parallel_for(kLat, 8, [&](int64_t b, int64_t e) {
+    ctx.parallel_for_with_heartbeat("refine", kLat, 1, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             const double lat = -90 + (i + 0.5) * 180.0 / kLat;
             const double area = 2 * M_PI * radius_km * radius_km *

@@ -49,7 +49,7 @@ void MeshState::grow_slots() {
 
 void MeshState::load_spacing() {
     grow_slots();
-    ctx.parallel_for(tri.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
+    ctx.parallel_for_with_heartbeat("optimise", tri.vertex_slots(), 256, [&](int64_t b, int64_t e) {
         for (int64_t v = b; v < e; ++v)
             if (tri.in_triangulation(static_cast<int32_t>(v)))
                 h_at[v] = static_cast<float>(h(tri.direction(static_cast<int32_t>(v))));

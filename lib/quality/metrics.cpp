@@ -262,7 +262,9 @@ Counts summarise(Context &ctx, int64_t n, const std::array<Metric, kSlots> &slot
     // Each value's fine bin, per item and slot: the second pass then
     // recomputes only the items with a value in a 1st-percentile bin.
     std::vector<std::array<uint16_t, kSlots>> bins(static_cast<size_t>(n));
-    ctx.parallel_for(n_blocks, 1, [&](int64_t b0, int64_t b1) {
+    // With a heartbeat between runs of blocks: the values may call a slow
+    // spacing callback, and cancel must get in.
+    ctx.parallel_for_with_heartbeat("quality", n_blocks, 1, [&](int64_t b0, int64_t b1) {
         for (int64_t blk = b0; blk < b1; ++blk) {
             Block &bl = blocks[blk];
             bl.metric.resize(static_cast<size_t>(count));
@@ -297,7 +299,7 @@ Counts summarise(Context &ctx, int64_t n, const std::array<Metric, kSlots> &slot
     for (size_t s = 0; s < kSlots; ++s) wanted_bin[s] = static_cast<uint16_t>(p1_bin[slot_metric[s] - first]);
     std::vector<std::vector<std::vector<double>>> in_bin(
         static_cast<size_t>(count), std::vector<std::vector<double>>(static_cast<size_t>(n_blocks)));
-    ctx.parallel_for(n_blocks, 1, [&](int64_t b0, int64_t b1) {
+    ctx.parallel_for_with_heartbeat("quality", n_blocks, 1, [&](int64_t b0, int64_t b1) {
         Counts again;  // counted in the first pass
         for (int64_t blk = b0; blk < b1; ++blk)
             for (int64_t i = blk * kBlock; i < std::min(n, (blk + 1) * kBlock); ++i) {

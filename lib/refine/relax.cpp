@@ -428,7 +428,7 @@ std::vector<std::pair<int32_t, int32_t>> edges_outside(Context &ctx, const tri::
                                                       const SpacingRadians &h, const Band &band) {
     const int32_t n = tri.triangle_slots();
     std::vector<uint8_t> outside(static_cast<size_t>(n), 0);  // bit k: edge k of the triangle
-    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+    ctx.parallel_for_with_heartbeat("refine relax", n, 256, [&](int64_t b, int64_t e) {
         for (int32_t t = static_cast<int32_t>(b); t < e; ++t) {
             if (tri.is_free(t)) continue;
             for (int k = 0; k < 3; ++k) {

@@ -552,7 +552,7 @@ TerritoryPlan plan_territories(Context &ctx, const tri::Triangulation &tri, cons
                                const std::vector<uint8_t> &state, int layout) {
     const int32_t slots = tri.triangle_slots();
     std::vector<std::pair<uint32_t, double>> work(static_cast<size_t>(slots), {~uint32_t(0), 0.0});
-    ctx.parallel_for(slots, 4096, [&](int64_t b, int64_t e) {
+    ctx.parallel_for_with_heartbeat("refine surface", slots, 256, [&](int64_t b, int64_t e) {
         for (int64_t t = b; t < e; ++t) {
             if (tri.is_free(static_cast<int32_t>(t)) || !(state[t] & kBad)) continue;
             const Vec3 a = tri.direction(tri.vertex(t, 0)), p = tri.direction(tri.vertex(t, 1)),

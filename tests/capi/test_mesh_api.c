@@ -382,6 +382,51 @@ static void a_slow_spacing_callback_can_be_cancelled(void **state) {
     um_spacing_destroy(h);
 }
 
+/* The same for the optimisation, whose every outer iteration reads h at
+ * every vertex, and for the quality measures around it: a spacing that
+ * turns slow once the mesh is refined is cancelled within one block of the
+ * quality measure (32,768 edges, one call each: the whole 240 km mesh),
+ * not after the 200,000 calls the optimisation makes. */
+typedef struct {
+    long calls;
+    int slow;
+} switchable_run;
+
+static double switchable_spacing(void *user, double lon, double lat) {
+    (void)lon, (void)lat;
+    switchable_run *run = user;
+    if (run->slow) {
+        ++run->calls;
+        struct timespec pause = {0, 200000};
+        nanosleep(&pause, NULL);
+    }
+    return 240.0;
+}
+
+static int32_t cancel_optimise_after_500_calls(void *user, const char *stage, double fraction) {
+    (void)fraction;
+    const switchable_run *run = user;
+    return (strcmp(stage, "optimise") == 0 || strcmp(stage, "quality") == 0) && run->calls > 500;
+}
+
+static void a_slow_spacing_callback_can_cancel_the_optimisation(void **state) {
+    um_context *ctx = *state;
+    switchable_run run = {0, 0};
+    um_spacing *h = NULL;
+    um_mesh *m = NULL;
+    assert_int_equal(um_spacing_create_callback(ctx, switchable_spacing, &run, &h), UM_OK);
+    assert_int_equal(um_mesh_refine(ctx, h, NULL, NULL, &m), UM_OK);
+    run.slow = 1;
+    assert_int_equal(um_context_set_progress(ctx, cancel_optimise_after_500_calls, &run), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_CANCELLED);
+    print_message("spacing calls before the optimisation's cancel took: %ld\n", run.calls);
+    assert_true(run.calls < 40000);
+    assert_int_equal(um_context_set_progress(ctx, NULL, NULL), UM_OK);
+    um_context_clear_error(ctx);
+    um_mesh_destroy(m);
+    um_spacing_destroy(h);
+}
+
 static void quality_report(void **state) {
     um_context *ctx = *state;
     um_spacing *h = NULL;
@@ -447,6 +492,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(bad_input, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(spacing_callback_failure_names_the_point, setup_context,
                                         teardown_context),
+        cmocka_unit_test_setup_teardown(a_slow_spacing_callback_can_cancel_the_optimisation, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(a_slow_spacing_callback_can_be_cancelled, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(quality_report, setup_context, teardown_context),
     };
