@@ -49,6 +49,27 @@ if(WITH_FORTRAN)
   run("pkg-config Fortran consumer" ${WORK_DIR}/consumer_fortran_pc)
 endif()
 
+# The Python package, pip-installed from a copy of bindings/python (pip
+# builds in the tree it is given) into a scratch site, its tests run against
+# it and the installed library (found by the loader: no UNIMESH_LIBRARY).
+if(PYTHON AND PYTHON_SOURCE_DIR)
+  file(COPY ${PYTHON_SOURCE_DIR}/ DESTINATION ${WORK_DIR}/python_source PATTERN __pycache__ EXCLUDE)
+  run("pip install" ${PYTHON} -m pip install --quiet --no-index --no-build-isolation --no-deps
+      --target ${WORK_DIR}/site ${WORK_DIR}/python_source)
+  set(ENV{PYTHONPATH} ${WORK_DIR}/site)
+  set(ENV{PYTHONDONTWRITEBYTECODE} 1)
+  set(ENV{LD_LIBRARY_PATH} ${libdir})
+  unset(ENV{UNIMESH_LIBRARY})
+  run("installed Python package" ${PYTHON} -c
+      "import sys, unimesh\nassert unimesh.__file__.startswith(sys.argv[1]), unimesh.__file__\nprint(unimesh.__file__, unimesh.version())"
+      ${WORK_DIR}/site)
+  execute_process(COMMAND ${PYTHON} -m unittest test_mesh test_triangulation
+                  WORKING_DIRECTORY ${PYTHON_SOURCE_DIR}/tests RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "the binding's tests against the installed package failed:\n${err}")
+  endif()
+endif()
+
 # The CLI from the prefix: it finds its library and its plotting script there.
 run("CLI --version" ${prefix}/bin/unimesh --version)
 run("CLI build" ${prefix}/bin/unimesh build --spacing-km 2000 --threads 1 --out ${WORK_DIR}/out)

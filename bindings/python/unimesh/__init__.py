@@ -15,7 +15,8 @@ the exception, i.e. the context's kept error is cleared, so every exception
 carries its own message rather than the first one of the context's life.
 
 The library is found through $UNIMESH_LIBRARY, else next to this package or in
-the source tree's build/lib, else on the system search path (see _capi.py).
+the source tree's build/lib, else where the loader finds libunimesh.so.0 (an
+installed prefix; see _capi.py). `pip install bindings/python` installs it.
 Objects are released by close() or a with-block; garbage collection closes
 them as a last resort.
 """

@@ -138,7 +138,9 @@ def _candidates():
     """Where to look, in order: $UNIMESH_LIBRARY alone when set (a wrong
     path should fail, not fall back to some other build); else next to this
     package, the source tree's build/lib (bindings/python/unimesh -> the
-    repository root is three levels up), then the system search path."""
+    repository root is three levels up), then the system search path: the
+    library's own names, which the loader resolves through LD_LIBRARY_PATH
+    and its cache (an installed prefix), then ctypes' search."""
     explicit = os.environ.get("UNIMESH_LIBRARY")
     if explicit:
         return [explicit]
@@ -146,7 +148,7 @@ def _candidates():
     directories = [here, here.parents[2] / "build" / "lib"]
     found = [str(d / name) for d in directories for name in _LIBRARY_NAMES if (d / name).exists()]
     system = ctypes.util.find_library("unimesh")
-    return found + ([system] if system else [])
+    return found + list(_LIBRARY_NAMES) + ([system] if system else [])
 
 
 def _load():
