@@ -10,6 +10,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <locale.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -245,6 +246,19 @@ static void copy_out_matches_the_file(void **state) {
     um_context_clear_error(ctx);
 }
 
+static char *read_whole_file(const char *path, long *size) {
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    *size = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *bytes = malloc((size_t)*size + 1);
+    assert_non_null(bytes);
+    assert_int_equal(fread(bytes, 1, (size_t)*size, f), (size_t)*size);
+    fclose(f);
+    return bytes;
+}
+
 /* JIGSAW's .msh: the points, weights and triangles of the mesh, counted as
  * the mesh counts them; unwritable paths refused with UM_ERR_IO. */
 static void jigsaw_file(void **state) {
@@ -270,6 +284,37 @@ static void jigsaw_file(void **state) {
     assert_int_equal(powers, nv);
     assert_int_equal(triangles, nt);
     assert_int_equal(lines, 1 + 3 + nv + 1 + nv + 1 + nt);
+    /* Every point on the sphere of the mesh's radius, its numbers with a
+     * decimal point whatever the host's locale: with a comma locale set
+     * (where the machine has one), the file is byte for byte the same. */
+    f = fopen(path, "r");
+    assert_non_null(f);
+    for (int i = 0; i < 4; ++i) assert_non_null(fgets(line, sizeof line, f));
+    for (long long i = 0; i < nv; ++i) {
+        assert_non_null(fgets(line, sizeof line, f));
+        assert_null(strchr(line, ','));
+        double x, y, z;
+        assert_int_equal(sscanf(line, "%lf;%lf;%lf;0", &x, &y, &z), 3);
+        assert_true(fabs(sqrt(x * x + y * y + z * z) / 6371220.0 - 1) < 1e-12);
+    }
+    long size = 0;
+    char *first = read_whole_file(path, &size);
+    const char *comma_locales[] = {"de_DE.UTF-8", "de_DE.utf8", "fr_FR.UTF-8", "fr_FR.utf8", "nl_NL.UTF-8"};
+    const char *set = NULL;
+    for (size_t i = 0; i < sizeof comma_locales / sizeof comma_locales[0] && !set; ++i)
+        set = setlocale(LC_NUMERIC, comma_locales[i]);
+    if (set) {
+        assert_int_equal(um_mesh_write_jigsaw(m, path), UM_OK);
+        setlocale(LC_NUMERIC, "C");
+        long again = 0;
+        char *second = read_whole_file(path, &again);
+        assert_int_equal(again, size);
+        assert_memory_equal(first, second, (size_t)size);
+        free(second);
+    } else {
+        print_message("no comma locale on this machine: the file's numbers checked in the C locale only\n");
+    }
+    free(first);
     assert_int_equal(um_mesh_write_jigsaw(m, "/no/such/dir/x.msh"), UM_ERR_IO);
     assert_non_null(strstr(um_context_last_error(ctx), "/no/such/dir/x.msh"));
     um_context_clear_error(ctx);
