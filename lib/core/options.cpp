@@ -4,7 +4,10 @@
 #include <cstdlib>
 #include <limits>
 
+#include "core/earth.hpp"
 #include "core/error.hpp"
+#include "optim/defaults.hpp"
+#include "refine/bounds.hpp"
 
 namespace um {
 
@@ -14,10 +17,10 @@ constexpr double kBig = 1e300;
 
 // One row per option: the only place an option is declared.
 const OptionSpec kSpecs[] = {
-    {UM_OPT_SPHERE_RADIUS, "sphere_radius", UM_OPTION_TYPE_REAL, 1e-3, 1e12, 6371220.0},
-    {UM_OPT_REFINE_ALPHA, "refine_alpha", UM_OPTION_TYPE_REAL, 1.0, 4.0, 4.0 / 3.0},
-    {UM_OPT_REFINE_BETA, "refine_beta", UM_OPTION_TYPE_REAL, 1e-3, 1.0, 0.2},
-    {UM_OPT_REFINE_RHO, "refine_rho", UM_OPTION_TYPE_REAL, 1.0, 10.0, 1.05},
+    {UM_OPT_SPHERE_RADIUS, "sphere_radius", UM_OPTION_TYPE_REAL, 1e-3, 1e12, kEarthRadiusKm * 1000},
+    {UM_OPT_REFINE_ALPHA, "refine_alpha", UM_OPTION_TYPE_REAL, 1.0, 4.0, refine::kDefaultAlpha},
+    {UM_OPT_REFINE_BETA, "refine_beta", UM_OPTION_TYPE_REAL, 1e-3, 1.0, refine::kDefaultBeta},
+    {UM_OPT_REFINE_RHO, "refine_rho", UM_OPTION_TYPE_REAL, 1.0, 10.0, refine::kDefaultRho},
     {UM_OPT_REFINE_TOPOLOGY_CHECK, "refine_topology_check", UM_OPTION_TYPE_INT, 0, 1, 0},
     {UM_OPT_REFINE_RELAX, "refine_relax", UM_OPTION_TYPE_INT, 0, 1, 1},
     {UM_OPT_REFINE_LATTICE, "refine_lattice", UM_OPTION_TYPE_INT, 0, 1, 1},
@@ -26,8 +29,8 @@ const OptionSpec kSpecs[] = {
     {UM_OPT_OPTIM_TOLERANCE, "optim_tolerance", UM_OPTION_TYPE_REAL, 0.0, 1.0, 1e-4},
     {UM_OPT_OPTIM_WEIGHTS, "optim_weights", UM_OPTION_TYPE_INT, 0, 1, 1},
     {UM_OPT_OPTIM_FIX_BOUNDARY, "optim_fix_boundary", UM_OPTION_TYPE_INT, 0, 1, 0},
-    {UM_OPT_OPTIM_COLLAPSE_RATIO, "optim_collapse_ratio", UM_OPTION_TYPE_REAL, 0.0, 1.0, 0.5},
-    {UM_OPT_OPTIM_SPLIT_RATIO, "optim_split_ratio", UM_OPTION_TYPE_REAL, 1.0, kBig, 1.6},
+    {UM_OPT_OPTIM_COLLAPSE_RATIO, "optim_collapse_ratio", UM_OPTION_TYPE_REAL, 0.0, 1.0, optim::kDefaultCollapseRatio},
+    {UM_OPT_OPTIM_SPLIT_RATIO, "optim_split_ratio", UM_OPTION_TYPE_REAL, 1.0, kBig, optim::kDefaultSplitRatio},
     {UM_OPT_OPTIM_CORNER_VERTICES, "optim_corner_vertices", UM_OPTION_TYPE_INT, 0, 2, 1},
     {UM_OPT_OPTIM_CENTROIDAL_SWEEPS, "optim_centroidal_sweeps", UM_OPTION_TYPE_INT, 0, 1000, 8},
     {UM_OPT_OPTIM_RESEED_ROUNDS, "optim_reseed_rounds", UM_OPTION_TYPE_INT, 0, 1000, 7},

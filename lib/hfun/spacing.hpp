@@ -18,13 +18,14 @@
 #include <vector>
 
 #include "core/context.hpp"
+#include "core/earth.hpp"
 #include "geom/sphere.hpp"
 
 namespace um::hfun {
 
 // Distances in km are measured on a sphere of this radius unless a caller
-// says otherwise: E3SM's SHR_CONST_REARTH, the default of UM_OPT_SPHERE_RADIUS.
-constexpr double kEarthRadiusKm = 6371.22;
+// says otherwise (core/earth.hpp).
+using um::kEarthRadiusKm;
 
 // A value h may take: finite and > 0. isfinite first, so that a NaN never
 // reaches an ordered comparison (which raises FE_INVALID on hosts that trap).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/earth.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "refine/boundary.hpp"
@@ -158,7 +159,7 @@ int64_t estimated_cells(Context &ctx, const hfun::Spacing &h) {
     // Cells of spacing h cover about (sqrt(3)/2) h^2 each (hexagons of edge
     // h between generators); the sphere in 180 x 360 bands of equal angle.
     constexpr int kLat = 180, kLon = 360;
-    const double radius_km = 6371.22;
+    const double radius_km = kEarthRadiusKm;
     std::vector<double> band(kLat, 0.0);
     ctx.parallel_for_with_heartbeat("refine", kLat, 1, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {

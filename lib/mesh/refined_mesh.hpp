@@ -14,6 +14,7 @@
 #include "hfun/spacing.hpp"
 #include "optim/optimise.hpp"
 #include "quality/metrics.hpp"
+#include "refine/bounds.hpp"
 #include "refine/restricted.hpp"
 #include "refine/sides.hpp"
 #include "refine/surface.hpp"
@@ -36,7 +37,7 @@ struct RefinedMesh {
     int64_t filtered = 0;  // bad restricted edges left: features below the spacing
     // The boundary refinement's bounds it was refined with (refine_alpha,
     // refine_beta): the optimisation keeps the restricted edges it makes within them.
-    double boundary_alpha = 4.0 / 3.0, boundary_beta = 0.2;
+    double boundary_alpha = refine::kDefaultAlpha, boundary_beta = refine::kDefaultBeta;
     // Set by optimise_mesh: the quality of the mesh as refined, and what the
     // optimisation did.
     bool optimised = false;

@@ -32,6 +32,7 @@
 
 #include "core/context.hpp"
 #include "features/network.hpp"
+#include "optim/defaults.hpp"
 #include "refine/surface.hpp"
 #include "tri/triangulation.hpp"
 
@@ -52,8 +53,8 @@ struct OptimiseOptions {
     bool valence_repair = true;  // remove, split and flip for vertex degrees (topology.cpp)
     bool mends = true;           // the joint searches after the schedule (mends.cpp)
     bool fix_boundary = false;   // vertices on Gamma stay put (else they slide along it)
-    double collapse_ratio = 0.5; // collapse edges shorter than this times h
-    double split_ratio = 1.6;    // split edges longer than this times h
+    double collapse_ratio = kDefaultCollapseRatio; // collapse edges shorter than this times h
+    double split_ratio = kDefaultSplitRatio;       // split edges longer than this times h
     bool corner_vertices = true; // vertices for obtuse corners on Gamma (support_gamma_corners)
     bool corner_cells_clear = false;  // ... only where the new cell stays clear of Gamma
     // Lloyd sweeps towards the power cells' centroids after the shape phase
@@ -63,11 +64,11 @@ struct OptimiseOptions {
     // phase (defect_reseeding.hpp; 0: none), and the refinement's bounds
     // (refine_alpha, refine_rho) its holes are filled to.
     int reseed_rounds = 7;
-    double refill_alpha = 4.0 / 3.0, refill_rho = 1.05;
+    double refill_alpha = refine::kDefaultAlpha, refill_rho = refine::kDefaultRho;
     // The boundary refinement's bounds (refine_alpha, refine_beta): where a
     // vertex on Gamma at an obtuse corner is taken out, the restricted edge
     // left in its place must meet them.
-    double gamma_alpha = 4.0 / 3.0, gamma_beta = 0.2;
+    double gamma_alpha = refine::kDefaultAlpha, gamma_beta = refine::kDefaultBeta;
 };
 
 struct OptimiseStats {

@@ -12,6 +12,7 @@
 
 #include "core/context.hpp"
 #include "geom/arc_tree.hpp"
+#include "refine/bounds.hpp"
 #include "refine/restricted.hpp"
 #include "refine/surface.hpp"
 #include "tri/triangulation.hpp"
@@ -19,8 +20,8 @@
 namespace um::refine {
 
 struct BoundaryOptions {
-    double alpha = 4.0 / 3.0;  // restricted edges shorter than alpha h
-    double beta = 0.2;         // Hausdorff bound eps < beta h
+    double alpha = kDefaultAlpha;  // restricted edges shorter than alpha h
+    double beta = kDefaultBeta;    // Hausdorff bound eps < beta h
     double filter = 0.5;       // no new edge shorter than filter h
     // The topology check (when given: the part of each Gamma arc): a
     // restricted edge is also bad when one of its ends has three or more

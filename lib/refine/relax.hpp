@@ -33,6 +33,7 @@
 
 #include "core/context.hpp"
 #include "geom/arc_tree.hpp"
+#include "refine/bounds.hpp"
 #include "refine/surface.hpp"
 #include "tri/triangulation.hpp"
 
@@ -50,7 +51,7 @@ struct RelaxOptions {
     std::vector<double> margins{0.08, 0.04};
     int rounds = 8;                        // per band: passes over the vertices left outside it
     int crowded_attempts = 3;              // ring stage + crowded spots, while they change anything
-    double alpha = 4.0 / 3.0, rho = 1.05;  // the surface criteria the moves keep
+    double alpha = kDefaultAlpha, rho = kDefaultRho;  // the surface criteria the moves keep
     const geom::ArcTree *gamma = nullptr;  // with Gamma: vertices near it stay
     const std::vector<int32_t> *on_gamma = nullptr;  // per vertex slot: Gamma arc or -1
 };

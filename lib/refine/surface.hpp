@@ -18,13 +18,14 @@
 #include "core/context.hpp"
 #include "geom/arc_tree.hpp"
 #include "geom/sphere.hpp"
+#include "refine/bounds.hpp"
 #include "tri/triangulation.hpp"
 
 namespace um::refine {
 
 struct SurfaceOptions {
-    double alpha = 4.0 / 3.0;  // size bound: sqrt(3) r < alpha h
-    double rho = 1.05;         // shape bound: r / e_min < rho
+    double alpha = kDefaultAlpha;  // size bound: sqrt(3) r < alpha h
+    double rho = kDefaultRho;      // shape bound: r / e_min < rho
     // A candidate that would make an edge shorter than filter * h is not
     // inserted. With Gamma, a candidate inside the surface ball of a
     // restricted edge (it would change Tri|Gamma) is replaced by that ball's
