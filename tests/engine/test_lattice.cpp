@@ -86,6 +86,14 @@ void frequency_of_degenerate_spacings(void **) {
     assert_int_equal(refine::lattice_frequency(100.0 / kRadiusKm, 1000), 0);
 }
 
+// Bit for bit the same lifted point in every slot of `a` (b has as many).
+void assert_same_points(const tri::Triangulation &a, const tri::Triangulation &b) {
+    for (int32_t v = 0; v < a.vertex_slots(); ++v) {
+        const Vec3 p = a.lifted(v), q = b.lifted(v);
+        assert_true(p.x == q.x && p.y == q.y && p.z == q.z);
+    }
+}
+
 struct Built {
     mesh::RefinedMesh m;
     Degrees refined, optimised;
@@ -118,10 +126,7 @@ void uniform_spacing_meshes_from_the_lattice(void **) {
     assert_int_equal(one.optimised.other, 0);
     const Built three = build(hfun::make_constant(km), 1, 3);
     assert_int_equal(three.m.vertex_count(), one.m.vertex_count());
-    for (int32_t v = 0; v < one.m.tri.vertex_slots(); ++v) {
-        const Vec3 a = one.m.tri.lifted(v), b = three.m.tri.lifted(v);
-        assert_true(a.x == b.x && a.y == b.y && a.z == b.z);
-    }
+    assert_same_points(one.m.tri, three.m.tri);
     const Built frontal = build(hfun::make_constant(km), 0, 1);
     print_message("240 km: lattice %lld cells, 12 pentagons; frontal %lld cells, %lld + %lld defects\n",
                   static_cast<long long>(one.m.vertex_count()), static_cast<long long>(frontal.m.vertex_count()),
@@ -161,10 +166,7 @@ void graded_spacing_has_the_lattice_where_it_is_flat(void **) {
     const Hemispheres optimised = defects_by_hemisphere(m.tri);
     const Built three = build(hfun::make_callback(graded_km, nullptr), 1, 3);
     assert_int_equal(three.m.tri.vertex_slots(), m.tri.vertex_slots());
-    for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
-        const Vec3 a = m.tri.lifted(v), b = three.m.tri.lifted(v);
-        assert_true(a.x == b.x && a.y == b.y && a.z == b.z);
-    }
+    assert_same_points(m.tri, three.m.tri);
     print_message("graded: defects north of 15 degrees %lld -> %lld, south of the equator %lld -> %lld\n",
                   static_cast<long long>(refined.north), static_cast<long long>(optimised.north),
                   static_cast<long long>(refined.south), static_cast<long long>(optimised.south));
