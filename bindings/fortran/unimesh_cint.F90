@@ -88,6 +88,7 @@ module unimesh_cint
   integer(c_int32_t), parameter :: UM_OPT_OPTIM_CORNER_VERTICES = 207
   integer(c_int32_t), parameter :: UM_OPT_OPTIM_CENTROIDAL_SWEEPS = 208
   integer(c_int32_t), parameter :: UM_OPT_OPTIM_RESEED_ROUNDS = 209
+  integer(c_int32_t), parameter :: UM_OPT_OCEAN_FLOOR = 300
 
   integer(c_int32_t), parameter :: UM_OPTION_TYPE_INT = 1
   integer(c_int32_t), parameter :: UM_OPTION_TYPE_REAL = 2

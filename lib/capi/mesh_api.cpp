@@ -23,10 +23,13 @@ um::Context *state_or_null(const um_mesh *m) {
 
 
 const um::quality::Report &quality_of(const um_mesh *m) {
-    if (!m->quality)
-        m->quality = um::quality::measure(*m->context, m->mesh.tri,
-                                          um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m),
-                                          &m->mesh.on_segment);
+    if (!m->quality) {
+        const um::refine::SpacingRadians h = um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m);
+        um::quality::Report r = um::quality::measure(*m->context, m->mesh.tri, h, &m->mesh.on_segment);
+        r.ocean = um::quality::measure_ocean_edges(*m->context, m->mesh.tri, h, m->mesh.ocean_cells(),
+                                                   m->mesh.ocean_floor);
+        m->quality = std::move(r);
+    }
     return *m->quality;
 }
 

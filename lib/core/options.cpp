@@ -34,6 +34,7 @@ const OptionSpec kSpecs[] = {
     {UM_OPT_OPTIM_CORNER_VERTICES, "optim_corner_vertices", UM_OPTION_TYPE_INT, 0, 2, 1},
     {UM_OPT_OPTIM_CENTROIDAL_SWEEPS, "optim_centroidal_sweeps", UM_OPTION_TYPE_INT, 0, 1000, 8},
     {UM_OPT_OPTIM_RESEED_ROUNDS, "optim_reseed_rounds", UM_OPTION_TYPE_INT, 0, 1000, 7},
+    {UM_OPT_OCEAN_FLOOR, "ocean_floor", UM_OPTION_TYPE_REAL, 0.0, 0.9, optim::kDefaultOceanFloor},
 };
 constexpr size_t kCount = sizeof kSpecs / sizeof kSpecs[0];
 

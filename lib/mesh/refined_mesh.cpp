@@ -196,11 +196,19 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     bo.alpha = options.real(UM_OPT_REFINE_ALPHA);
     bo.beta = options.real(UM_OPT_REFINE_BETA);
     m.boundary_alpha = bo.alpha, m.boundary_beta = bo.beta;
+    m.ocean_floor = options.real(UM_OPT_OCEAN_FLOOR);
     std::vector<int64_t> part_of_arc;
     if (options.integer(UM_OPT_REFINE_TOPOLOGY_CHECK) != 0 && arcs.size() > 0) {
         part_of_arc.resize(arcs.size());
         for (size_t s = 0; s < arcs.size(); ++s) part_of_arc[s] = m.gamma->segment_part(static_cast<int64_t>(s));
         bo.part_of_arc = &part_of_arc;
+    }
+    std::vector<uint8_t> coast_arc;
+    if (arcs.size() > 0) {
+        coast_arc.resize(arcs.size());
+        for (size_t s = 0; s < arcs.size(); ++s)
+            coast_arc[s] = refine::is_closed_coastline(m.gamma->part(m.gamma->segment_part(static_cast<int64_t>(s))));
+        bo.coast_arc = &coast_arc, bo.coast_filter = options.real(UM_OPT_OCEAN_FLOOR);
     }
     refine::SurfaceOptions so;
     so.alpha = options.real(UM_OPT_REFINE_ALPHA);
@@ -311,6 +319,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     o.fix_boundary = options.integer(UM_OPT_OPTIM_FIX_BOUNDARY) != 0;
     o.collapse_ratio = options.real(UM_OPT_OPTIM_COLLAPSE_RATIO);
     o.split_ratio = options.real(UM_OPT_OPTIM_SPLIT_RATIO);
+    o.ocean_floor = options.real(UM_OPT_OCEAN_FLOOR);
     o.corner_vertices = options.integer(UM_OPT_OPTIM_CORNER_VERTICES) != 0;
     o.corner_cells_clear = options.integer(UM_OPT_OPTIM_CORNER_VERTICES) == 2;
     o.centroidal_sweeps = static_cast<int>(options.integer(UM_OPT_OPTIM_CENTROIDAL_SWEEPS));
@@ -326,7 +335,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     try {
         m.refined_quality = before;
         m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o);
-        m.optimised = true;
+        m.optimised = true, m.ocean_floor = o.ocean_floor;
         finish(ctx, m, features::segment_arc_tree(m.gamma.get()));
     } catch (...) {
         put_back(m, std::move(undo));

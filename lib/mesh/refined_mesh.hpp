@@ -38,6 +38,9 @@ struct RefinedMesh {
     // The boundary refinement's bounds it was refined with (refine_alpha,
     // refine_beta): the optimisation keeps the restricted edges it makes within them.
     double boundary_alpha = refine::kDefaultAlpha, boundary_beta = refine::kDefaultBeta;
+    // The time-step floor it was built to (ocean_floor; the last
+    // optimisation's): what the quality report counts the ocean edges against.
+    double ocean_floor = 0;
     // Set by optimise_mesh: the quality of the mesh as refined, and what the
     // optimisation did.
     bool optimised = false;
@@ -45,6 +48,9 @@ struct RefinedMesh {
     optim::OptimiseStats optimisation;
 
     int64_t vertex_count() const { return static_cast<int64_t>(slot_of_vertex.size()); }
+    // Per vertex slot, 1 when its cell is in the ocean mesh (the rule of the
+    // MPAS cellOceanMask, refine::ocean_mesh_cells).
+    std::vector<uint8_t> ocean_cells() const { return refine::ocean_mesh_cells(tri, vertex_side, triangle_side); }
 };
 
 // Refines from the icosahedron. gamma may be null (no features); h is read

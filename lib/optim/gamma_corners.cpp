@@ -85,7 +85,7 @@ int64_t GammaCorners::support_gamma_corners() {
         auto release = [&] {  // nothing changed there: free again
             for (int32_t u : region) locked[u] = 0;
         };
-        const GammaCorner corner{t, b, p, q, region, gamma_edges_among(region), obtuse_touching(region)};
+        const GammaCorner corner{t, b, p, q, region, s_.gamma_edges_among(region), s_.obtuse_touching(region)};
         switch (support_gamma_corner(corner, opposite_gamma, locked)) {
             case CornerChange::none: release(); break;
             case CornerChange::vertex_added: ++s_.stats.corner_vertices, ++done; break;
@@ -282,8 +282,8 @@ int32_t GammaCorners::try_corner_relocation(const Vec3 &at, const GammaCorner &c
     GammaCorner wider = corner;
     wider.region.clear();
     std::set_union(corner.region.begin(), corner.region.end(), star.begin(), star.end(), std::back_inserter(wider.region));
-    wider.gamma_edges = gamma_edges_among(wider.region);
-    wider.obtuse_before = obtuse_touching(wider.region);
+    wider.gamma_edges = s_.gamma_edges_among(wider.region);
+    wider.obtuse_before = s_.obtuse_touching(wider.region);
     // (u is not a vertex of the corner's triangle: its slot stays the same.)
     const int32_t near_u = s_.tri.remove(u);
     const int32_t d = try_corner_vertex(at, wider).vertex;
@@ -308,7 +308,7 @@ int GammaCorners::corner_vertex_helps(int32_t d, const GammaCorner &corner) cons
         ok = ok && std::binary_search(corner.region.begin(), corner.region.end(), u) &&
              geom::norm(x - s_.tri.direction(u)) >= floor * h;
     });
-    for (const auto &[a, c] : corner.gamma_edges) ok = ok && has_edge(a, c);
+    for (const auto &[a, c] : corner.gamma_edges) ok = ok && s_.has_edge(a, c);
     if (!ok || has_triangle(corner.b, corner.p, corner.q)) return -1;
     // With corner_cells_clear, its cell stays clear of Gamma (gamma_crossings):
     // at 60 km on the coastlines and rivers that keeps 380 edges to cells off
@@ -318,7 +318,7 @@ int GammaCorners::corner_vertex_helps(int32_t d, const GammaCorner &corner) cons
     if (s_.options.corner_cells_clear && s_.stars_gamma_crossings(&d, 1, at, false) != 0) return -1;
     std::vector<int32_t> around = corner.region;
     around.push_back(d);
-    const int obtuse = obtuse_touching(around);
+    const int obtuse = s_.obtuse_touching(around);
     return obtuse <= corner.obtuse_before ? obtuse : -1;
 }
 
@@ -350,8 +350,8 @@ bool GammaCorners::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner
     const int crossed = s_.stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
     if (crossed < 0 || !s_.removable(v)) return false;
     const int32_t near = s_.tri.remove(v);
-    bool ok = chord_carries_gamma(along[0], along[1]);
-    for (const auto &[a, c] : corner.gamma_edges) ok = ok && (a == v || c == v || has_edge(a, c));
+    bool ok = s_.chord_carries_gamma(along[0], along[1], s_.options.gamma_alpha, s_.options.gamma_beta);
+    for (const auto &[a, c] : corner.gamma_edges) ok = ok && (a == v || c == v || s_.has_edge(a, c));
     for (int32_t u : link) {
         if (!ok) break;
         s_.tri.for_each_neighbour(u, [&](int32_t w) {
@@ -367,48 +367,10 @@ bool GammaCorners::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner
         std::vector<int32_t> around;
         std::copy_if(corner.region.begin(), corner.region.end(), std::back_inserter(around),
                      [&](int32_t u) { return u != v; });
-        ok = obtuse_touching(around) <= corner.obtuse_before;
+        ok = s_.obtuse_touching(around) <= corner.obtuse_before;
     }
     if (!ok) s_.tri.restore_removed(v, near);
     return ok;
-}
-
-// Whether the edge (a, c), both on Gamma, is a restricted edge of their
-// part that meets the boundary refinement's bounds (paper section 5.1):
-// l < alpha h and eps < beta h, h at its midpoint.
-bool GammaCorners::chord_carries_gamma(int32_t a, int32_t c) const {
-    bool carries = false;
-    s_.tri.for_each_in_star(a, [&](int32_t s) {
-        const int i = s_.tri.local_index(s, a);
-        if (s_.tri.vertex(s, (i + 1) % 3) != c) return;
-        const int k = (i + 2) % 3;  // the edge opposite the apex: (a, c)
-        const int32_t apex = s_.tri.vertex(s, k), across = s_.tri.vertex(s_.tri.neighbour(s, k), s_.tri.mirror_edge(s, k));
-        refine::RestrictedEdge e;
-        if (!s_.runs_along_gamma(a, c, apex, across) || !refine::restricted_crossing(s_.tri, s, k, s_.arcs, &e)) return;
-        if (s_.gamma->segment_part(e.arc) != s_.gamma->segment_part(s_.on_segment[a])) return;
-        const refine::EdgeMeasure m = refine::measure(s_.tri, e, s_.h);  // the boundary refinement's own measure
-        carries = m.length < s_.options.gamma_alpha * m.h && m.eps < s_.options.gamma_beta * m.h;
-    });
-    return carries;
-}
-
-// The edges along Gamma (runs_along_gamma) between two of `vertices`
-// (sorted), each once.
-std::vector<std::pair<int32_t, int32_t>> GammaCorners::gamma_edges_among(const std::vector<int32_t> &vertices) const {
-    std::vector<std::pair<int32_t, int32_t>> edges;
-    for (int32_t v : vertices) {
-        if (s_.on_segment[v] < 0) continue;
-        s_.tri.for_each_in_star(v, [&](int32_t s) {
-            const int i = s_.tri.local_index(s, v);
-            const int32_t c = s_.tri.vertex(s, (i + 1) % 3);  // the edge (v, c) once, from v's side
-            if (s_.on_segment[c] < 0 || v > c) return;
-            const int32_t apex = s_.tri.vertex(s, (i + 2) % 3);
-            const int e = (i + 2) % 3;  // the edge opposite apex: (v, c)
-            const int32_t across = s_.tri.vertex(s_.tri.neighbour(s, e), s_.tri.mirror_edge(s, e));
-            if (s_.runs_along_gamma(v, c, apex, across)) edges.push_back({v, c});
-        });
-    }
-    return edges;
 }
 
 bool GammaCorners::has_triangle(int32_t a, int32_t b, int32_t c) const {
@@ -421,19 +383,5 @@ bool GammaCorners::has_triangle(int32_t a, int32_t b, int32_t c) const {
     return found;
 }
 
-bool GammaCorners::has_edge(int32_t a, int32_t b) const {
-    bool found = false;
-    s_.tri.for_each_neighbour(a, [&](int32_t w) { found = found || w == b; });
-    return found;
-}
-
-// The obtuse triangles with a vertex among `vertices` (each counted once).
-int GammaCorners::obtuse_touching(const std::vector<int32_t> &vertices) const {
-    int obtuse = 0;
-    for (int32_t s : s_.tri.triangles_around(vertices))
-        obtuse += largest_angle_cosine(s_.tri.direction(s_.tri.vertex(s, 0)), s_.tri.direction(s_.tri.vertex(s, 1)),
-                                       s_.tri.direction(s_.tri.vertex(s, 2))) < 0;
-    return obtuse;
-}
 
 }  // namespace um::optim::detail

@@ -47,11 +47,7 @@ private:
     int32_t try_corner_relocation(const Vec3 &at, const GammaCorner &corner, std::vector<uint8_t> &locked);
     int corner_vertex_helps(int32_t d, const GammaCorner &corner) const;
     bool try_gamma_vertex_removal(int32_t v, const GammaCorner &corner);
-    bool chord_carries_gamma(int32_t a, int32_t c) const;
     bool has_triangle(int32_t a, int32_t b, int32_t c) const;
-    int obtuse_touching(const std::vector<int32_t> &vertices) const;
-    std::vector<std::pair<int32_t, int32_t>> gamma_edges_among(const std::vector<int32_t> &vertices) const;
-    bool has_edge(int32_t a, int32_t b) const;
 
     MeshState &s_;
 };

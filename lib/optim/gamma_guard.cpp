@@ -5,6 +5,8 @@
 #include "geom/arc_tree.hpp"
 #include "optim/mesh_state.hpp"
 #include "optim/slide.hpp"
+#include "refine/boundary.hpp"
+#include "refine/restricted.hpp"
 
 namespace um::optim::detail {
 
@@ -120,6 +122,47 @@ double MeshState::position_along_part(int32_t v) const {
     const double length = geom::norm(b - a);
     const double along = length > 0 ? std::min(1.0, geom::norm(x - a) / length) : 0.0;
     return double(s - p.first_segment) + along;
+}
+
+// The boundary refinement's own measure (paper section 5.1), h at the
+// restricted edge's midpoint.
+bool MeshState::chord_carries_gamma(int32_t a, int32_t c, double alpha, double beta) const {
+    bool carries = false;
+    tri.for_each_in_star(a, [&](int32_t s) {
+        const int i = tri.local_index(s, a);
+        if (tri.vertex(s, (i + 1) % 3) != c) return;
+        const int k = (i + 2) % 3;  // the edge opposite the apex: (a, c)
+        const int32_t apex = tri.vertex(s, k), across = tri.vertex(tri.neighbour(s, k), tri.mirror_edge(s, k));
+        refine::RestrictedEdge e;
+        if (!runs_along_gamma(a, c, apex, across) || !refine::restricted_crossing(tri, s, k, arcs, &e)) return;
+        if (gamma->segment_part(e.arc) != gamma->segment_part(on_segment[a])) return;
+        const refine::EdgeMeasure m = refine::measure(tri, e, h);  // the boundary refinement's own measure
+        carries = m.length < alpha * m.h && m.eps < beta * m.h;
+    });
+    return carries;
+}
+
+std::vector<std::pair<int32_t, int32_t>> MeshState::gamma_edges_among(const std::vector<int32_t> &vertices) const {
+    std::vector<std::pair<int32_t, int32_t>> edges;
+    for (int32_t v : vertices) {
+        if (on_segment[v] < 0) continue;
+        tri.for_each_in_star(v, [&](int32_t s) {
+            const int i = tri.local_index(s, v);
+            const int32_t c = tri.vertex(s, (i + 1) % 3);  // the edge (v, c) once, from v's side
+            if (on_segment[c] < 0 || v > c) return;
+            const int32_t apex = tri.vertex(s, (i + 2) % 3);
+            const int e = (i + 2) % 3;  // the edge opposite apex: (v, c)
+            const int32_t across = tri.vertex(tri.neighbour(s, e), tri.mirror_edge(s, e));
+            if (runs_along_gamma(v, c, apex, across)) edges.push_back({v, c});
+        });
+    }
+    return edges;
+}
+
+bool MeshState::has_edge(int32_t a, int32_t b) const {
+    bool found = false;
+    tri.for_each_neighbour(a, [&](int32_t w) { found = found || w == b; });
+    return found;
 }
 
 }  // namespace um::optim::detail

@@ -240,4 +240,12 @@ MeshState::Summary MeshState::summarise(bool with_largest_angle) const {
     return {all.qt_min, all.qt_sum / live, all.qp_min, all.qp_sum / live, all.largest_angle_cosine};
 }
 
+int MeshState::obtuse_touching(const std::vector<int32_t> &vertices) const {
+    int obtuse = 0;
+    for (int32_t s : tri.triangles_around(vertices))
+        obtuse += largest_angle_cosine(tri.direction(tri.vertex(s, 0)), tri.direction(tri.vertex(s, 1)),
+                                       tri.direction(tri.vertex(s, 2))) < 0;
+    return obtuse;
+}
+
 }  // namespace um::optim::detail

@@ -21,6 +21,7 @@
 #include "optim/local_quality.hpp"
 #include "optim/optimise.hpp"
 #include "optim/star_graph.hpp"
+#include "refine/sides.hpp"
 #include "refine/surface.hpp"
 #include "tri/triangulation.hpp"
 
@@ -116,6 +117,9 @@ public:
     // weight or link) and when an update of it last failed. A vertex whose
     // closed star has not changed since its last failure is skipped.
     std::vector<int32_t> changed_at, move_failed_at, weight_failed_at;
+    // Per slot, ocean, land or coastal, as the last ocean-floor pass found
+    // them (ocean_floor.hpp; empty without a floor).
+    std::vector<refine::Side> side;
     bool weighing = false;  // the weight phase has begun (weight_failed_at exists)
     int32_t clock = 1;
     int32_t next_id = 0;
@@ -210,6 +214,15 @@ public:
     }
     bool runs_along_gamma(int32_t b, int32_t c, int32_t a, int32_t d) const;
     double position_along_part(int32_t v) const;
+    // Whether the edge (a, c), both on Gamma, is a restricted edge of their
+    // part within the boundary refinement's bounds: l < alpha h, eps < beta h.
+    bool chord_carries_gamma(int32_t a, int32_t c, double alpha, double beta) const;
+    // The edges along Gamma (runs_along_gamma) between two of `vertices`
+    // (sorted), each once.
+    std::vector<std::pair<int32_t, int32_t>> gamma_edges_among(const std::vector<int32_t> &vertices) const;
+    bool has_edge(int32_t a, int32_t b) const;
+    // The obtuse triangles with a vertex among `vertices` (each counted once).
+    int obtuse_touching(const std::vector<int32_t> &vertices) const;
 
     // Topology -------------------------------------------------------------
     // Whether v may be taken out: every neighbour within kLargestRemovableStar

@@ -1,7 +1,7 @@
 // The schedule of Algorithm 1 (optimise.hpp): the passes in their order.
 // Each pass is a unit of its own over the shared mesh state (mesh_state.hpp):
 // shape_sweeps, defect_reseeding, weight_sweeps, centroidal, topology,
-// gamma_corners, mends.
+// gamma_corners, ocean_floor, mends.
 #include "optim/optimise.hpp"
 
 #include <algorithm>
@@ -17,6 +17,7 @@
 #include "optim/gamma_corners.hpp"
 #include "optim/mends.hpp"
 #include "optim/mesh_state.hpp"
+#include "optim/ocean_floor.hpp"
 #include "optim/shape_sweeps.hpp"
 #include "optim/star_graph.hpp"
 #include "optim/topology.hpp"
@@ -45,15 +46,15 @@ public:
     Schedule(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
              const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o)
         : s_(ctx, tri, on_segment, gamma, h, o), shape_(s_), weights_(s_), centroidal_(s_), topology_(s_),
-          corners_(s_), mends_(s_), reseeding_(s_) {}
+          corners_(s_), floor_(s_), mends_(s_), reseeding_(s_) {}
 
     OptimiseStats run();
 
 private:
     // What one outer iteration changed.
     struct Changes {
-        int64_t updates = 0, flips = 0, collapsed = 0, split = 0, valence = 0, corners = 0, reseeded = 0;
-        int64_t topology() const { return flips + collapsed + split + valence + corners + reseeded; }
+        int64_t updates = 0, flips = 0, collapsed = 0, split = 0, valence = 0, corners = 0, reseeded = 0, floor = 0;
+        int64_t topology() const { return flips + collapsed + split + valence + corners + reseeded + floor; }
     };
     void begin_weight_phase();
     int64_t inner_sweeps(bool shape_phase);
@@ -72,6 +73,7 @@ private:
     Centroidal centroidal_;
     Topology topology_;
     GammaCorners corners_;
+    OceanFloor floor_;
     Mends mends_;
     DefectReseeding reseeding_;
     std::unique_ptr<StarGraph> graph_;
@@ -121,6 +123,12 @@ OptimiseStats Schedule::run() {
     const int64_t off_centre_left = mends && o.weights ? mend_off_centre_triangles() : 0;
     if (mends) mend_obtuse_triangles();
     if (off_centre_left > 0) mend_off_centre_after_moves();
+    // After the mends' moves: what they brought below the floor, where a
+    // removal keeps what they reached.
+    s_.stats.floor_removals += floor_.lift();
+    s_.stats.below_floor = floor_.count_below();
+    s_.ctx.log(UM_LOG_INFO, concat("optimise: ocean floor ", o.ocean_floor, " h: ", s_.stats.floor_removals,
+                                   " vertices taken out, ", s_.stats.below_floor, " edges off the land still below"));
     s_.ctx.progress("optimise", 1.0);
     return s_.stats;
 }
@@ -173,6 +181,7 @@ void Schedule::change_topology(int n, bool shape_phase, int32_t outer_start, Cha
     auto t0 = Clock::now();
     c.flips = s_.restore_regularity(outer_start);
     if (o.collapse_and_split) std::tie(c.collapsed, c.split) = topology_.collapse_and_split();
+    c.floor = floor_.lift();
     if (o.valence_repair && n + 1 < o.outer_iterations)
         c.valence = topology_.improve_valence() + (n < 2 ? topology_.flip_for_valence() : 0);
     c.corners = shape_phase && o.corner_vertices ? corners_.support_gamma_corners() : 0;
@@ -214,7 +223,7 @@ void Schedule::log_outer(int n, bool shape_phase, const Changes &c, const MeshSt
     s_.ctx.log(UM_LOG_INFO,
                concat("optimise: outer iteration ", n + 1, shape_phase ? " (shape)" : " (weights)",
                       ": ", c.updates, " updates, ", c.flips, " flips, ", c.collapsed + c.split + c.valence,
-                      " collapses/splits, ", c.corners, " vertices added or taken out at obtuse corners on Gamma; Q^T min ", now.qt_min, " mean ", now.qt_mean, ", Q^P min ",
+                      " collapses/splits, ", c.floor, " taken out for the ocean floor, ", c.corners, " vertices added or taken out at obtuse corners on Gamma; Q^T min ", now.qt_min, " mean ", now.qt_mean, ", Q^P min ",
                       now.qp_min, " mean ", now.qp_mean, "; ", stats.seconds_moves, " s moves, ",
                       stats.seconds_weights, " s weights, ", stats.seconds_topology, " s topology"));
 }

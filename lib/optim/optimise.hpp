@@ -55,6 +55,9 @@ struct OptimiseOptions {
     bool fix_boundary = false;   // vertices on Gamma stay put (else they slide along it)
     double collapse_ratio = kDefaultCollapseRatio; // collapse edges shorter than this times h
     double split_ratio = kDefaultSplitRatio;       // split edges longer than this times h
+    // The time-step floor (ocean_floor.hpp): edges off the land at least
+    // this times h (0: no floor).
+    double ocean_floor = kDefaultOceanFloor;
     bool corner_vertices = true; // vertices for obtuse corners on Gamma (support_gamma_corners)
     bool corner_cells_clear = false;  // ... only where the new cell stays clear of Gamma
     // Lloyd sweeps towards the power cells' centroids after the shape phase
@@ -76,6 +79,8 @@ struct OptimiseStats {
     int64_t moves = 0, weight_updates = 0, flips = 0, collapses = 0, splits = 0;
     int64_t corner_vertices = 0;  // added at obtuse corners on Gamma (not among the splits)
     int64_t gamma_vertices_removed = 0;  // taken out at obtuse corners on Gamma (not among the collapses)
+    int64_t floor_removals = 0;          // taken out for the ocean floor (ocean_floor.hpp)
+    int64_t below_floor = 0;             // edges off the land still shorter than the floor at the end
     int reseed_rounds = 0;               // rounds of the re-seeding of defects done
     int64_t reseeded = 0;                // vertices those rounds took out (their holes refilled)
     double seconds_moves = 0, seconds_weights = 0, seconds_topology = 0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "core/growth.hpp"
 #include "core/text.hpp"
@@ -385,6 +386,39 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
     return r;
 }
 
+Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
+                                       const std::vector<uint8_t> &ocean_cell, double floor) {
+    constexpr int64_t kBlock = 16384;
+    const int64_t n = tri.triangle_slots(), n_blocks = (n + kBlock - 1) / kBlock;
+    std::vector<Report::OceanEdges> part(static_cast<size_t>(n_blocks));
+    auto ocean = [&](int32_t v) { return static_cast<size_t>(v) < ocean_cell.size() && ocean_cell[v] != 0; };
+    ctx.parallel_for_with_heartbeat("quality", n_blocks, 1, [&](int64_t b0, int64_t b1) {
+        for (int64_t blk = b0; blk < b1; ++blk) {
+            Report::OceanEdges &o = part[static_cast<size_t>(blk)];
+            o.min_ratio = std::numeric_limits<double>::infinity();
+            for (int64_t i = blk * kBlock; i < std::min(n, (blk + 1) * kBlock); ++i) {
+                const int32_t t = static_cast<int32_t>(i);
+                if (tri.is_free(t)) continue;
+                for (int k = 0; k < 3; ++k) {
+                    if (tri.neighbour(t, k) < t) continue;  // each edge once
+                    if (!ocean(tri.vertex(t, (k + 1) % 3)) || !ocean(tri.vertex(t, (k + 2) % 3))) continue;
+                    const EdgeOffsets e = edge_offsets(tri, t, k);
+                    const double ratio = e.dc_edge / h(e.x_edge);
+                    ++o.edges, o.below_floor += ratio < floor;
+                    o.min_ratio = std::min(o.min_ratio, ratio);
+                }
+            }
+        }
+    });
+    Report::OceanEdges all;
+    all.measured = true, all.floor = floor, all.min_ratio = std::numeric_limits<double>::infinity();
+    for (const Report::OceanEdges &o : part) {
+        all.edges += o.edges, all.below_floor += o.below_floor;
+        all.min_ratio = std::min(all.min_ratio, o.min_ratio);
+    }
+    return all;
+}
+
 std::string to_json(const Report &r, const std::string &indent,
                     const std::string &extra_members) {
     const std::string nl = "\n" + indent + "  ";
@@ -398,6 +432,11 @@ std::string to_json(const Report &r, const std::string &indent,
                   ",", nl, "\"not_well_centred\": ", r.not_well_centred,
                   ",", nl, "\"not_well_centred_off_gamma\": ", r.not_well_centred_off_gamma,
                   ",", nl, "\"operator_diagnostics\": ", json_operator_diagnostics(r, nl));
+    if (r.ocean.measured)
+        text += concat(",", nl, "\"ocean_floor\": {\"floor\": ", r.ocean.floor, ", \"ocean_edges\": ", r.ocean.edges,
+                       ", \"min_ratio\": ", json_number(r.ocean.min_ratio),
+                       ", \"all_edges_min_ratio\": ", json_number(r.cell_spacing_ratio.min),
+                       ", \"below_floor\": ", r.ocean.below_floor, "}");
     if (!extra_members.empty()) text += concat(",", nl, extra_members);
     return text + concat("\n", indent, "}", indent.empty() ? "\n" : "");
 }

@@ -70,7 +70,21 @@ struct Report {
     // (the last needs h, like spacing_ratio). A dual edge of no length (or a
     // cell of no area) counts as 2^-52 long: an offset of ~1e16.
     Summary centroid_offset, dual_edge_offset, primal_edge_offset, cell_spacing_ratio;
+    // The time-step floor: over the edges between two cells of the ocean
+    // mesh, the least dcEdge / h(xEdge) and how many are below the floor the
+    // mesh was built to (measured when the ocean cells are given).
+    struct OceanEdges {
+        bool measured = false;
+        double floor = 0;
+        int64_t edges = 0, below_floor = 0;
+        double min_ratio = 0;
+    } ocean;
 };
+
+// The ocean edges of a report (Report::ocean): ocean_cell per vertex slot
+// (1: its cell is in the ocean mesh).
+Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
+                                       const std::vector<uint8_t> &ocean_cell, double floor);
 
 // Every metric over the live triangles, edges and cells (in parallel; the
 // same result for any thread count). h may be empty: then h_r and dcEdge / h

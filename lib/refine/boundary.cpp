@@ -131,12 +131,15 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
             if (!bad_edge(e, &m)) continue;
             // The surface ball is empty, so its radius is the new point's
             // distance to its nearest vertex: too small means over-refining.
-            if (e.radius < options.filter * h(e.centre)) continue;
+            const double filter = options.coast_arc && (*options.coast_arc)[e.arc]
+                                      ? std::max(options.filter, options.coast_filter)
+                                      : options.filter;
+            if (e.radius < filter * h(e.centre)) continue;
             int32_t v = tri.insert(e.centre, 0.0, next_id++, nullptr, t);
             on_gamma.resize(static_cast<size_t>(tri.vertex_slots()), -1);
             if (!tri.in_triangulation(v)) continue;
             if (topology) topology->forget();  // the mesh changed (a removal below changes it again)
-            if (nearest_neighbour(tri, v) < options.filter * h(e.centre)) {
+            if (nearest_neighbour(tri, v) < filter * h(e.centre)) {
                 tri.remove(v);
                 continue;
             }

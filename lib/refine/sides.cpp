@@ -6,10 +6,11 @@ namespace um::refine {
 
 using geom::Vec3;
 
-namespace {
 bool is_closed_coastline(const features::Part &p) {
     return p.closed && p.kind == features::Kind::coastline;
 }
+
+namespace {
 
 // Number of coastline arcs the minor arc (a, b) crosses.
 int crossings(const geom::ArcTree &coast, const Vec3 &a, const Vec3 &b) {
@@ -111,6 +112,25 @@ std::vector<Side> triangle_sides(const tri::Triangulation &tri, const features::
         }
     }
     return side;
+}
+
+std::vector<uint8_t> ocean_mesh_cells(const tri::Triangulation &tri, const std::vector<Side> &vertices,
+                                      const std::vector<Side> &triangles) {
+    std::vector<uint8_t> ocean(static_cast<size_t>(tri.vertex_slots()), 0);
+    for (int32_t v = 0; v < tri.vertex_slots(); ++v) {
+        if (!tri.in_triangulation(v)) continue;
+        const Side side = static_cast<size_t>(v) < vertices.size() ? vertices[v] : Side::ocean;
+        if (side != Side::coastal) {
+            ocean[v] = side == Side::ocean;
+            continue;
+        }
+        int balance = 0;  // triangles on the ocean side minus the others
+        tri.for_each_in_star(v, [&](int32_t t) {
+            balance += static_cast<size_t>(t) >= triangles.size() || triangles[t] == Side::ocean ? 1 : -1;
+        });
+        ocean[v] = balance >= 0;
+    }
+    return ocean;
 }
 
 std::vector<Side> vertex_sides(const tri::Triangulation &tri, const std::vector<Side> &triangles,

@@ -19,6 +19,9 @@ namespace um::refine {
 
 enum class Side : int8_t { ocean = 0, land = 1, coastal = 2 };
 
+// A closed coastline: the parts whose rings bound the land.
+bool is_closed_coastline(const features::Part &p);
+
 // Whether x is land: inside an odd number of the closed coastline parts.
 bool is_land(const features::Network &net, const geom::Vec3 &x);
 
@@ -38,5 +41,11 @@ std::vector<Side> triangle_sides(const tri::Triangulation &tri, const features::
 std::vector<Side> vertex_sides(const tri::Triangulation &tri, const std::vector<Side> &triangles,
                                const std::vector<int32_t> &on_gamma_segment,
                                const features::Network &net);
+
+// Per vertex slot, 1 when its cell is in the ocean mesh: an ocean vertex,
+// or a coastal one with at least as many of its triangles on the ocean side
+// as not (the MPAS cellOceanMask; the land + river mesh takes the rest).
+std::vector<uint8_t> ocean_mesh_cells(const tri::Triangulation &tri, const std::vector<Side> &vertices,
+                                      const std::vector<Side> &triangles);
 
 }  // namespace um::refine

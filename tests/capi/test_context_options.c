@@ -7,19 +7,8 @@
 
 #include <cmocka.h>
 
+#include "context_fixture.h"
 #include "unimesh.h"
-
-static int setup_context(void **state) {
-    um_context *ctx = NULL;
-    if (um_context_create(&ctx) != UM_OK) return -1;
-    *state = ctx;
-    return 0;
-}
-
-static int teardown_context(void **state) {
-    um_context_destroy((um_context *)*state);
-    return 0;
-}
 
 static void version_macros_agree_with_runtime(void **state) {
     (void)state;
@@ -237,7 +226,8 @@ static void option_names_round_trip(void **state) {
     const um_option keys[] = {UM_OPT_SPHERE_RADIUS, UM_OPT_REFINE_ALPHA, UM_OPT_REFINE_BETA,
                               UM_OPT_REFINE_RHO, UM_OPT_REFINE_LATTICE, UM_OPT_OPTIM_OUTER_ITERATIONS,
                               UM_OPT_OPTIM_SPLIT_RATIO, UM_OPT_OPTIM_CORNER_VERTICES,
-                              UM_OPT_OPTIM_CENTROIDAL_SWEEPS, UM_OPT_OPTIM_RESEED_ROUNDS};
+                              UM_OPT_OPTIM_CENTROIDAL_SWEEPS, UM_OPT_OPTIM_RESEED_ROUNDS,
+                              UM_OPT_OCEAN_FLOOR};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i) {
         char name[64];
         int64_t needed = 0;
@@ -268,6 +258,14 @@ static void option_names_round_trip(void **state) {
     assert_int_equal(value, 7);
     assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_RESEED_ROUNDS, 0), UM_OK);
     assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_RESEED_ROUNDS, -1), UM_ERR_INVALID_ARGUMENT);
+    /* ocean_floor: off (0) by default, at most 0.9 */
+    double floor = 1;
+    assert_int_equal(um_options_get_double(o, UM_OPT_OCEAN_FLOOR, &floor), UM_OK);
+    assert_true(floor == 0.0);
+    assert_int_equal(um_options_set_double(o, UM_OPT_OCEAN_FLOOR, 0.7), UM_OK);
+    um_context_clear_error(ctx);
+    assert_int_equal(um_options_set_double(o, UM_OPT_OCEAN_FLOOR, 0.95), UM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(um_context_last_error(ctx), "ocean_floor"));
     /* Worker placement: asked for with 1, off again with 0, nothing else. */
     um_context_clear_error(ctx);
     assert_int_equal(um_context_set_worker_placement(ctx, 1), UM_OK);

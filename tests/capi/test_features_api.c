@@ -13,20 +13,10 @@
 
 #include <cmocka.h>
 
+#include "context_fixture.h"
 #include "unimesh.h"
 
 #define TEST_DATA(name) UNIMESH_TEST_DATA_DIR "/" name
-
-static int setup_context(void **state) {
-    um_context *ctx = NULL;
-    if (um_context_create(&ctx) != UM_OK) return -1;
-    *state = ctx;
-    return 0;
-}
-static int teardown_context(void **state) {
-    um_context_destroy((um_context *)*state);
-    return 0;
-}
 
 /* The context's kept message contains `part`; clears it for the next check. */
 static void expect_message(um_context *ctx, const char *part) {

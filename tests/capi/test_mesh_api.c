@@ -10,21 +10,11 @@
 
 #include <cmocka.h>
 
+#include "context_fixture.h"
 #include "unimesh.h"
 
 #define DEG (M_PI / 180.0)
 static const double kRadiusKm = 6371.22;
-
-static int setup_context(void **state) {
-    um_context *ctx = NULL;
-    if (um_context_create(&ctx) != UM_OK) return -1;
-    *state = ctx;
-    return 0;
-}
-static int teardown_context(void **state) {
-    um_context_destroy((um_context *)*state);
-    return 0;
-}
 
 static double arc(double lon1, double lat1, double lon2, double lat2) {
     double a[3] = {cos(lat1 * DEG) * cos(lon1 * DEG), cos(lat1 * DEG) * sin(lon1 * DEG), sin(lat1 * DEG)};

@@ -25,21 +25,11 @@
 #include <cmocka.h>
 #include <netcdf.h>
 
+#include "context_fixture.h"
 #include "unimesh.h"
 
 static const char *const kPython = "/usr/bin/python3";
 static const char *const kChecker = UNIMESH_SHARED_DIR "/tools/mpas_check.py";
-
-static int setup_context(void **state) {
-    um_context *ctx = NULL;
-    if (um_context_create(&ctx) != UM_OK) return -1;
-    *state = ctx;
-    return 0;
-}
-static int teardown_context(void **state) {
-    um_context_destroy((um_context *)*state);
-    return 0;
-}
 
 static void output_path(char *buf, size_t size, const char *name) {
     snprintf(buf, size, "%s/%s", UNIMESH_TEST_OUTPUT_DIR, name);

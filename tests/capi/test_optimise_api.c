@@ -12,20 +12,10 @@
 
 #include <cmocka.h>
 
+#include "context_fixture.h"
 #include "unimesh.h"
 
 #define DEG (M_PI / 180.0)
-
-static int setup_context(void **state) {
-    um_context *ctx = NULL;
-    if (um_context_create(&ctx) != UM_OK) return -1;
-    *state = ctx;
-    return 0;
-}
-static int teardown_context(void **state) {
-    um_context_destroy((um_context *)*state);
-    return 0;
-}
 
 /* with_coast: 0 none, 1 the coastlines, 2 the coastlines and rivers. */
 /* The frontal refinement's meshes, which give every pass of the optimisation

@@ -11,6 +11,7 @@
 #include <cmocka.h>
 #include <libqhull_r/qhull_ra.h>
 
+#include "context_fixture.h"
 #include "unimesh.h"
 
 #define DEG (180.0 / M_PI)
@@ -27,17 +28,6 @@ static void random_lonlat(int64_t n, double *lon, double *lat) {
         lon[i] = 360.0 * uniform() - 180.0;
         lat[i] = asin(2.0 * uniform() - 1.0) * DEG;
     }
-}
-
-static int setup_context(void **state) {
-    um_context *ctx = NULL;
-    if (um_context_create(&ctx) != UM_OK) return -1;
-    *state = ctx;
-    return 0;
-}
-static int teardown_context(void **state) {
-    um_context_destroy((um_context *)*state);
-    return 0;
 }
 
 static int compare_triples(const void *a, const void *b) {

@@ -160,6 +160,11 @@ void print_quality(const char *what, um_context *ctx, um_mesh *m) {
                 d("dual_edge_offset", "max"), d("primal_edge_offset", "rms"), d("primal_edge_offset", "max"),
                 d("cell_spacing_ratio", "min"), d("cell_spacing_ratio", "max"),
                 d("cell_spacing_ratio", "mean"), d("cell_spacing_ratio", "std"));
+    // The time-step floor: an explicit ocean model's step is set by its shortest dcEdge.
+    std::printf("%-9s ocean floor %.2f h: dcEdge/h min %.3f over %.0f ocean edges (%.3f over all edges), "
+                "%.0f ocean edges below the floor\n",
+                what, d("ocean_floor", "floor"), d("ocean_floor", "min_ratio"), d("ocean_floor", "ocean_edges"),
+                d("ocean_floor", "all_edges_min_ratio"), d("ocean_floor", "below_floor"));
     std::fflush(stdout);
 }
 

@@ -99,6 +99,7 @@ class Option(enum.IntEnum):
     OPTIM_CORNER_VERTICES = 207
     OPTIM_CENTROIDAL_SWEEPS = 208
     OPTIM_RESEED_ROUNDS = 209
+    OCEAN_FLOOR = 300
 
 
 class OptionType(enum.IntEnum):

@@ -1,0 +1,221 @@
+#include "optim/ocean_floor.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "refine/restricted.hpp"
+
+namespace um::optim::detail {
+
+namespace {
+
+// The scan's cheap ratio (chord over the ends' mean h) is within a few per
+// cent of the measure (arc over h at the midpoint) where h is smooth: edges
+// below this many floors get the measure.
+constexpr double kScanMargin = 1.2;
+
+}  // namespace
+
+void OceanFloor::refresh_sides() {
+    if (!s_.gamma || s_.arcs.size() == 0) {
+        s_.side.assign(static_cast<size_t>(s_.tri.vertex_slots()), refine::Side::ocean);
+        return;
+    }
+    const std::vector<refine::RestrictedEdge> restricted = refine::restricted_edges(s_.ctx, s_.tri, s_.arcs);
+    const std::vector<refine::Side> triangles = refine::triangle_sides(s_.tri, *s_.gamma, &restricted);
+    s_.side = refine::vertex_sides(s_.tri, triangles, s_.on_segment, *s_.gamma);
+}
+
+// The edges between two generators off the land shorter than floor h,
+// shortest first (ties by slots).
+std::vector<OceanFloor::ShortEdge> OceanFloor::short_ocean_edges() const {
+    const double floor = s_.options.ocean_floor;
+    const std::vector<refine::Side> &side = s_.side;
+    std::vector<ShortEdge> edges =
+        s_.ctx.collect_in_order<ShortEdge>(s_.tri.triangle_slots(), 16384, [&](int64_t t, std::vector<ShortEdge> &out) {
+            const int32_t ti = static_cast<int32_t>(t);
+            if (s_.tri.is_free(ti)) return;
+            for (int k = 0; k < 3; ++k) {
+                if (s_.tri.neighbour(ti, k) < ti) continue;  // each edge once
+                const int32_t a = s_.tri.vertex(ti, (k + 1) % 3), b = s_.tri.vertex(ti, (k + 2) % 3);
+                if (side[a] == refine::Side::land || side[b] == refine::Side::land) continue;
+                const Vec3 xa = s_.tri.direction(a), xb = s_.tri.direction(b);
+                const double chord = geom::norm(xa - xb);
+                if (!(chord < kScanMargin * floor * 0.5 * (s_.h_at[a] + s_.h_at[b]))) continue;
+                const double ratio = 2 * std::asin(std::min(1.0, 0.5 * chord)) / s_.h(geom::normalized(xa + xb));
+                if (ratio < floor) out.push_back({ratio, std::min(a, b), std::max(a, b)});
+            }
+        });
+    std::sort(edges.begin(), edges.end(), [](const ShortEdge &x, const ShortEdge &y) {
+        return x.ratio != y.ratio ? x.ratio < y.ratio : (x.a != y.a ? x.a < y.a : x.b < y.b);
+    });
+    return edges;
+}
+
+int64_t OceanFloor::count_below() {
+    if (!(s_.options.ocean_floor > 0)) return 0;
+    refresh_sides();
+    return static_cast<int64_t>(short_ocean_edges().size());
+}
+
+int64_t OceanFloor::lift() {
+    if (!(s_.options.ocean_floor > 0)) return 0;
+    refresh_sides();
+    std::vector<uint8_t> locked(static_cast<size_t>(s_.tri.vertex_slots()), 0);
+    int64_t taken_out = 0;
+    for (const ShortEdge &e : short_ocean_edges()) {
+        if (!s_.tri.in_triangulation(e.a) || !s_.tri.in_triangulation(e.b)) continue;
+        if (!s_.lock_neighbourhood({e.a, e.b}, locked)) continue;
+        const bool a_on = s_.on_segment[e.a] >= 0, b_on = s_.on_segment[e.b] >= 0;
+        const bool done = !a_on && !b_on ? merge_at_midpoint(e.a, e.b)
+                          : a_on != b_on ? take_out(a_on ? e.b : e.a)
+                                         : take_out_of_gamma(e.b) || take_out_of_gamma(e.a);
+        taken_out += done;
+    }
+    s_.stats.floor_removals += taken_out;
+    return taken_out;
+}
+
+// What a removal is judged against: the region it may change (the closed
+// stars of the vertices involved) as it was.
+struct OceanFloor::Before {
+    std::vector<int32_t> link;  // the neighbours of the vertices involved
+    int crossings = 0;          // the spokes of their stars crossing Gamma
+    int obtuse = 0;             // the obtuse triangles touching the region
+    int off_centre = 0;         // ... and those not holding their orthocentre
+};
+
+int OceanFloor::off_centre_touching(const std::vector<int32_t> &vertices) const {
+    int off = 0;
+    for (int32_t t : s_.tri.triangles_around(vertices))
+        off += staggering_score(s_.generator(s_.tri.vertex(t, 0)), s_.generator(s_.tri.vertex(t, 1)),
+                                s_.generator(s_.tri.vertex(t, 2))) < 0;
+    return off;
+}
+
+OceanFloor::Before OceanFloor::before(std::initializer_list<int32_t> vertices) const {
+    Before b;
+    for (int32_t v : vertices)
+        for (int32_t u : s_.tri.link(v))
+            if (std::find(vertices.begin(), vertices.end(), u) == vertices.end() &&
+                std::find(b.link.begin(), b.link.end(), u) == b.link.end())
+                b.link.push_back(u);
+    auto at = [&](int32_t u) { return s_.generator(u); };
+    b.crossings = s_.stars_gamma_crossings(b.link.data(), static_cast<int>(b.link.size()), at, false);
+    const std::vector<int32_t> region = s_.closed_stars(vertices);
+    b.obtuse = s_.obtuse_touching(region);
+    b.off_centre = off_centre_touching(region);
+    return b;
+}
+
+// After the removal: Gamma in no more cells off it, once the weights are
+// tuned no more obtuse triangles and none more not holding its orthocentre
+// (before, the sweeps that follow reshape them), and no edge across the hole longer than split_ratio h (the
+// split that would follow would put a vertex back). `kept`, when not -1,
+// is a vertex that moved and stays.
+bool OceanFloor::acceptable(const Before &b, int32_t kept) const {
+    std::vector<int32_t> region = b.link;
+    if (kept >= 0) region.push_back(kept);
+    auto at = [&](int32_t u) { return s_.generator(u); };
+    const int crossings = s_.stars_gamma_crossings(region.data(), static_cast<int>(region.size()), at, false);
+    if (b.crossings < 0 || crossings < 0 || crossings > b.crossings) return false;
+    if (leaves_long_edge(region)) return false;
+    if (!s_.weighing) return true;
+    std::sort(region.begin(), region.end());
+    return off_centre_touching(region) <= b.off_centre && s_.obtuse_touching(region) <= b.obtuse;
+}
+
+void OceanFloor::mark_changed(const std::vector<int32_t> &link) {
+    for (int32_t u : link) s_.changed_at[u] = s_.clock;
+}
+
+// Two vertices off Gamma: `gone` is taken out and `kept` moves to the
+// edge's midpoint (as the collapse of short edges does).
+bool OceanFloor::merge_at_midpoint(int32_t kept, int32_t gone) {
+    if (!s_.removable(gone)) return false;
+    const Before b = before({kept, gone});
+    const Vec3 was = s_.tri.lifted(kept);
+    const Vec3 mid = geom::normalized(s_.tri.direction(kept) + s_.tri.direction(gone));
+    const int32_t hint = s_.tri.remove(gone);
+    if (!s_.tri.move(kept, mid).empty() || !acceptable(b, kept)) {
+        s_.tri.place(kept, was);
+        s_.tri.restore_removed(gone, hint);
+        return false;
+    }
+    s_.h_at[kept] = static_cast<float>(s_.h(s_.tri.direction(kept)));
+    s_.changed_at[kept] = s_.clock;
+    mark_changed(b.link);
+    return true;
+}
+
+// A vertex off Gamma taken out where its neighbour on Gamma is too near.
+bool OceanFloor::take_out(int32_t v) {
+    if (!s_.removable(v)) return false;
+    const Before b = before({v});
+    const int32_t hint = s_.tri.remove(v);
+    if (!acceptable(b, -1)) {
+        s_.tri.restore_removed(v, hint);
+        return false;
+    }
+    mark_changed(b.link);
+    return true;
+}
+
+// A vertex on Gamma between two neighbours on the same part of it (the
+// nearest before and after it along the part), taken out where the chord
+// between those two is then an edge within floor h of where the vertex
+// was, and every other edge along Gamma around stays.
+bool OceanFloor::take_out_of_gamma(int32_t v) {
+    if (!s_.tri.in_triangulation(v) || !s_.removable(v)) return false;
+    int32_t along[2];
+    if (!neighbours_along_gamma(v, along)) return false;
+    const auto gamma_edges = s_.gamma_edges_among(s_.closed_stars({v}));
+    const Before b = before({v});
+    const Vec3 x = s_.tri.direction(v);
+    const int32_t hint = s_.tri.remove(v);
+    bool ok = s_.has_edge(along[0], along[1]) &&
+              geom::distance_to_arc(x, s_.tri.direction(along[0]), s_.tri.direction(along[1])) <
+                  s_.options.ocean_floor * s_.h_at[v];
+    for (const auto &[a, c] : gamma_edges) ok = ok && (a == v || c == v || s_.has_edge(a, c));
+    if (!ok || !acceptable(b, -1)) {
+        s_.tri.restore_removed(v, hint);
+        return false;
+    }
+    mark_changed(b.link);
+    return true;
+}
+
+// v's nearest neighbours on its part of Gamma before and after it along
+// the part (on a closed part, the shorter way round); false without both.
+bool OceanFloor::neighbours_along_gamma(int32_t v, int32_t (&along)[2]) const {
+    const int64_t part = s_.gamma->segment_part(s_.on_segment[v]);
+    const features::Part &p = s_.gamma->part(part);
+    const double pv = s_.position_along_part(v), n = static_cast<double>(p.n_segments);
+    double nearest[2] = {kInfinity, kInfinity};
+    along[0] = along[1] = -1;
+    s_.tri.for_each_neighbour(v, [&](int32_t u) {
+        if (s_.on_segment[u] < 0 || s_.gamma->segment_part(s_.on_segment[u]) != part) return;
+        double d = s_.position_along_part(u) - pv;
+        if (p.closed && d > 0.5 * n) d -= n;
+        if (p.closed && d < -0.5 * n) d += n;
+        const int side = d < 0 ? 0 : 1;
+        if (d != 0 && std::abs(d) < nearest[side]) nearest[side] = std::abs(d), along[side] = u;
+    });
+    return along[0] >= 0 && along[1] >= 0;
+}
+
+// Whether an edge between two of `vertices` (the hole a removal
+// re-triangulated) is longer than split_ratio h: the split that would
+// follow would put a vertex back.
+bool OceanFloor::leaves_long_edge(const std::vector<int32_t> &vertices) const {
+    bool long_edge = false;
+    for (int32_t u : vertices)
+        s_.tri.for_each_neighbour(u, [&](int32_t w) {
+            if (w < u || std::find(vertices.begin(), vertices.end(), w) == vertices.end()) return;
+            const double h = 0.5 * (static_cast<double>(s_.h_at[u]) + static_cast<double>(s_.h_at[w]));
+            long_edge = long_edge || geom::norm(s_.tri.direction(u) - s_.tri.direction(w)) > s_.options.split_ratio * h;
+        });
+    return long_edge;
+}
+
+}  // namespace um::optim::detail

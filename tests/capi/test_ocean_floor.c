@@ -1,0 +1,143 @@
+/* CMocka suite: the time-step floor (UM_OPT_OCEAN_FLOOR) on planted narrow
+ * features - an inlet and a strait narrower than the floor - and its
+ * report in the quality JSON ("ocean_floor"). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "context_fixture.h"
+#include "unimesh.h"
+
+#define H_KM 200.0
+#define EARTH_KM 6371.22
+
+static double degrees_of_km(double km) { return km / EARTH_KM * 180.0 / M_PI; }
+
+/* Two continents (closed coastlines, counter-clockwise: land on the left):
+ * the western one with an inlet 0.35 h wide and 12 degrees deep cut into
+ * its east coast, the eastern one across a strait 0.3 h wide from it. */
+static um_features *planted_coasts(um_context *ctx) {
+    const double inlet = 0.5 * degrees_of_km(0.35 * H_KM), strait = degrees_of_km(0.3 * H_KM);
+    const double lon[] = {-40, 0, 0, -12, -12, 0, 0, -40, /* west */
+                          strait, 40, 40, strait /* east */};
+    const double lat[] = {-20, -20, -inlet, -inlet, inlet, inlet, 20, 20, /* west */
+                          -20, -20, 20, 20 /* east */};
+    const int64_t offsets[] = {0, 8, 12};
+    const int32_t closed[] = {1, 1}, kind[] = {UM_FEATURE_COASTLINE, UM_FEATURE_COASTLINE};
+    um_features *f = NULL;
+    assert_int_equal(um_features_create(ctx, &f), UM_OK);
+    assert_int_equal(um_features_add(f, 12, lon, lat, 2, offsets, closed, kind, NULL), UM_OK);
+    return f;
+}
+
+static um_mesh *build(um_context *ctx, double floor) {
+    um_spacing *h = NULL;
+    um_options *o = NULL;
+    um_mesh *m = NULL;
+    um_features *f = planted_coasts(ctx);
+    assert_int_equal(um_spacing_create_constant(ctx, H_KM, &h), UM_OK);
+    assert_int_equal(um_options_create(ctx, &o), UM_OK);
+    assert_int_equal(um_options_set_double(o, UM_OPT_OCEAN_FLOOR, floor), UM_OK);
+    assert_int_equal(um_mesh_refine(ctx, h, f, o, &m), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, o), UM_OK);
+    um_options_destroy(o);
+    um_features_destroy(f);
+    um_spacing_destroy(h);
+    return m;
+}
+
+typedef struct {
+    double floor, min_ratio, all_edges_min_ratio;
+    int64_t ocean_edges, below_floor;
+} ocean_report;
+
+static double member(const char *json, const char *key) {
+    const char *at = strstr(json, "\"ocean_floor\"");
+    assert_non_null(at);
+    char quoted[64];
+    snprintf(quoted, sizeof quoted, "\"%s\": ", key);
+    at = strstr(at, quoted);
+    assert_non_null(at);
+    return strtod(at + strlen(quoted), NULL);
+}
+
+static ocean_report report_of(um_mesh *m) {
+    int64_t needed = 0;
+    assert_int_equal(um_mesh_quality_json(m, NULL, 0, &needed), UM_ERR_BUFFER_TOO_SMALL);
+    char *json = malloc((size_t)needed);
+    assert_non_null(json);
+    assert_int_equal(um_mesh_quality_json(m, json, needed, &needed), UM_OK);
+    ocean_report r = {member(json, "floor"), member(json, "min_ratio"), member(json, "all_edges_min_ratio"),
+                      (int64_t)member(json, "ocean_edges"), (int64_t)member(json, "below_floor")};
+    free(json);
+    return r;
+}
+
+/* Without the floor the inlet and the strait leave ocean edges well below
+ * half the spacing; with the floor at 0.7 h the shortest ocean edge is lifted
+ * past 0.6 h and at most one ocean edge in a thousand stays below the floor,
+ * every triangle still holding its orthocentre. */
+static void the_floor_lifts_the_short_ocean_edges(void **state) {
+    um_context *ctx = *state;
+    um_mesh *without = build(ctx, 0.0);
+    const ocean_report a = report_of(without);
+    assert_true(a.floor == 0.0);
+    assert_int_equal(a.below_floor, 0); /* nothing is below a floor of 0 */
+    assert_true(a.min_ratio < 0.5);
+    um_mesh_destroy(without);
+
+    um_mesh *with = build(ctx, 0.7);
+    const ocean_report b = report_of(with);
+    print_message("ocean edges: min dcEdge/h %.3f without the floor, %.3f with it (%lld of %lld below 0.7)\n",
+                  a.min_ratio, b.min_ratio, (long long)b.below_floor, (long long)b.ocean_edges);
+    assert_true(b.floor == 0.7);
+    assert_true(b.ocean_edges > 30000);
+    assert_true(b.min_ratio > 0.6);
+    assert_true(b.below_floor * 1000 <= b.ocean_edges);
+    assert_true(b.all_edges_min_ratio <= b.min_ratio);
+    int64_t obtuse = 0, off_centre = -1;
+    assert_int_equal(um_mesh_quality_counts(with, &obtuse, &off_centre), UM_OK);
+    assert_int_equal(off_centre, 0);
+    um_mesh_destroy(with);
+}
+
+static void copy_points(um_mesh *m, double **lon, double **lat, int64_t *n) {
+    assert_int_equal(um_mesh_counts(m, n, NULL, NULL, NULL), UM_OK);
+    *lon = malloc((size_t)*n * sizeof(double)), *lat = malloc((size_t)*n * sizeof(double));
+    assert_non_null(*lon), assert_non_null(*lat);
+    assert_int_equal(um_mesh_copy_vertices(m, *lon, *lat, *n), UM_OK);
+}
+
+/* The floor's removals are serial and ordered: the same mesh for 1 and 2
+ * threads. */
+static void the_floor_is_bit_identical_for_any_thread_count(void **state) {
+    um_context *ctx = *state;
+    double *lon[2], *lat[2];
+    int64_t n[2];
+    for (int run = 0; run < 2; ++run) {
+        assert_int_equal(um_context_set_threads(ctx, run + 1), UM_OK);
+        um_mesh *m = build(ctx, 0.7);
+        copy_points(m, &lon[run], &lat[run], &n[run]);
+        um_mesh_destroy(m);
+    }
+    assert_int_equal(n[0], n[1]);
+    assert_memory_equal(lon[0], lon[1], (size_t)n[0] * sizeof(double));
+    assert_memory_equal(lat[0], lat[1], (size_t)n[0] * sizeof(double));
+    for (int run = 0; run < 2; ++run) free(lon[run]), free(lat[run]);
+    assert_int_equal(um_context_set_threads(ctx, 0), UM_OK);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(the_floor_lifts_the_short_ocean_edges),
+        cmocka_unit_test(the_floor_is_bit_identical_for_any_thread_count),
+    };
+    return cmocka_run_group_tests(tests, setup_context, teardown_context);
+}
