@@ -672,6 +672,14 @@ UM_API um_status um_mesh_copy_triangle_sides(const um_mesh *m, int32_t *out, int
  *   "primal_edge_offset"  per edge, arc(xEdge, midpoint of the primal arc) /
  *                         dcEdge: rms and max (0 on a Voronoi mesh);
  *   "cell_spacing_ratio"  per edge, dcEdge / h(xEdge): min, max, mean, std.
+ * Its "ocean_floor" certifies the time step (UM_OPT_OCEAN_FLOOR): "floor" (the
+ * floor the mesh was built to), "ocean_edges" (edges between two cells of the
+ * ocean mesh, the cellOceanMask rule), "min_ratio" (their least dcEdge /
+ * h(xEdge)), "all_edges_min_ratio", "below_floor" (ocean edges below the
+ * floor) and "regions": {"count", "largest": [[cells, lon, lat], ...]}, the
+ * connected regions of the ocean mesh, largest first (at most 100 listed),
+ * each at its cell of the lowest slot: compare with a build without the floor
+ * to see a channel it closed.
  * The summary takes a metric name: "area_length_ratio", "primal_dual",
  * "angle_min_deg", "angle_max_deg", "edge_spacing_ratio", or one of the four
  * operator diagnostics above, and gives its min, 1st percentile (over the

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "optim/slide.hpp"
 #include "refine/restricted.hpp"
 
 namespace um::optim::detail {
@@ -13,6 +14,8 @@ namespace {
 // cent of the measure (arc over h at the midpoint) where h is smooth: edges
 // below this many floors get the measure.
 constexpr double kScanMargin = 1.2;
+// A vertex pushed off a too near neighbour lands this many floors from it.
+constexpr double kPushPast = 1.02;
 
 }  // namespace
 
@@ -66,10 +69,13 @@ int64_t OceanFloor::lift() {
     for (const ShortEdge &e : short_ocean_edges()) {
         if (!s_.tri.in_triangulation(e.a) || !s_.tri.in_triangulation(e.b)) continue;
         if (!s_.lock_neighbourhood({e.a, e.b}, locked)) continue;
+        fixing_ = e.ratio;
         const bool a_on = s_.on_segment[e.a] >= 0, b_on = s_.on_segment[e.b] >= 0;
+        const int32_t off = a_on ? e.b : e.a, on = a_on ? e.a : e.b;
         const bool done = !a_on && !b_on ? merge_at_midpoint(e.a, e.b)
-                          : a_on != b_on ? take_out(a_on ? e.b : e.a)
-                                         : take_out_of_gamma(e.b) || take_out_of_gamma(e.a);
+                          : a_on != b_on ? take_out(off) || (!s_.weighing && push_away(off, on))
+                                         : merge_along_gamma(e.a, e.b) || take_out_of_gamma(e.b) ||
+                                               take_out_of_gamma(e.a);
         taken_out += done;
     }
     s_.stats.floor_removals += taken_out;
@@ -108,7 +114,8 @@ OceanFloor::Before OceanFloor::before(std::initializer_list<int32_t> vertices) c
     return b;
 }
 
-// After the removal: Gamma in no more cells off it, once the weights are
+// After the removal: Gamma in no more cells off it, the vertex that moved
+// (kept) with no edge shorter than the one being lifted, once the weights are
 // tuned no more obtuse triangles and none more not holding its orthocentre
 // (before, the sweeps that follow reshape them), and no edge across the hole longer than split_ratio h (the
 // split that would follow would put a vertex back). `kept`, when not -1,
@@ -119,10 +126,22 @@ bool OceanFloor::acceptable(const Before &b, int32_t kept) const {
     auto at = [&](int32_t u) { return s_.generator(u); };
     const int crossings = s_.stars_gamma_crossings(region.data(), static_cast<int>(region.size()), at, false);
     if (b.crossings < 0 || crossings < 0 || crossings > b.crossings) return false;
+    if (kept >= 0 && shortest_edge(kept) < fixing_) return false;
     if (leaves_long_edge(region)) return false;
     if (!s_.weighing) return true;
     std::sort(region.begin(), region.end());
     return off_centre_touching(region) <= b.off_centre && s_.obtuse_touching(region) <= b.obtuse;
+}
+
+// The shortest edge of v over h (the scan's chord measure).
+double OceanFloor::shortest_edge(int32_t v) const {
+    double shortest = kInfinity;
+    const Vec3 x = s_.tri.direction(v);
+    s_.tri.for_each_neighbour(v, [&](int32_t w) {
+        const double h = 0.5 * (static_cast<double>(s_.h_at[v]) + static_cast<double>(s_.h_at[w]));
+        shortest = std::min(shortest, geom::norm(x - s_.tri.direction(w)) / h);
+    });
+    return shortest;
 }
 
 void OceanFloor::mark_changed(const std::vector<int32_t> &link) {
@@ -158,6 +177,57 @@ bool OceanFloor::take_out(int32_t v) {
         return false;
     }
     mark_changed(b.link);
+    return true;
+}
+
+// A vertex off Gamma that cannot go (its removal would leave a poor
+// triangle or a long edge) moves away from its too near neighbour on Gamma
+// to just past floor h from it. Only in the shape phase: the weight
+// phase's sweeps near Gamma would move it back, and the next pass push it
+// again, every outer iteration.
+bool OceanFloor::push_away(int32_t v, int32_t from) {
+    const Before b = before({v});
+    const Vec3 was = s_.tri.lifted(v), x = s_.tri.direction(v), y = s_.tri.direction(from);
+    const double reach = kPushPast * s_.options.ocean_floor * s_.h_at[v];
+    const Vec3 away = geom::normalized(x - geom::dot(x, y) * y);  // tangent at y towards x
+    const Vec3 to = geom::normalized(std::cos(reach) * y + std::sin(reach) * away);
+    if (!s_.tri.move(v, to).empty() || !acceptable(b, v)) {
+        s_.tri.place(v, was);
+        return false;
+    }
+    s_.h_at[v] = static_cast<float>(s_.h(s_.tri.direction(v)));
+    s_.changed_at[v] = s_.clock;
+    mark_changed(b.link);
+    return true;
+}
+
+// Two neighbours along one part of Gamma: one goes and the other moves to
+// the point of the part nearest their midpoint (a collapse along Gamma:
+// both chords to their outer neighbours stay short).
+bool OceanFloor::merge_along_gamma(int32_t a, int32_t b) {
+    int32_t along[2];
+    if (!neighbours_along_gamma(a, along) || (along[0] != b && along[1] != b)) return false;
+    if (!s_.removable(b)) return false;
+    const auto gamma_edges = s_.gamma_edges_among(s_.closed_stars({a, b}));
+    const Before bf = before({a, b});
+    const Vec3 was = s_.tri.lifted(a);
+    const int32_t segment_was = s_.on_segment[a];
+    const PointOnGamma p = slide_along(*s_.gamma, s_.on_segment[a],
+                                       geom::normalized(s_.tri.direction(a) + s_.tri.direction(b)));
+    const int32_t hint = s_.tri.remove(b);
+    bool ok = s_.tri.move(a, p.x).empty();
+    s_.on_segment[a] = static_cast<int32_t>(p.segment);
+    for (const auto &[u, w] : gamma_edges)
+        ok = ok && (u == b || w == b || s_.has_edge(u, w));
+    if (!ok || !acceptable(bf, a)) {
+        s_.tri.place(a, was);
+        s_.on_segment[a] = segment_was;
+        s_.tri.restore_removed(b, hint);
+        return false;
+    }
+    s_.h_at[a] = static_cast<float>(s_.h(s_.tri.direction(a)));
+    s_.changed_at[a] = s_.clock;
+    mark_changed(bf.link);
     return true;
 }
 

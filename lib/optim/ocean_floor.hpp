@@ -51,10 +51,14 @@ private:
     bool merge_at_midpoint(int32_t kept, int32_t gone);
     bool take_out(int32_t v);
     bool take_out_of_gamma(int32_t v);
+    bool push_away(int32_t v, int32_t from);
+    bool merge_along_gamma(int32_t a, int32_t b);
     bool neighbours_along_gamma(int32_t v, int32_t (&along)[2]) const;
     bool leaves_long_edge(const std::vector<int32_t> &link) const;
+    double shortest_edge(int32_t v) const;
 
     MeshState &s_;
+    double fixing_ = 0;  // the ratio of the edge being lifted
 };
 
 }  // namespace um::optim::detail

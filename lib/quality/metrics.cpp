@@ -34,6 +34,16 @@ std::string json_summary(const Summary &s) {
 // JSON has no inf or nan: null stands for them.
 std::string json_number(double v) { return std::isfinite(v) ? to_text(v) : "null"; }
 
+// The ocean regions as [[cells, lon, lat], ...], at most kListedRegions
+// of them (the largest; the count is always whole).
+constexpr size_t kListedRegions = 100;
+std::string json_regions(const std::vector<Report::OceanEdges::Region> &regions) {
+    std::string list;
+    for (size_t i = 0; i < std::min(regions.size(), kListedRegions); ++i)
+        list += concat(i ? ", " : "", "[", regions[i].cells, ", ", regions[i].lon, ", ", regions[i].lat, "]");
+    return concat("{\"count\": ", regions.size(), ", \"largest\": [", list, "]}");
+}
+
 std::string json_offset(const Summary &s) {
     return concat("{\"rms\": ", json_number(s.rms), ", \"max\": ", json_number(s.max), "}");
 }
@@ -386,6 +396,45 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
     return r;
 }
 
+namespace {
+
+// Union-find root of v, halving the path on the way.
+int32_t root_of(std::vector<int32_t> &parent, int32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+}
+
+}  // namespace
+
+std::vector<Report::OceanEdges::Region> ocean_regions(const tri::Triangulation &tri, const std::vector<uint8_t> &ocean_cell) {
+    const int32_t n = tri.vertex_slots();
+    auto ocean = [&](int32_t v) { return static_cast<size_t>(v) < ocean_cell.size() && ocean_cell[v] != 0; };
+    std::vector<int32_t> parent(static_cast<size_t>(n));
+    for (int32_t v = 0; v < n; ++v) parent[v] = v;
+    for (int32_t t = 0; t < tri.triangle_slots(); ++t) {
+        if (tri.is_free(t)) continue;
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = tri.vertex(t, (k + 1) % 3), b = tri.vertex(t, (k + 2) % 3);
+            if (a < b && ocean(a) && ocean(b)) {
+                const int32_t ra = root_of(parent, a), rb = root_of(parent, b);
+                if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);  // the root: the lowest slot
+            }
+        }
+    }
+    std::vector<int64_t> cells(static_cast<size_t>(n), 0);
+    for (int32_t v = 0; v < n; ++v)
+        if (tri.in_triangulation(v) && ocean(v)) ++cells[root_of(parent, v)];
+    std::vector<Report::OceanEdges::Region> regions;
+    for (int32_t v = 0; v < n; ++v) {
+        if (cells[v] == 0) continue;
+        Report::OceanEdges::Region r{cells[v], 0, 0};
+        geom::lonlat_deg_from_unit(tri.direction(v), r.lon, r.lat);
+        regions.push_back(r);
+    }
+    std::stable_sort(regions.begin(), regions.end(), [](const auto &p, const auto &q) { return p.cells > q.cells; });
+    return regions;
+}
+
 Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
                                        const std::vector<uint8_t> &ocean_cell, double floor) {
     constexpr int64_t kBlock = 16384;
@@ -416,6 +465,7 @@ Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &t
         all.edges += o.edges, all.below_floor += o.below_floor;
         all.min_ratio = std::min(all.min_ratio, o.min_ratio);
     }
+    all.regions = ocean_regions(tri, ocean_cell);
     return all;
 }
 
@@ -436,7 +486,7 @@ std::string to_json(const Report &r, const std::string &indent,
         text += concat(",", nl, "\"ocean_floor\": {\"floor\": ", r.ocean.floor, ", \"ocean_edges\": ", r.ocean.edges,
                        ", \"min_ratio\": ", json_number(r.ocean.min_ratio),
                        ", \"all_edges_min_ratio\": ", json_number(r.cell_spacing_ratio.min),
-                       ", \"below_floor\": ", r.ocean.below_floor, "}");
+                       ", \"below_floor\": ", r.ocean.below_floor, ", \"regions\": ", json_regions(r.ocean.regions), "}");
     if (!extra_members.empty()) text += concat(",", nl, extra_members);
     return text + concat("\n", indent, "}", indent.empty() ? "\n" : "");
 }

@@ -78,8 +78,21 @@ struct Report {
         double floor = 0;
         int64_t edges = 0, below_floor = 0;
         double min_ratio = 0;
+        // The connected regions of the ocean mesh (cells joined by their
+        // edges), largest first: a channel the floor closed shows as a
+        // region more than with a floor of 0. Each: its cells and the
+        // position (degrees) of its cell of the lowest slot.
+        struct Region {
+            int64_t cells;
+            double lon, lat;
+        };
+        std::vector<Region> regions;
     } ocean;
 };
+
+// The connected regions of the ocean mesh (Report::OceanEdges::regions).
+std::vector<Report::OceanEdges::Region> ocean_regions(const tri::Triangulation &tri,
+                                                      const std::vector<uint8_t> &ocean_cell);
 
 // The ocean edges of a report (Report::ocean): ocean_cell per vertex slot
 // (1: its cell is in the ocean mesh).

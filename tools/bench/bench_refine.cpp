@@ -38,6 +38,10 @@ using Clock = std::chrono::steady_clock;
 struct Quality {
     double qt_min = 0, qp_min = 0, angle_max = 0, obtuse_pct = 0;
     int64_t not_well_centred = 0, not_well_centred_off_gamma = 0;
+    // The time-step floor: least dcEdge/h over the ocean mesh's edges and
+    // how many are below the floor the mesh was built to.
+    double ocean_min = 0, floor = 0;
+    int64_t below_floor = 0;
 };
 
 // Edge lengths of the refined mesh over h at their midpoints (the
@@ -100,6 +104,10 @@ Quality quality_in(const std::string &json, size_t from) {
     q.obtuse_pct = 100.0 * number_after(json, from, "\"obtuse_triangles\": ") / triangles;
     q.not_well_centred = static_cast<int64_t>(number_after(json, from, "\"not_well_centred\": "));
     q.not_well_centred_off_gamma = static_cast<int64_t>(number_after(json, from, "\"not_well_centred_off_gamma\": "));
+    const size_t ocean = json.find("\"ocean_floor\"", from);
+    q.floor = number_after(json, ocean, "\"floor\": ");
+    q.ocean_min = number_after(json, ocean, "\"min_ratio\": ");
+    q.below_floor = static_cast<int64_t>(number_after(json, ocean, "\"below_floor\": "));
     return q;
 }
 
@@ -414,7 +422,7 @@ int main(int argc, char **argv) {
     std::printf("%-18s %3s %8s %8s %8s %8s %6s %6s %6s %8s %8s %8s %7s  %-40s  %-40s  %-32s  %s\n", "case", "thr",
                 "cells", "restrict", "boundary", "surface", "par%", "relax", "tags", "optimise", "total_s", "peak_MB", "B/cell",
                 "before: QTmin QPmin maxang obt% nwc/off", "after: QTmin QPmin maxang obt% nwc/off",
-                "final l/h: min max <0.75% >1.35%", "obtuse on-Gamma% all-Gamma% forced%");
+                "final l/h: min max <0.75% >1.35%", "obtuse on-Gamma% all-Gamma% forced%  ocean: floor min below");
     int failures = 0;
     auto quality_text = [](const Quality &q) {
         char buf[64];
@@ -435,7 +443,7 @@ int main(int argc, char **argv) {
                 std::snprintf(edges, sizeof edges, "%.3f %.3f %6.2f %6.2f", r.edges.min, r.edges.max,
                               r.edges.share_below, r.edges.share_above);
             std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %6.1f %6.3f %6.3f %8.3f %8.3f %8.1f %7.0f  %-40s  %-40s  "
-                        "%-32s  %lld %.1f %.1f %.1f\n",
+                        "%-32s  %lld %.1f %.1f %.1f  %.2f %.3f %lld\n",
                         c.c_str(), threads, (long long)r.cells, (long long)r.restricted, r.boundary_s,
                         r.surface_s, r.surface_points > 0 ? 100.0 * double(r.by_territories) / double(r.surface_points) : 0.0,
                         r.relax_s, r.tags_s, r.optimise_s, r.total_s, r.peak_mb,
@@ -443,7 +451,8 @@ int main(int argc, char **argv) {
                         quality_text(r.after).c_str(), edges, (long long)r.obtuse,
                         r.obtuse > 0 ? 100.0 * double(r.obtuse_on_gamma) / double(r.obtuse) : 0.0,
                         r.obtuse > 0 ? 100.0 * double(r.obtuse_all_gamma) / double(r.obtuse) : 0.0,
-                        r.obtuse > 0 ? 100.0 * double(r.obtuse_forced) / double(r.obtuse) : 0.0);
+                        r.obtuse > 0 ? 100.0 * double(r.obtuse_forced) / double(r.obtuse) : 0.0, r.after.floor,
+                        r.after.ocean_min, (long long)r.after.below_floor);
             std::fflush(stdout);
         }
     std::printf("# boundary = boundary refinement; surface = surface refinement; par%% = share of the\n"
@@ -454,6 +463,8 @@ int main(int argc, char **argv) {
                 "# 2 or 3 vertices on Gamma, with 3, and the share forced by a Gamma vertex with one vertex off Gamma on that\n"
                 "# side (its two triangles there share 180 degrees)\n"
                 "# QT = area-length ratio, QP = primal-dual, obt%% = %% of triangles with an angle > 90,\n"
-                "# nwc/off = triangles not containing their orthocentre / those of them with a vertex off Gamma\n");
+                "# nwc/off = triangles not containing their orthocentre / those of them with a vertex off Gamma\n"
+                "# ocean: the ocean_floor option, the least dcEdge/h over the edges between two cells of the ocean\n"
+                "# mesh, and how many of them are below the floor\n");
     return failures ? 1 : 0;
 }
