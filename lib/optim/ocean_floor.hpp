@@ -10,7 +10,8 @@
 //     neighbours along Gamma passes within floor h of it (the detail
 //     narrower than the floor is filtered, as the boundary refinement
 //     filters detail narrower than the spacing).
-// Each pass first finds the sides of the vertices (MeshState::side). A
+// Each pass first brings the sides of the vertices up to date
+// (MeshState::side: found once, then kept for the vertices that stay). A
 // removal is kept only if it lets Gamma into no more cells off it, leaves
 // no edge longer than split_ratio h and, once the weights are tuned, adds
 // no obtuse triangle and none not holding its orthocentre; the sweeps then
@@ -59,6 +60,7 @@ private:
 
     MeshState &s_;
     double fixing_ = 0;  // the ratio of the edge being lifted
+    std::vector<int32_t> side_id_;  // per slot, the id of the vertex MeshState::side is of (-1: none)
 };
 
 }  // namespace um::optim::detail
