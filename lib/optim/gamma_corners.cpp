@@ -308,7 +308,7 @@ int GammaCorners::corner_vertex_helps(int32_t d, const GammaCorner &corner) cons
         ok = ok && std::binary_search(corner.region.begin(), corner.region.end(), u) &&
              geom::norm(x - s_.tri.direction(u)) >= floor * h;
     });
-    for (const auto &[a, c] : corner.gamma_edges) ok = ok && s_.has_edge(a, c);
+    ok = ok && s_.gamma_edges_stay(corner.gamma_edges);
     if (!ok || has_triangle(corner.b, corner.p, corner.q)) return -1;
     // With corner_cells_clear, its cell stays clear of Gamma (gamma_crossings):
     // at 60 km on the coastlines and rivers that keeps 380 edges to cells off
@@ -351,7 +351,7 @@ bool GammaCorners::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner
     if (crossed < 0 || !s_.removable(v)) return false;
     const int32_t near = s_.tri.remove(v);
     bool ok = s_.chord_carries_gamma(along[0], along[1], s_.options.gamma_alpha, s_.options.gamma_beta);
-    for (const auto &[a, c] : corner.gamma_edges) ok = ok && (a == v || c == v || s_.has_edge(a, c));
+    ok = ok && s_.gamma_edges_stay(corner.gamma_edges, v);
     for (int32_t u : link) {
         if (!ok) break;
         s_.tri.for_each_neighbour(u, [&](int32_t w) {

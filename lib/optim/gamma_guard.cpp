@@ -159,6 +159,12 @@ std::vector<std::pair<int32_t, int32_t>> MeshState::gamma_edges_among(const std:
     return edges;
 }
 
+bool MeshState::gamma_edges_stay(const std::vector<std::pair<int32_t, int32_t>> &edges, int32_t gone) const {
+    for (const auto &[u, w] : edges)
+        if (u != gone && w != gone && !has_edge(u, w)) return false;
+    return true;
+}
+
 bool MeshState::has_edge(int32_t a, int32_t b) const {
     bool found = false;
     tri.for_each_neighbour(a, [&](int32_t w) { found = found || w == b; });

@@ -221,6 +221,9 @@ public:
     // (sorted), each once.
     std::vector<std::pair<int32_t, int32_t>> gamma_edges_among(const std::vector<int32_t> &vertices) const;
     bool has_edge(int32_t a, int32_t b) const;
+    // Every edge of `edges` is still an edge, but those of vertex `gone`
+    // (-1: none).
+    bool gamma_edges_stay(const std::vector<std::pair<int32_t, int32_t>> &edges, int32_t gone = -1) const;
     // The obtuse triangles with a vertex among `vertices` (each counted once).
     int obtuse_touching(const std::vector<int32_t> &vertices) const;
 

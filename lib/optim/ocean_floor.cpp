@@ -179,6 +179,15 @@ void OceanFloor::mark_changed(const std::vector<int32_t> &link) {
     for (int32_t u : link) s_.changed_at[u] = s_.clock;
 }
 
+// A vertex that moved and stays: its spacing read again, it and its link
+// marked for the sweeps.
+void OceanFloor::keep_moved(int32_t v, const std::vector<int32_t> &link) {
+    s_.h_at[v] = static_cast<float>(s_.h(s_.tri.direction(v)));
+    s_.changed_at[v] = s_.clock;
+    mark_changed(link);
+}
+
+
 // Two vertices off Gamma: `gone` is taken out and `kept` moves to the
 // edge's midpoint (as the collapse of short edges does).
 bool OceanFloor::merge_at_midpoint(int32_t kept, int32_t gone) {
@@ -192,9 +201,7 @@ bool OceanFloor::merge_at_midpoint(int32_t kept, int32_t gone) {
         s_.tri.restore_removed(gone, hint);
         return false;
     }
-    s_.h_at[kept] = static_cast<float>(s_.h(s_.tri.direction(kept)));
-    s_.changed_at[kept] = s_.clock;
-    mark_changed(b.link);
+    keep_moved(kept, b.link);
     return true;
 }
 
@@ -226,9 +233,7 @@ bool OceanFloor::push_away(int32_t v, int32_t from) {
         s_.tri.place(v, was);
         return false;
     }
-    s_.h_at[v] = static_cast<float>(s_.h(s_.tri.direction(v)));
-    s_.changed_at[v] = s_.clock;
-    mark_changed(b.link);
+    keep_moved(v, b.link);
     return true;
 }
 
@@ -246,19 +251,15 @@ bool OceanFloor::merge_along_gamma(int32_t a, int32_t b) {
     const PointOnGamma p = slide_along(*s_.gamma, s_.on_segment[a],
                                        geom::normalized(s_.tri.direction(a) + s_.tri.direction(b)));
     const int32_t hint = s_.tri.remove(b);
-    bool ok = s_.tri.move(a, p.x).empty();
+    const bool hid = !s_.tri.move(a, p.x).empty();
     s_.on_segment[a] = static_cast<int32_t>(p.segment);
-    for (const auto &[u, w] : gamma_edges)
-        ok = ok && (u == b || w == b || s_.has_edge(u, w));
-    if (!ok || !acceptable(bf, a)) {
+    if (hid || !s_.gamma_edges_stay(gamma_edges, b) || !acceptable(bf, a)) {
         s_.tri.place(a, was);
         s_.on_segment[a] = segment_was;
         s_.tri.restore_removed(b, hint);
         return false;
     }
-    s_.h_at[a] = static_cast<float>(s_.h(s_.tri.direction(a)));
-    s_.changed_at[a] = s_.clock;
-    mark_changed(bf.link);
+    keep_moved(a, bf.link);
     return true;
 }
 
@@ -274,11 +275,10 @@ bool OceanFloor::take_out_of_gamma(int32_t v) {
     const Before b = before({v});
     const Vec3 x = s_.tri.direction(v);
     const int32_t hint = s_.tri.remove(v);
-    bool ok = s_.has_edge(along[0], along[1]) &&
-              geom::distance_to_arc(x, s_.tri.direction(along[0]), s_.tri.direction(along[1])) <
-                  s_.options.ocean_floor * s_.h_at[v];
-    for (const auto &[a, c] : gamma_edges) ok = ok && (a == v || c == v || s_.has_edge(a, c));
-    if (!ok || !acceptable(b, -1)) {
+    const bool chord_near = s_.has_edge(along[0], along[1]) &&
+                            geom::distance_to_arc(x, s_.tri.direction(along[0]), s_.tri.direction(along[1])) <
+                                s_.options.ocean_floor * s_.h_at[v];
+    if (!chord_near || !s_.gamma_edges_stay(gamma_edges, v) || !acceptable(b, -1)) {
         s_.tri.restore_removed(v, hint);
         return false;
     }

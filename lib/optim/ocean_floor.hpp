@@ -48,6 +48,7 @@ private:
     Before before(std::initializer_list<int32_t> vertices) const;
     bool acceptable(const Before &b, int32_t kept) const;
     void mark_changed(const std::vector<int32_t> &link);
+    void keep_moved(int32_t v, const std::vector<int32_t> &link);
     int off_centre_touching(const std::vector<int32_t> &vertices) const;
     bool merge_at_midpoint(int32_t kept, int32_t gone);
     bool take_out(int32_t v);

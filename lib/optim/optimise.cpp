@@ -125,10 +125,9 @@ OptimiseStats Schedule::run() {
     if (off_centre_left > 0) mend_off_centre_after_moves();
     // After the mends' moves: what they brought below the floor, where a
     // removal keeps what they reached.
-    s_.stats.floor_removals += floor_.lift();
-    s_.stats.below_floor = floor_.count_below();
+    floor_.lift();  // (counts its removals in the stats itself)
     s_.ctx.log(UM_LOG_INFO, concat("optimise: ocean floor ", o.ocean_floor, " h: ", s_.stats.floor_removals,
-                                   " vertices taken out, ", s_.stats.below_floor, " edges off the land still below"));
+                                   " vertices taken out, ", floor_.count_below(), " edges off the land still below"));
     s_.ctx.progress("optimise", 1.0);
     return s_.stats;
 }

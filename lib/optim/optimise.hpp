@@ -80,7 +80,6 @@ struct OptimiseStats {
     int64_t corner_vertices = 0;  // added at obtuse corners on Gamma (not among the splits)
     int64_t gamma_vertices_removed = 0;  // taken out at obtuse corners on Gamma (not among the collapses)
     int64_t floor_removals = 0;          // taken out for the ocean floor (ocean_floor.hpp)
-    int64_t below_floor = 0;             // edges off the land still shorter than the floor at the end
     int reseed_rounds = 0;               // rounds of the re-seeding of defects done
     int64_t reseeded = 0;                // vertices those rounds took out (their holes refilled)
     double seconds_moves = 0, seconds_weights = 0, seconds_topology = 0;
