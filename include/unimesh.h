@@ -256,17 +256,18 @@ enum {
     UM_OPT_OPTIM_RESEED_ROUNDS = 209,    /* int; at most this many rounds re-seeding the 5-7 defects
                                             in the shape iterations, default 7 (0: none) */
     /* the ocean mesh */
-    UM_OPT_OCEAN_FLOOR = 300             /* real in [0, 0.9]; the time-step floor f, default 0
-                                            (none; 0.7 suggested). The boundary refinement puts no
-                                            vertex on a closed coastline nearer than f*h to another
-                                            (narrower detail is filtered), and the optimisation
-                                            takes out a vertex of each edge shorter than f*h between
-                                            two generators off the land (ocean, or on a coastline:
-                                            the cells the ocean mesh may take) where that keeps
-                                            Gamma out of more cells, adds no long edge and (with
-                                            the weights) no obtuse or off-centre triangle; the
-                                            quality report's "ocean_floor" counts the ocean edges
-                                            left below. Land and river edges may be shorter. */
+    UM_OPT_OCEAN_FLOOR = 300             /* real in [0, 0.9]; the time-step floor f, default 0.7
+                                            (0: none). The refinement puts no vertex on a closed
+                                            coastline nearer than f*h to another (narrower detail
+                                            is filtered); the optimisation's moves make no edge
+                                            between two generators off the land (ocean, or on or
+                                            crossed by a coastline: the cells the ocean mesh may
+                                            take) shorter than f*h, and a pass takes out a vertex
+                                            of each such edge where that keeps Gamma out of more
+                                            cells, adds no long edge and (with the weights) no
+                                            obtuse or off-centre triangle; the quality report's
+                                            "ocean_floor" counts the ocean edges left below. Land
+                                            and river edges may be shorter. */
 };
 enum {
     UM_OPTION_TYPE_INT = 1,

@@ -10,4 +10,4 @@ export BUILD_DIR=${BUILD_DIR:-$root/build}
 exec "$BUILD_DIR/tools/unimesh" build \
   --geometry "$root/data/coast_global_l.geojson" \
   --geometry "$root/data/rivers_global_l.geojson" \
-  --spacing-km 60 --option ocean_floor=0.7 --out "$root/out"
+  --spacing-km 60 --out "$root/out"

@@ -208,12 +208,12 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
         coast_arc.resize(arcs.size());
         for (size_t s = 0; s < arcs.size(); ++s)
             coast_arc[s] = refine::is_closed_coastline(m.gamma->part(m.gamma->segment_part(static_cast<int64_t>(s))));
-        bo.coast_arc = &coast_arc, bo.coast_filter = options.real(UM_OPT_OCEAN_FLOOR);
+        bo.filter.coast_arc = &coast_arc, bo.filter.coast_filter = options.real(UM_OPT_OCEAN_FLOOR);
     }
     refine::SurfaceOptions so;
     so.alpha = options.real(UM_OPT_REFINE_ALPHA);
     so.rho = options.real(UM_OPT_REFINE_RHO);
-    if (arcs.size() > 0) so.gamma = &arcs, so.on_gamma = &m.on_segment;
+    if (arcs.size() > 0) so.gamma = &arcs, so.on_gamma = &m.on_segment, so.filter = bo.filter;
     // Boundary then surface refinement. The surface points change dual
     // edges near Gamma, so that some restricted edges come out too long
     // again: another boundary pass mends them (looking only around the

@@ -135,7 +135,7 @@ bool Centroidal::update_centroidal(const StarGraph &g, int32_t v) {
         Generator moved = here;
         moved.x = geom::normalized((1 - step) * here.x + step * target);
         if (lloyd_margin(ring, moved, floor) < floor) continue;
-        if (!star_is_valid(ring, moved)) continue;
+        if (!star_is_valid(ring, moved) || !s_.move_keeps_floor(v, moved.x)) continue;
         if (guarded) {
             if (crossings < 0) crossings = s_.gamma_crossings(v, ring, g.link(v), here);
             if (s_.gamma_crossings(v, ring, g.link(v), moved) > crossings) continue;

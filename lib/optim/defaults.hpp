@@ -8,9 +8,8 @@ constexpr double kDefaultCollapseRatio = 0.5;  // collapse edges shorter than th
 constexpr double kDefaultSplitRatio = 1.6;     // split edges longer than this times h
 // No edge between two generators off the land (the ocean mesh's cells)
 // shorter than this times h: an explicit ocean model's time step is set by
-// its shortest dcEdge. Off by default: the floor filters coastline detail
-// the boundary refinement's bounds would follow (0.7 is the suggested
-// value, which the main job uses).
-constexpr double kDefaultOceanFloor = 0.0;
+// its shortest dcEdge (0 turns it off; it filters coastline detail the
+// boundary refinement's bounds would otherwise follow).
+constexpr double kDefaultOceanFloor = 0.7;
 
 }  // namespace um::optim

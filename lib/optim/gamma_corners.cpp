@@ -242,6 +242,7 @@ std::vector<int32_t> GammaCorners::relax_link(int32_t d, const GammaCorner &corn
     std::vector<int32_t> buried;
     for (int32_t u : link) {
         if (s_.on_segment[u] >= 0 || !std::binary_search(corner.region.begin(), corner.region.end(), u)) continue;
+        if (!s_.move_keeps_floor(u, s_.star_odt_point(u))) continue;  // (keeps the floor)
         const MovedVertex before{u, s_.tri.lifted(u), s_.h_at[u]};
         if (std::none_of(moved.begin(), moved.end(), [&](const MovedVertex &m) { return m.v == u; }))
             moved.push_back(before);
@@ -308,7 +309,7 @@ int GammaCorners::corner_vertex_helps(int32_t d, const GammaCorner &corner) cons
         ok = ok && std::binary_search(corner.region.begin(), corner.region.end(), u) &&
              geom::norm(x - s_.tri.direction(u)) >= floor * h;
     });
-    ok = ok && s_.gamma_edges_stay(corner.gamma_edges);
+    ok = ok && s_.gamma_edges_stay(corner.gamma_edges) && s_.clear_of_floor(d);
     if (!ok || has_triangle(corner.b, corner.p, corner.q)) return -1;
     // With corner_cells_clear, its cell stays clear of Gamma (gamma_crossings):
     // at 60 km on the coastlines and rivers that keeps 380 edges to cells off
@@ -349,8 +350,12 @@ bool GammaCorners::try_gamma_vertex_removal(int32_t v, const GammaCorner &corner
     auto at = [&](int32_t u) { return s_.generator(u); };
     const int crossed = s_.stars_gamma_crossings(link.data(), static_cast<int>(link.size()), at, false);
     if (crossed < 0 || !s_.removable(v)) return false;
+    std::vector<int32_t> with_v = link;
+    with_v.push_back(v);
+    const int below = s_.below_floor_at(with_v);
     const int32_t near = s_.tri.remove(v);
     bool ok = s_.chord_carries_gamma(along[0], along[1], s_.options.gamma_alpha, s_.options.gamma_beta);
+    ok = ok && s_.below_floor_at(link) <= below;  // (the hole's new edges off the land keep the floor)
     ok = ok && s_.gamma_edges_stay(corner.gamma_edges, v);
     for (int32_t u : link) {
         if (!ok) break;

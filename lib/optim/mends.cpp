@@ -308,6 +308,15 @@ struct Mends::JointSearch {
     std::vector<int32_t> around;  // the triangles around the vertices, each once
     Generator trial[4];
     double edge2_floor = 0;
+    // With a floor: per triangle around, which of its edges (bit k: the edge
+    // opposite corner k) join two generators off the land; the floor's
+    // squared chord and how many of those edges are below it now (a move
+    // may add none).
+    std::vector<uint8_t> off_land_edges;
+    double floor2 = 0;
+    int below_floor_now = 0;
+    void keep_floor();
+    int below_floor(const Generator *x, size_t j) const;
 };
 
 Mends::JointSearch::JointSearch(MeshState &s, const int32_t *v, int n, const std::vector<Candidate> *candidates,
@@ -330,11 +339,44 @@ Mends::JointSearch::JointSearch(MeshState &s, const int32_t *v, int n, const std
     }
 }
 
+// (After `around` is in its final order.)
+void Mends::JointSearch::keep_floor() {
+    if (moves && s.options.ocean_floor > 0) {
+        const double floor = s.options.ocean_floor * s.h_at[v[0]];
+        floor2 = floor * floor;
+        off_land_edges.resize(around.size(), 0);
+        for (size_t j = 0; j < around.size(); ++j) {
+            bool off[3];
+            for (int k = 0; k < 3; ++k) off[k] = s.off_land(s.tri.vertex(around[j], k));
+            for (int k = 0; k < 3; ++k) off_land_edges[j] |= (off[(k + 1) % 3] && off[(k + 2) % 3]) << k;
+            const Generator x[3] = {s.generator(s.tri.vertex(around[j], 0)), s.generator(s.tri.vertex(around[j], 1)),
+                                    s.generator(s.tri.vertex(around[j], 2))};
+            below_floor_now += below_floor(x, j);
+        }
+    }
+}
+
+int Mends::JointSearch::below_floor(const Generator *x, size_t j) const {
+    int below = 0;
+    for (int k = 0; k < 3; ++k) {
+        if (!(off_land_edges[j] >> k & 1)) continue;
+        const Vec3 e = x[(k + 1) % 3].x - x[(k + 2) % 3].x;
+        below += geom::dot(e, e) < floor2;
+    }
+    return below;
+}
+
 Mends::JointSearch::Score Mends::JointSearch::judge(int limit, int off_limit, int obtuse_limit) const {
     Score out{0, kInfinity, 0, 0};
-    for (int32_t u : around) {
+    int below = 0;
+    for (size_t j = 0; j < around.size(); ++j) {
+        const int32_t u = around[j];
         double qp = 0;
         const Generator a = at(s.tri.vertex(u, 0)), b = at(s.tri.vertex(u, 1)), c = at(s.tri.vertex(u, 2));
+        if (!off_land_edges.empty() && off_land_edges[j]) {
+            const Generator x[3] = {a, b, c};
+            if ((below += below_floor(x, j)) > below_floor_now) return kRefused;
+        }
         const double q = staggering_score(a, b, c, &qp);
         const double cosine = moves ? largest_angle_cosine(a.x, b.x, c.x) : 1.0;
         const bool below = qp < floors.qp || (moves && (area_length_ratio(a.x, b.x, c.x) < floors.qt ||
@@ -415,6 +457,7 @@ bool Mends::mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *
                         c = s_.generator(s_.tri.vertex(u, 2));
         return goal == MendGoal::obtuse ? largest_angle_cosine(a.x, b.x, c.x) < 0 : staggering_score(a, b, c) < 0;
     });
+    search.keep_floor();
     int chosen[4] = {-1, -1, -1, -1};
     const Score best = search.best_combination(now, crossings_now, off_limit, obtuse_limit, chosen);
     if (best.count >= now.count) return false;

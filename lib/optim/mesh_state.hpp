@@ -117,9 +117,10 @@ public:
     // weight or link) and when an update of it last failed. A vertex whose
     // closed star has not changed since its last failure is skipped.
     std::vector<int32_t> changed_at, move_failed_at, weight_failed_at;
-    // Per slot, ocean, land or coastal, as the last ocean-floor pass found
-    // them (ocean_floor.hpp; empty without a floor).
+    // Per slot, ocean, land or coastal (ocean_sides.cpp; empty without a
+    // floor), and the id of the vertex each was found for (-1: none).
     std::vector<refine::Side> side;
+    std::vector<int32_t> side_id;
     bool weighing = false;  // the weight phase has begun (weight_failed_at exists)
     int32_t clock = 1;
     int32_t next_id = 0;
@@ -248,6 +249,28 @@ public:
     bool lock_neighbourhood(std::initializer_list<int32_t> vertices, std::vector<uint8_t> &locked) const {
         return claim(closed_stars(vertices), locked);
     }
+
+    // The time-step floor's sides (ocean_sides.cpp) ---------------------------
+    // Brings `side` up to date: found once, then kept for the vertices that
+    // stay and inferred for those made since.
+    void refresh_sides();
+    // Whether v's cell is off the land (ocean or coastal: the cells the
+    // ocean mesh may take), from its side or, for a vertex made since the
+    // last refresh, the side it would be given.
+    bool off_land(int32_t v) const;
+    // The floor the ocean-floor pass lifts the edges below (over h): in the
+    // shape phase with a margin over the option.
+    double floor_to_lift() const;
+    // With a floor: whether v, off the land, has no edge shorter than
+    // floor h to another generator off the land (true on the land).
+    bool clear_of_floor(int32_t v) const;
+    // With a floor: whether moving v, off the land, to `to` makes no edge to
+    // a generator off the land shorter than floor h that was not, nor a
+    // shorter one shorter still (true on the land).
+    bool move_keeps_floor(int32_t v, const Vec3 &to) const;
+    // With a floor: the edges at `vertices` (each once) between two
+    // generators off the land shorter than floor h (0 without a floor).
+    int below_floor_at(const std::vector<int32_t> &vertices) const;
 
     // Stopping ---------------------------------------------------------------
     struct Summary {

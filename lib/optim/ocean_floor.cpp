@@ -19,52 +19,10 @@ constexpr double kPushPast = 1.02;
 
 }  // namespace
 
-// The sides are found once, by the first pass (Tri|Gamma and the walk of
-// refine::sides: about 90 ms at 60 km), then kept: a vertex off Gamma never
-// crosses it (the Gamma guard), so its side stays. A vertex made since (a
-// split, a corner vertex, a refilled hole; a reused slot shows by its id)
-// is coastal on a closed coastline, else land if a neighbour of known side
-// off Gamma is land, else ocean.
-void OceanFloor::refresh_sides() {
-    const int32_t n = s_.tri.vertex_slots();
-    if (!s_.gamma || s_.arcs.size() == 0) {
-        s_.side.assign(static_cast<size_t>(n), refine::Side::ocean);
-        return;
-    }
-    if (side_id_.empty()) {
-        const std::vector<refine::RestrictedEdge> restricted = refine::restricted_edges(s_.ctx, s_.tri, s_.arcs);
-        const std::vector<refine::Side> triangles = refine::triangle_sides(s_.tri, *s_.gamma, &restricted);
-        s_.side = refine::vertex_sides(s_.tri, triangles, s_.on_segment, *s_.gamma);
-        side_id_.assign(static_cast<size_t>(n), -1);
-        for (int32_t v = 0; v < n; ++v)
-            if (s_.tri.in_triangulation(v)) side_id_[v] = s_.tri.id(v);
-        return;
-    }
-    s_.side.resize(static_cast<size_t>(n), refine::Side::ocean);
-    side_id_.resize(static_cast<size_t>(n), -1);
-    std::vector<int32_t> fresh;
-    for (int32_t v = 0; v < n; ++v)
-        if (s_.tri.in_triangulation(v) && side_id_[v] != s_.tri.id(v)) fresh.push_back(v), side_id_[v] = -1;
-    for (int32_t v : fresh) {
-        const int32_t segment = s_.on_segment[v];
-        if (segment >= 0 && refine::is_closed_coastline(s_.gamma->part(s_.gamma->segment_part(segment)))) {
-            s_.side[v] = refine::Side::coastal;
-        } else {
-            bool land = false;
-            s_.tri.for_each_neighbour(v, [&](int32_t w) {
-                land = land || (side_id_[w] >= 0 && s_.on_segment[w] < 0 && s_.side[w] == refine::Side::land);
-            });
-            s_.side[v] = land ? refine::Side::land : refine::Side::ocean;
-        }
-        side_id_[v] = s_.tri.id(v);
-    }
-}
-
 // The edges between two generators off the land shorter than floor h,
 // shortest first (ties by slots).
 std::vector<OceanFloor::ShortEdge> OceanFloor::short_ocean_edges() const {
-    const double floor = s_.options.ocean_floor;
-    const std::vector<refine::Side> &side = s_.side;
+    const double floor = s_.floor_to_lift();
     std::vector<ShortEdge> edges =
         s_.ctx.collect_in_order<ShortEdge>(s_.tri.triangle_slots(), 16384, [&](int64_t t, std::vector<ShortEdge> &out) {
             const int32_t ti = static_cast<int32_t>(t);
@@ -72,10 +30,10 @@ std::vector<OceanFloor::ShortEdge> OceanFloor::short_ocean_edges() const {
             for (int k = 0; k < 3; ++k) {
                 if (s_.tri.neighbour(ti, k) < ti) continue;  // each edge once
                 const int32_t a = s_.tri.vertex(ti, (k + 1) % 3), b = s_.tri.vertex(ti, (k + 2) % 3);
-                if (side[a] == refine::Side::land || side[b] == refine::Side::land) continue;
                 const Vec3 xa = s_.tri.direction(a), xb = s_.tri.direction(b);
                 const double chord = geom::norm(xa - xb);
                 if (!(chord < kScanMargin * floor * 0.5 * (s_.h_at[a] + s_.h_at[b]))) continue;
+                if (!s_.off_land(a) || !s_.off_land(b)) continue;
                 const double ratio = 2 * std::asin(std::min(1.0, 0.5 * chord)) / s_.h(geom::normalized(xa + xb));
                 if (ratio < floor) out.push_back({ratio, std::min(a, b), std::max(a, b)});
             }
@@ -88,29 +46,38 @@ std::vector<OceanFloor::ShortEdge> OceanFloor::short_ocean_edges() const {
 
 int64_t OceanFloor::count_below() {
     if (!(s_.options.ocean_floor > 0)) return 0;
-    refresh_sides();
+    s_.refresh_sides();
     return static_cast<int64_t>(short_ocean_edges().size());
 }
 
 int64_t OceanFloor::lift() {
     if (!(s_.options.ocean_floor > 0)) return 0;
-    refresh_sides();
+    s_.refresh_sides();
     std::vector<uint8_t> locked(static_cast<size_t>(s_.tri.vertex_slots()), 0);
     int64_t taken_out = 0;
     for (const ShortEdge &e : short_ocean_edges()) {
         if (!s_.tri.in_triangulation(e.a) || !s_.tri.in_triangulation(e.b)) continue;
-        if (!s_.lock_neighbourhood({e.a, e.b}, locked)) continue;
-        fixing_ = e.ratio;
-        const bool a_on = s_.on_segment[e.a] >= 0, b_on = s_.on_segment[e.b] >= 0;
-        const int32_t off = a_on ? e.b : e.a, on = a_on ? e.a : e.b;
-        const bool done = !a_on && !b_on ? merge_at_midpoint(e.a, e.b)
-                          : a_on != b_on ? take_out(off) || (!s_.weighing && push_away(off, on))
-                                         : merge_along_gamma(e.a, e.b) || take_out_of_gamma(e.b) ||
-                                               take_out_of_gamma(e.a);
+        const std::vector<int32_t> region = s_.closed_stars({e.a, e.b});
+        if (!MeshState::claim(region, locked)) continue;
+        const bool done = lift_edge(e);
         taken_out += done;
+        if (!done)  // nothing changed there: free for the next edge
+            for (int32_t u : region) locked[u] = 0;
     }
     s_.stats.floor_removals += taken_out;
     return taken_out;
+}
+
+bool OceanFloor::lift_edge(const ShortEdge &e) {
+    fixing_ = e.ratio;
+    const bool a_on = s_.on_segment[e.a] >= 0, b_on = s_.on_segment[e.b] >= 0;
+    const int32_t off = a_on ? e.b : e.a, on = a_on ? e.a : e.b;
+    // (A fixed boundary keeps Gamma's vertices where they are.)
+    return !a_on && !b_on ? merge_at_midpoint(e.a, e.b)
+           : a_on != b_on ? take_out(off) || (!s_.weighing && push_away(off, on))
+           : s_.options.fix_boundary
+               ? false
+               : merge_along_gamma(e.a, e.b) || take_out_of_gamma(e.b) || take_out_of_gamma(e.a);
 }
 
 // What a removal is judged against: the region it may change (the closed
@@ -120,6 +87,7 @@ struct OceanFloor::Before {
     int crossings = 0;          // the spokes of their stars crossing Gamma
     int obtuse = 0;             // the obtuse triangles touching the region
     int off_centre = 0;         // ... and those not holding their orthocentre
+    int below_floor = 0;        // the edges off the land below the floor at the link and the vertices
 };
 
 int OceanFloor::off_centre_touching(const std::vector<int32_t> &vertices) const {
@@ -142,15 +110,19 @@ OceanFloor::Before OceanFloor::before(std::initializer_list<int32_t> vertices) c
     const std::vector<int32_t> region = s_.closed_stars(vertices);
     b.obtuse = s_.obtuse_touching(region);
     b.off_centre = off_centre_touching(region);
+    std::vector<int32_t> involved = b.link;
+    involved.insert(involved.end(), vertices.begin(), vertices.end());
+    b.below_floor = s_.below_floor_at(involved);
     return b;
 }
 
 // After the removal: Gamma in no more cells off it, the vertex that moved
-// (kept) with no edge shorter than the one being lifted, once the weights are
-// tuned no more obtuse triangles and none more not holding its orthocentre
-// (before, the sweeps that follow reshape them), and no edge across the hole longer than split_ratio h (the
-// split that would follow would put a vertex back). `kept`, when not -1,
-// is a vertex that moved and stays.
+// (kept) with no edge shorter than the one being lifted, no edge across the
+// hole longer than split_ratio h (the split that would follow would put a
+// vertex back) nor more edges off the land below the floor around, and once
+// the weights are tuned no more obtuse triangles and none more not holding
+// its orthocentre (before, the sweeps that follow reshape them). `kept`,
+// when not -1, is a vertex that moved and stays.
 bool OceanFloor::acceptable(const Before &b, int32_t kept) const {
     std::vector<int32_t> region = b.link;
     if (kept >= 0) region.push_back(kept);
@@ -159,6 +131,7 @@ bool OceanFloor::acceptable(const Before &b, int32_t kept) const {
     if (b.crossings < 0 || crossings < 0 || crossings > b.crossings) return false;
     if (kept >= 0 && shortest_edge(kept) < fixing_) return false;
     if (leaves_long_edge(region)) return false;
+    if (s_.below_floor_at(region) > b.below_floor) return false;
     if (!s_.weighing) return true;
     std::sort(region.begin(), region.end());
     return off_centre_touching(region) <= b.off_centre && s_.obtuse_touching(region) <= b.obtuse;

@@ -11,7 +11,7 @@
 //     narrower than the floor is filtered, as the boundary refinement
 //     filters detail narrower than the spacing).
 // Each pass first brings the sides of the vertices up to date
-// (MeshState::side: found once, then kept for the vertices that stay). A
+// (MeshState::refresh_sides). A
 // removal is kept only if it lets Gamma into no more cells off it, leaves
 // no edge longer than split_ratio h and, once the weights are tuned, adds
 // no obtuse triangle and none not holding its orthocentre; the sweeps then
@@ -42,8 +42,8 @@ private:
         double ratio;
         int32_t a, b;  // a < b
     };
-    void refresh_sides();
     std::vector<ShortEdge> short_ocean_edges() const;
+    bool lift_edge(const ShortEdge &e);
     struct Before;
     Before before(std::initializer_list<int32_t> vertices) const;
     bool acceptable(const Before &b, int32_t kept) const;
@@ -61,7 +61,6 @@ private:
 
     MeshState &s_;
     double fixing_ = 0;  // the ratio of the edge being lifted
-    std::vector<int32_t> side_id_;  // per slot, the id of the vertex MeshState::side is of (-1: none)
 };
 
 }  // namespace um::optim::detail

@@ -86,6 +86,7 @@ OptimiseStats Schedule::run() {
     const OptimiseOptions &o = s_.options;
     for (int32_t v = 0; v < s_.tri.vertex_slots(); ++v) s_.next_id = std::max(s_.next_id, s_.tri.id(v) + 1);
     s_.load_spacing();
+    if (o.ocean_floor > 0) s_.refresh_sides();  // (every move keeps the floor, from the first sweep)
     MeshState::Summary last = s_.summarise();
     graph_ = std::make_unique<StarGraph>(s_.ctx, s_.tri);
     // The first half of the outer iterations shapes the triangles (moves,
@@ -125,7 +126,7 @@ OptimiseStats Schedule::run() {
     if (off_centre_left > 0) mend_off_centre_after_moves();
     // After the mends' moves: what they brought below the floor, where a
     // removal keeps what they reached.
-    floor_.lift();  // (counts its removals in the stats itself)
+    if (o.outer_iterations > 0) floor_.lift();  // (counts its removals in the stats itself)
     s_.ctx.log(UM_LOG_INFO, concat("optimise: ocean floor ", o.ocean_floor, " h: ", s_.stats.floor_removals,
                                    " vertices taken out, ", floor_.count_below(), " edges off the land still below"));
     s_.ctx.progress("optimise", 1.0);

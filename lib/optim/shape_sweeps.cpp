@@ -136,7 +136,7 @@ struct ShapeSweeps::MoveTrial {
         }
         // The cheaper test first: most trials fail on quality.
         if (!better(ring_quality<true>(ring, moved, before.worst, before.worst_k), before, s.gain)) return false;
-        if (!star_is_valid(ring, moved) || !keeps_gamma(moved)) return false;
+        if (!star_is_valid(ring, moved) || !keeps_gamma(moved) || !s.move_keeps_floor(v, moved.x)) return false;
         take(moved, segment);
         return true;
     }
@@ -198,7 +198,7 @@ bool ShapeSweeps::move_by_compass(MoveTrial &trial) {
             const LocalQuality now =
                 ring_quality<true>(trial.ring, moved, std::max(before.worst, best_worst), before.worst_k);
             if (better(now, before, s_.gain) && now.worst > best_worst && star_is_valid(trial.ring, moved) &&
-                trial.keeps_gamma(moved))
+                trial.keeps_gamma(moved) && s_.move_keeps_floor(trial.v, moved.x))
                 best = moved, best_worst = now.worst;
         }
         // Tested already (off Gamma nothing slides): taken as it is.

@@ -127,19 +127,23 @@ bool Topology::leaves_short_edge(int32_t a, int32_t b) const {
 }
 
 // A new vertex at the midpoint of (a, b), with the mean of their weights;
-// its slot, or -1 if it came out hidden (it is then removed again).
+// its slot, or -1 if it came out hidden or as the next passes would take
+// it out again (of degree 4, for the valence repair; with an edge below the
+// ocean floor): it is then removed again.
 int32_t Topology::insert_between(int32_t a, int32_t b) {
     const Vec3 mid = geom::normalized(s_.tri.direction(a) + s_.tri.direction(b));
     const double w = 0.5 * (s_.tri.weight(a) + s_.tri.weight(b));
     std::vector<int32_t> buried;
     const int32_t v = s_.tri.insert(mid, w, s_.next_id++, &buried, s_.tri.star(a).front());
-    for (int32_t u : buried) s_.changed_at[u] = s_.clock;
     s_.grow_slots();
-    if (!s_.tri.in_triangulation(v)) {
-        s_.tri.remove(v);
+    if (s_.tri.in_triangulation(v)) s_.h_at[v] = static_cast<float>(s_.h(mid));
+    if (!s_.tri.in_triangulation(v) || s_.tri.link(v).size() <= 4 || !s_.clear_of_floor(v)) {
+        const int32_t near = s_.tri.remove(v);
+        for (int32_t u : buried)
+            if (!s_.tri.in_triangulation(u) && !s_.tri.is_removed(u)) s_.tri.restore_hidden(u, near);
         return -1;
     }
-    s_.h_at[v] = static_cast<float>(s_.h(mid));
+    for (int32_t u : buried) s_.changed_at[u] = s_.clock;
     s_.changed_at[v] = s_.clock;
     for (int32_t t : s_.tri.star(v))
         for (int k = 0; k < 3; ++k) s_.changed_at[s_.tri.vertex(t, k)] = s_.clock;

@@ -131,9 +131,7 @@ BoundaryStats refine_boundary(Context &ctx, tri::Triangulation &tri, const Spaci
             if (!bad_edge(e, &m)) continue;
             // The surface ball is empty, so its radius is the new point's
             // distance to its nearest vertex: too small means over-refining.
-            const double filter = options.coast_arc && (*options.coast_arc)[e.arc]
-                                      ? std::max(options.filter, options.coast_filter)
-                                      : options.filter;
+            const double filter = options.filter.on_arc(e.arc);
             if (e.radius < filter * h(e.centre)) continue;
             int32_t v = tri.insert(e.centre, 0.0, next_id++, nullptr, t);
             on_gamma.resize(static_cast<size_t>(tri.vertex_slots()), -1);

@@ -22,13 +22,7 @@ namespace um::refine {
 struct BoundaryOptions {
     double alpha = kDefaultAlpha;  // restricted edges shorter than alpha h
     double beta = kDefaultBeta;    // Hausdorff bound eps < beta h
-    double filter = 0.5;       // no new edge shorter than filter h
-    // ... and on the arcs flagged here (when given: the closed coastlines,
-    // whose vertices the ocean mesh's cells have), none shorter than
-    // coast_filter h (the time-step floor: the detail of the coastline
-    // narrower than that is filtered).
-    const std::vector<uint8_t> *coast_arc = nullptr;
-    double coast_filter = 0.5;
+    InsertionFilter filter;    // no new edge shorter than this (times h)
     // The topology check (when given: the part of each Gamma arc): a
     // restricted edge is also bad when one of its ends has three or more
     // restricted edges of the same part - Tri|Gamma is then no curve there

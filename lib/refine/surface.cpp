@@ -346,7 +346,7 @@ private:
             near ? encroached_edge(tri_, territory_, p, c.t, *options_.gamma, &enc, encroach_) : Encroach::none;
         if (encroach == Encroach::deferred) return defer(c);
         if (encroach == Encroach::encroached) {
-            if (enc.radius < options_.filter * h_(enc.centre)) {
+            if (enc.radius < options_.filter.on_arc(enc.arc) * h_(enc.centre)) {
                 give_up(c);  // left as it is: refining would over-refine Gamma
                 return;
             }
@@ -361,9 +361,10 @@ private:
             triangle_size(tri_, c.t, &r, &e);
             change_reach = std::max(change_reach, 2 * r);
         }
+        const double filter = options_.filter.on_arc(arc);
         int32_t v = tri::Triangulation::kNone;
         if (territory_) {
-            if (!insert_in_territory(c, p, &v)) return;
+            if (!insert_in_territory(c, p, filter, &v)) return;
         } else {
             v = insert_serially(p, c.t);
             if (!tri_.in_triangulation(v)) {
@@ -374,7 +375,7 @@ private:
         // A point this close to an existing vertex (one on Gamma, placed
         // where the front did not expect it) would over-refine: take it back,
         // and re-measure the re-triangulated hole (not queued again).
-        if (!territory_ && nearest_neighbour(tri_, v) < options_.filter * h_(p)) {
+        if (!territory_ && nearest_neighbour(tri_, v) < filter * h_(p)) {
             const std::vector<int32_t> link = tri_.link(v);
             tri_.remove(v);
             if (options_.free_vertex_slots) options_.free_vertex_slots->push_back(v);
@@ -407,8 +408,8 @@ private:
     // The territory's insertion, with the serial path's proximity rule tested
     // before it commits (the link of the new vertex holds its nearest
     // neighbour): false when the candidate is left, given up or deferred.
-    bool insert_in_territory(const Candidate &c, const Vec3 &p, int32_t *v) {
-        const double min_arc = options_.filter * h_(p);
+    bool insert_in_territory(const Candidate &c, const Vec3 &p, double filter, int32_t *v) {
+        const double min_arc = filter * h_(p);
         const double min_chord = min_arc < M_PI ? 2 * std::sin(0.5 * min_arc) : 2.0;
         switch (tri_.insert_in(*territory_, p, c.t, min_chord, v)) {
             case tri::Triangulation::TerritoryInsert::inserted:
@@ -462,7 +463,7 @@ private:
         // Beside an obtuse apex (circumcentre across the front edge) the
         // point may come close to the apex: the other rule then does better.
         const Vec3 apex = tri_.direction(tri_.vertex(t, k_front));
-        return geom::arc_length(*p, apex) >= options_.filter * *target;
+        return geom::arc_length(*p, apex) >= options_.filter.filter * *target;
     }
 
     // The earlier rule, for triangles off the front (or whose front point

@@ -26,12 +26,12 @@ namespace um::refine {
 struct SurfaceOptions {
     double alpha = kDefaultAlpha;  // size bound: sqrt(3) r < alpha h
     double rho = kDefaultRho;      // shape bound: r / e_min < rho
-    // A candidate that would make an edge shorter than filter * h is not
+    // A candidate that would make an edge shorter than filter h is not
     // inserted. With Gamma, a candidate inside the surface ball of a
     // restricted edge (it would change Tri|Gamma) is replaced by that ball's
-    // centre, on Gamma.
+    // centre, on Gamma (and filtered as the boundary refinement filters it).
     const geom::ArcTree *gamma = nullptr;
-    double filter = 0.5;
+    InsertionFilter filter;
     std::vector<int32_t> *on_gamma = nullptr;  // per vertex slot: Gamma arc or -1
     // Slots of removed vertices the serial pass inserts into (last first)
     // before it adds new slots (Triangulation::insert_into_removed).

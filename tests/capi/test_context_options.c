@@ -258,11 +258,11 @@ static void option_names_round_trip(void **state) {
     assert_int_equal(value, 7);
     assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_RESEED_ROUNDS, 0), UM_OK);
     assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_RESEED_ROUNDS, -1), UM_ERR_INVALID_ARGUMENT);
-    /* ocean_floor: off (0) by default, at most 0.9 */
+    /* ocean_floor: 0.7 by default, 0 turns it off, at most 0.9 */
     double floor = 1;
     assert_int_equal(um_options_get_double(o, UM_OPT_OCEAN_FLOOR, &floor), UM_OK);
-    assert_true(floor == 0.0);
-    assert_int_equal(um_options_set_double(o, UM_OPT_OCEAN_FLOOR, 0.7), UM_OK);
+    assert_true(floor == 0.7);
+    assert_int_equal(um_options_set_double(o, UM_OPT_OCEAN_FLOOR, 0.0), UM_OK);
     um_context_clear_error(ctx);
     assert_int_equal(um_options_set_double(o, UM_OPT_OCEAN_FLOOR, 0.95), UM_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(um_context_last_error(ctx), "ocean_floor"));

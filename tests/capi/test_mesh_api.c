@@ -165,9 +165,14 @@ static void same_mesh_for_any_thread_count(void **state) {
 }
 
 /* The shipped GSHHG low-resolution coastlines at 480 km: restricted edges
- * close to the coast, no edge below h/2, land and ocean told apart. */
+ * close to the coast, no edge below h/2, land and ocean told apart. (The
+ * paper's bounds, without the time-step floor: it filters detail narrower
+ * than 0.7 h, leaving longer restricted edges there; test_ocean_floor.) */
 static void global_coastline(void **state) {
     um_context *ctx = *state;
+    um_options *no_floor = NULL;
+    assert_int_equal(um_options_create(ctx, &no_floor), UM_OK);
+    assert_int_equal(um_options_set_double(no_floor, UM_OPT_OCEAN_FLOOR, 0.0), UM_OK);
     um_features *f = NULL;
     assert_int_equal(um_features_create(ctx, &f), UM_OK);
     assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_global_l.geojson", NULL, 0),
@@ -176,7 +181,7 @@ static void global_coastline(void **state) {
     um_spacing *h = NULL;
     assert_int_equal(um_spacing_create_constant(ctx, h_km, &h), UM_OK);
     um_mesh *m = NULL;
-    assert_int_equal(um_mesh_refine(ctx, h, f, NULL, &m), UM_OK);
+    assert_int_equal(um_mesh_refine(ctx, h, f, no_floor, &m), UM_OK);
     mesh_copy c = copy_out(m);
     assert_int_equal(c.nt, 2 * c.nv - 4);
     assert_true(c.nr > 100);
@@ -202,6 +207,7 @@ static void global_coastline(void **state) {
     um_options *o = NULL;
     assert_int_equal(um_options_create(ctx, &o), UM_OK);
     assert_int_equal(um_options_set_int(o, UM_OPT_REFINE_TOPOLOGY_CHECK, 1), UM_OK);
+    assert_int_equal(um_options_set_double(o, UM_OPT_OCEAN_FLOOR, 0.0), UM_OK);
     um_mesh *checked = NULL;
     assert_int_equal(um_mesh_refine(ctx, h, f, o, &checked), UM_OK);
     int64_t nv_checked = 0;
@@ -209,6 +215,7 @@ static void global_coastline(void **state) {
     assert_true(nv_checked > c.nv && nv_checked < 1.05 * c.nv);
     um_mesh_destroy(checked);
     um_options_destroy(o);
+    um_options_destroy(no_floor);
     free_copy(&c);
     um_mesh_destroy(m);
     um_spacing_destroy(h);
@@ -220,9 +227,12 @@ static void global_coastline(void **state) {
  * vertices per 2-km edge, metre-long segments, rivers crossing each other
  * and the coast), about 800 k cells. No edge anywhere is shorter than h/2
  * (features below the spacing are left out, not followed); the sides are
- * ocean and land. */
+ * ocean and land. (The paper's bounds: without the time-step floor.) */
 static void midatlantic_full_resolution(void **state) {
     um_context *ctx = *state;
+    um_options *no_floor = NULL;
+    assert_int_equal(um_options_create(ctx, &no_floor), UM_OK);
+    assert_int_equal(um_options_set_double(no_floor, UM_OPT_OCEAN_FLOOR, 0.0), UM_OK);
     um_context_set_threads(ctx, 0);
     um_spacing *h = NULL;
     um_features *f = NULL;
@@ -231,7 +241,8 @@ static void midatlantic_full_resolution(void **state) {
     assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_midatlantic_f.geojson", NULL, 0), UM_OK);
     assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/rivers_midatlantic_f.geojson", NULL, 0), UM_OK);
     um_mesh *m = NULL;
-    assert_int_equal(um_mesh_refine(ctx, h, f, NULL, &m), UM_OK);
+    assert_int_equal(um_mesh_refine(ctx, h, f, no_floor, &m), UM_OK);
+    um_options_destroy(no_floor);
     mesh_copy c = copy_out(m);
     assert_int_equal(c.nt, 2 * c.nv - 4);
     assert_true(c.nr > 1000);

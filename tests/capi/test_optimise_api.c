@@ -20,13 +20,15 @@
 /* with_coast: 0 none, 1 the coastlines, 2 the coastlines and rivers. */
 /* The frontal refinement's meshes, which give every pass of the optimisation
  * work (a uniform spacing's lattice leaves most of them none). */
-static um_mesh *refine(um_context *ctx, double km, int with_coast) {
+/* (ocean_floor: the time-step floor the coastline's detail is filtered to.) */
+static um_mesh *refine_to_floor(um_context *ctx, double km, int with_coast, double ocean_floor) {
     um_spacing *h = NULL;
     um_features *f = NULL;
     um_mesh *m = NULL;
     um_options *o = NULL;
     assert_int_equal(um_options_create(ctx, &o), UM_OK);
     assert_int_equal(um_options_set_int(o, UM_OPT_REFINE_LATTICE, 0), UM_OK);
+    assert_int_equal(um_options_set_double(o, UM_OPT_OCEAN_FLOOR, ocean_floor), UM_OK);
     assert_int_equal(um_spacing_create_constant(ctx, km, &h), UM_OK);
     if (with_coast) {
         assert_int_equal(um_features_create(ctx, &f), UM_OK);
@@ -41,6 +43,10 @@ static um_mesh *refine(um_context *ctx, double km, int with_coast) {
     um_features_destroy(f);
     um_spacing_destroy(h);
     return m;
+}
+
+static um_mesh *refine(um_context *ctx, double km, int with_coast) {
+    return refine_to_floor(ctx, km, with_coast, 0.7);
 }
 
 typedef struct {
@@ -138,13 +144,14 @@ static void read_mend_line(void *user, int32_t level, const char *msg) {
 
 static void joint_searches_mend_off_centre_and_obtuse_triangles(void **state) {
     um_context *ctx = *state;
-    um_mesh *m = refine(ctx, 120.0, 2);
+    um_mesh *m = refine_to_floor(ctx, 120.0, 2, 0.0);
     mend_log x = {-1, -1, -1, 0, -1, -1, -1, -1};
     /* Without the corner vertices, which leave the searches only one
      * off-centre triangle here (one that needs no slide). */
     um_options *o = NULL;
     assert_int_equal(um_options_create(ctx, &o), UM_OK);
     assert_int_equal(um_options_set_int(o, UM_OPT_OPTIM_CORNER_VERTICES, 0), UM_OK);
+    assert_int_equal(um_options_set_double(o, UM_OPT_OCEAN_FLOOR, 0.0), UM_OK);  /* (it takes that one out) */
     assert_int_equal(um_context_set_log(ctx, read_mend_line, &x, UM_LOG_INFO), UM_OK);
     assert_int_equal(um_mesh_optimise(m, o), UM_OK);
     um_context_set_log(ctx, NULL, NULL, UM_LOG_INFO);
@@ -258,7 +265,13 @@ static void vertices_on_features_stay_on_them(void **state) {
 
     um_mesh *m = refine(ctx, 240.0, 1);
     mesh_copy before = copy_out(m);
-    assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
+    /* (Without the time-step floor, which filters Gamma's detail narrower
+     * than it: test_ocean_floor.) */
+    um_options *o = NULL;
+    assert_int_equal(um_options_create(ctx, &o), UM_OK);
+    assert_int_equal(um_options_set_double(o, UM_OPT_OCEAN_FLOOR, 0.0), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, o), UM_OK);
+    um_options_destroy(o);
     mesh_copy c = copy_out(m);
     int64_t on_gamma = 0, on_gamma_before = 0, moved = 0;
     for (int64_t v = 0; v < before.nv; ++v) on_gamma_before += before.parts[v] >= 0;

@@ -204,6 +204,7 @@ void short_edges_collapse_and_long_ones_split(void **) {
     std::vector<int32_t> on_segment(static_cast<size_t>(tri.vertex_slots()), -1);
     optim::OptimiseOptions o;
     o.outer_iterations = 1, o.inner_iterations = 0, o.weights = false;
+    o.ocean_floor = 0;  // (no Gamma: all ocean, and the floor would take the short edges out too)
     optim::OptimiseStats stats =
         optim::optimise(ctx, tri, on_segment, nullptr, [h](const Vec3 &) { return h; }, o);
     tri.compact();
@@ -236,7 +237,7 @@ void passes_switched_off_change_nothing(void **) {
     optim::OptimiseOptions o;
     o.moves = false, o.polish_poor_stars = false, o.weights = false, o.collapse_and_split = false;
     o.valence_repair = false, o.mends = false, o.corner_vertices = false, o.centroidal_sweeps = 0;
-    o.reseed_rounds = 0;
+    o.reseed_rounds = 0, o.ocean_floor = 0;
     const optim::OptimiseStats stats =
         optim::optimise(ctx, tri, on_segment, nullptr, [h](const Vec3 &) { return h; }, o);
     assert_true(stats.outer_iterations >= 1);
