@@ -121,6 +121,7 @@ public:
     // floor), and the id of the vertex each was found for (-1: none).
     std::vector<refine::Side> side;
     std::vector<int32_t> side_id;
+    int32_t sides_clock = -1;  // the clock at the last refresh (changed_at since: looked at again)
     bool weighing = false;  // the weight phase has begun (weight_failed_at exists)
     int32_t clock = 1;
     int32_t next_id = 0;
@@ -267,7 +268,13 @@ public:
     // With a floor: whether moving v, off the land, to `to` makes no edge to
     // a generator off the land shorter than floor h that was not, nor a
     // shorter one shorter still (true on the land).
-    bool move_keeps_floor(int32_t v, const Vec3 &to) const;
+    // `slack`, when given, is floor_slack(v): moves shorter than it keep the
+    // floor without a look at the neighbours (the sweeps try many per vertex).
+    bool move_keeps_floor(int32_t v, const Vec3 &to, double slack = -1) const;
+    // How far v may move before an edge of it could pass below the floor
+    // (whatever the sides): the least of its edges' chords less floor h;
+    // infinite without a floor.
+    double floor_slack(int32_t v) const;
     // With a floor: the edges at `vertices` (each once) between two
     // generators off the land shorter than floor h (0 without a floor).
     int below_floor_at(const std::vector<int32_t> &vertices) const;

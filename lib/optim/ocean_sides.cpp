@@ -84,17 +84,24 @@ void MeshState::refresh_sides() {
     // In slot order, each seeing the ones before it: deterministic.
     for (int32_t v : fresh) side[v] = inferred_side(*this, v), side_id[v] = tri.id(v);
     // A vertex on the land beside the coast may have had a coastline come
-    // into its cell as the mesh changed around it: coastal from then on
+    // into its cell as the mesh changed around it (it or a neighbour moved,
+    // or its link changed, since the last refresh): coastal from then on
     // (its cell may be an ocean one). Only one with a neighbour off the land
     // can: the coastline passes between them.
+    const int32_t since = sides_clock;
+    auto changed_since = [&](int32_t u) { return static_cast<size_t>(u) >= changed_at.size() || changed_at[u] >= since; };
     const std::vector<int32_t> entered = ctx.collect_in_order<int32_t>(n, 4096, [&](int64_t i, std::vector<int32_t> &out) {
         const int32_t v = static_cast<int32_t>(i);
         if (!tri.in_triangulation(v) || on_segment[v] >= 0 || side[v] != refine::Side::land) return;
-        bool beside = false;
-        tri.for_each_neighbour(v, [&](int32_t w) { beside = beside || side[w] != refine::Side::land; });
-        if (beside && coastline_enters_cell(*this, v)) out.push_back(v);
+        bool beside = false, changed = changed_since(v);
+        tri.for_each_neighbour(v, [&](int32_t w) {
+            beside = beside || side[w] != refine::Side::land;
+            changed = changed || changed_since(w);
+        });
+        if (beside && changed && coastline_enters_cell(*this, v)) out.push_back(v);
     });
     for (int32_t v : entered) side[v] = refine::Side::coastal;
+    sides_clock = clock;
 }
 
 // (A vertex made since the last refresh is off the land also where a
@@ -131,10 +138,23 @@ bool MeshState::clear_of_floor(int32_t v) const {
     return clear;
 }
 
-bool MeshState::move_keeps_floor(int32_t v, const Vec3 &to) const {
+double MeshState::floor_slack(int32_t v) const {
+    const double floor = options.ocean_floor;
+    if (!(floor > 0) || side_id.empty()) return kInfinity;
+    const Vec3 x = tri.direction(v);
+    double slack = kInfinity;
+    tri.for_each_neighbour(v, [&](int32_t w) {
+        const double least = floor * 0.5 * (static_cast<double>(h_at[v]) + static_cast<double>(h_at[w]));
+        slack = std::min(slack, geom::norm(x - tri.direction(w)) - least);
+    });
+    return slack;
+}
+
+bool MeshState::move_keeps_floor(int32_t v, const Vec3 &to, double slack) const {
     const double floor = options.ocean_floor;
     if (!(floor > 0) || side_id.empty()) return true;
     const Vec3 x = tri.direction(v);
+    if (slack >= 0 && geom::norm(to - x) <= slack) return true;
     int v_off_land = -1;  // not looked up yet
     bool keeps = true;
     tri.for_each_neighbour(v, [&](int32_t w) {

@@ -186,6 +186,9 @@ void Schedule::change_topology(int n, bool shape_phase, int32_t outer_start, Cha
         c.valence = topology_.improve_valence() + (n < 2 ? topology_.flip_for_valence() : 0);
     c.corners = shape_phase && o.corner_vertices ? corners_.support_gamma_corners() : 0;
     c.reseeded = shape_phase ? reseed_defects(n) : 0;
+    // The sides of the vertices these made, found once for the sweeps
+    // (else each floor check of one would infer it again).
+    if (o.ocean_floor > 0 && c.topology() > 0) s_.refresh_sides();
     s_.stats.flips += c.flips, s_.stats.collapses += c.collapsed, s_.stats.splits += c.split;
     // Else the spacing (h_at) and the graph are still those of the mesh.
     if (c.topology() > 0) s_.rebuild_graph(graph_);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "core/growth.hpp"
@@ -114,6 +115,13 @@ struct ShapeSweeps::MoveTrial {
     bool guarded = false;
     int crossings = -1;
 
+    // The floor's slack (MeshState::floor_slack), taken once (NaN: not yet).
+    double slack = std::numeric_limits<double>::quiet_NaN();
+    bool keeps_floor(const Generator &moved) {
+        if (std::isnan(slack)) slack = s.floor_slack(v);
+        return s.move_keeps_floor(v, moved.x, slack);
+    }
+
     bool keeps_gamma(const Generator &moved) {
         if (!guarded) return true;
         if (crossings < 0) crossings = s.gamma_crossings(v, ring, g.link(v), here);
@@ -136,7 +144,7 @@ struct ShapeSweeps::MoveTrial {
         }
         // The cheaper test first: most trials fail on quality.
         if (!better(ring_quality<true>(ring, moved, before.worst, before.worst_k), before, s.gain)) return false;
-        if (!star_is_valid(ring, moved) || !keeps_gamma(moved) || !s.move_keeps_floor(v, moved.x)) return false;
+        if (!star_is_valid(ring, moved) || !keeps_gamma(moved) || !keeps_floor(moved)) return false;
         take(moved, segment);
         return true;
     }
@@ -198,7 +206,7 @@ bool ShapeSweeps::move_by_compass(MoveTrial &trial) {
             const LocalQuality now =
                 ring_quality<true>(trial.ring, moved, std::max(before.worst, best_worst), before.worst_k);
             if (better(now, before, s_.gain) && now.worst > best_worst && star_is_valid(trial.ring, moved) &&
-                trial.keeps_gamma(moved) && s_.move_keeps_floor(trial.v, moved.x))
+                trial.keeps_gamma(moved) && trial.keeps_floor(moved))
                 best = moved, best_worst = now.worst;
         }
         // Tested already (off Gamma nothing slides): taken as it is.
