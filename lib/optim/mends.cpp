@@ -368,14 +368,14 @@ int Mends::JointSearch::below_floor(const Generator *x, size_t j) const {
 
 Mends::JointSearch::Score Mends::JointSearch::judge(int limit, int off_limit, int obtuse_limit) const {
     Score out{0, kInfinity, 0, 0};
-    int below = 0;
+    int below_floor_then = 0;  // (the floor's count over the triangles judged so far)
     for (size_t j = 0; j < around.size(); ++j) {
         const int32_t u = around[j];
         double qp = 0;
         const Generator a = at(s.tri.vertex(u, 0)), b = at(s.tri.vertex(u, 1)), c = at(s.tri.vertex(u, 2));
         if (!off_land_edges.empty() && off_land_edges[j]) {
             const Generator x[3] = {a, b, c};
-            if ((below += below_floor(x, j)) > below_floor_now) return kRefused;
+            if ((below_floor_then += below_floor(x, j)) > below_floor_now) return kRefused;
         }
         const double q = staggering_score(a, b, c, &qp);
         const double cosine = moves ? largest_angle_cosine(a.x, b.x, c.x) : 1.0;

@@ -2,8 +2,8 @@
 // which cells are off the land, the ones whose edges the floor bounds.
 #include <algorithm>
 
-#include "optim/mesh_state.hpp"
 #include "geom/arc_tree.hpp"
+#include "optim/mesh_state.hpp"
 #include "refine/restricted.hpp"
 
 namespace um::optim::detail {
