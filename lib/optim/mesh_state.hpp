@@ -264,7 +264,7 @@ public:
     double floor_to_lift() const;
     // With a floor: whether v, off the land, has no edge shorter than
     // floor h to another generator off the land (true on the land).
-    bool clear_of_floor(int32_t v) const;
+    bool clear_of_floor(int32_t v) const { return below_floor_at({v}) == 0; }
     // With a floor: whether moving v, off the land, to `to` makes no edge to
     // a generator off the land shorter than floor h that was not, nor a
     // shorter one shorter still (true on the land).

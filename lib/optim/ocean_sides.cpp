@@ -122,22 +122,6 @@ double MeshState::floor_to_lift() const {
     return options.ocean_floor * (weighing ? 1.0 : kShapeMargin);
 }
 
-// (The sides are looked up only for the edges that are short: most are not.)
-bool MeshState::clear_of_floor(int32_t v) const {
-    const double floor = options.ocean_floor;
-    if (!(floor > 0) || side_id.empty()) return true;
-    const Vec3 x = tri.direction(v);
-    int v_off_land = -1;  // not looked up yet
-    bool clear = true;
-    tri.for_each_neighbour(v, [&](int32_t w) {
-        const double h = 0.5 * (static_cast<double>(h_at[v]) + static_cast<double>(h_at[w]));
-        if (!clear || geom::norm(x - tri.direction(w)) >= floor * h) return;
-        if (v_off_land < 0) v_off_land = off_land(v);
-        clear = !v_off_land || !off_land(w);
-    });
-    return clear;
-}
-
 double MeshState::floor_slack(int32_t v) const {
     const double floor = options.ocean_floor;
     if (!(floor > 0) || side_id.empty()) return kInfinity;
@@ -169,6 +153,7 @@ bool MeshState::move_keeps_floor(int32_t v, const Vec3 &to, double slack) const 
     return keeps;
 }
 
+// (The sides are looked up only for the edges that are short: most are not.)
 int MeshState::below_floor_at(const std::vector<int32_t> &vertices) const {
     const double floor = options.ocean_floor;
     if (!(floor > 0) || side_id.empty()) return 0;
