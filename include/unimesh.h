@@ -370,7 +370,7 @@ UM_API um_status um_triangulation_check(const um_triangulation *t);
  * Adding checks and cleans each part:
  *   - rejected: NaN/Inf coordinates (UM_ERR_NONFINITE_INPUT), |lat| > 90
  *     (UM_ERR_COORDINATE_RANGE), parts with fewer than 2 distinct points
- *     (UM_ERR_TOO_FEW_POINTS), exactly antipodal consecutive points, whose arc
+ *     (UM_ERR_TOO_FEW_POINTS; an open UM_FEATURE_PASSAGE may have 1), exactly antipodal consecutive points, whose arc
  *     is undefined (UM_ERR_DEGENERATE_INPUT), kinds other than UM_FEATURE_*,
  *     closed flags other than 0/1 and inconsistent offsets
  *     (UM_ERR_INVALID_ARGUMENT);
@@ -395,7 +395,14 @@ enum {
     UM_FEATURE_LAKE = 2,
     UM_FEATURE_RIVER = 3,
     UM_FEATURE_WATERSHED = 4,
-    UM_FEATURE_OTHER = 5
+    UM_FEATURE_OTHER = 5,
+    /* Not a feature of the mesh (no vertex is put on it, no edge conforms to
+     * it): a critical passage, an open line or a single point, across which
+     * the ocean mesh is kept open. Every cell it passes through is in the
+     * ocean mesh (cellOceanMask 1) whatever its side, even where that leaves
+     * edges below the time-step floor: the quality report lists them as
+     * exceptions ("ocean_floor": "kept_open"). */
+    UM_FEATURE_PASSAGE = 6
 };
 
 UM_API um_status um_features_create(um_context *ctx, um_features **out);
@@ -416,9 +423,11 @@ UM_API um_status um_features_add(um_features *f, int64_t n_points, const double 
 /* Appends the lines of a GeoJSON file: a FeatureCollection, a Feature or a
  * bare geometry; LineString and MultiLineString give open or closed parts,
  * each ring of a Polygon or MultiPolygon a closed part, GeometryCollections
- * their members (Point and MultiPoint are rejected). Per feature:
+ * their members, each position of a Point or MultiPoint a part of one point
+ * (which only a passage may be). Per feature:
  *   kind    the string property kind_property (NULL = "kind"): "coastline",
- *           "lake", "river", "watershed" or "other" (case-insensitive); a
+ *           "lake", "river", "watershed", "other" or "passage"
+ *           (case-insensitive); a
  *           missing or other value takes default_kind (0 = such a feature is
  *           an error, UM_ERR_INPUT);
  *   closed  always for polygon rings; else the boolean property "closed" when

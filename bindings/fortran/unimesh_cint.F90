@@ -99,6 +99,7 @@ module unimesh_cint
   integer(c_int32_t), parameter :: UM_FEATURE_RIVER = 3
   integer(c_int32_t), parameter :: UM_FEATURE_WATERSHED = 4
   integer(c_int32_t), parameter :: UM_FEATURE_OTHER = 5
+  integer(c_int32_t), parameter :: UM_FEATURE_PASSAGE = 6
 
   ! --------------------------------------------------------------------- mesh
   integer(c_int32_t), parameter :: UM_SIDE_OCEAN = 0

@@ -27,7 +27,7 @@ const um::quality::Report &quality_of(const um_mesh *m) {
         const um::refine::SpacingRadians h = um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m);
         um::quality::Report r = um::quality::measure(*m->context, m->mesh.tri, h, &m->mesh.on_segment);
         r.ocean = um::quality::measure_ocean_edges(*m->context, m->mesh.tri, h, m->mesh.ocean_cells(),
-                                                   m->mesh.ocean_floor);
+                                                   m->mesh.ocean_floor, m->mesh.coastline_contacts());
         m->quality = std::move(r);
     }
     return *m->quality;
@@ -166,7 +166,7 @@ UM_API um_status um_mesh_copy_vertex_parts(const um_mesh *m, int32_t base, int32
     require_pointer(out, "out");
     for (int64_t i = 0; i < m->mesh.vertex_count(); ++i) {
         int32_t s = m->mesh.on_segment[m->mesh.slot_of_vertex[i]];
-        out[i] = s < 0 ? -1 : static_cast<int32_t>(m->mesh.gamma->segment_part(s)) + base;
+        out[i] = s < 0 ? -1 : static_cast<int32_t>(m->mesh.features_part_of_segment(s)) + base;
     }
     return UM_OK;
     UM_API_END(state_or_null(m))
@@ -188,7 +188,7 @@ UM_API um_status um_mesh_copy_restricted_edges(const um_mesh *m, int32_t base,
             vertices[2 * i] = m->mesh.vertex_of_slot[tri.vertex(r[i].triangle, (r[i].edge + 1) % 3)] + base;
             vertices[2 * i + 1] = m->mesh.vertex_of_slot[tri.vertex(r[i].triangle, (r[i].edge + 2) % 3)] + base;
         }
-        if (parts) parts[i] = static_cast<int32_t>(m->mesh.gamma->segment_part(r[i].arc)) + base;
+        if (parts) parts[i] = static_cast<int32_t>(m->mesh.features_part_of_segment(r[i].arc)) + base;
     }
     return UM_OK;
     UM_API_END(state_or_null(m))

@@ -336,25 +336,18 @@ MpasMesh build_mpas_mesh(Context &ctx, const tri::Triangulation &tri, const Mpas
 
 namespace {
 
-// The ocean mesh takes the ocean cells and the coastal ones with at least
-// as many corners on the ocean side as on the land side; the land + river
-// mesh takes every other cell, so the two are exact complements.
-void add_cell_masks(MpasMesh &m) {
-    if (m.cell_side.empty()) return;
+// The ocean mesh takes the cells of RefinedMesh::ocean_cells (the ocean
+// cells, the coastal ones mostly on the ocean side and those a passage keeps
+// open); the land + river mesh takes every other cell, so the two are exact
+// complements.
+void add_cell_masks(const mesh::RefinedMesh &refined, MpasMesh &m) {
+    const std::vector<uint8_t> ocean = refined.ocean_cells();
     m.cell_ocean_mask.assign(static_cast<size_t>(m.n_cells), 0);
     m.cell_land_mask.assign(static_cast<size_t>(m.n_cells), 0);
     for (int32_t c = 0; c < m.n_cells; ++c) {
-        bool ocean = m.cell_side[c] == UM_SIDE_OCEAN;
-        if (m.cell_side[c] == UM_SIDE_COASTAL) {
-            int balance = 0;  // corners on the ocean side minus those on land
-            for (int32_t j = 0; j < m.n_edges_on_cell[c]; ++j) {
-                const int32_t v = m.vertices_on_cell[static_cast<size_t>(c) * m.max_edges + j];
-                balance += m.vertex_side.empty() || m.vertex_side[v] == UM_SIDE_OCEAN ? 1 : -1;
-            }
-            ocean = balance >= 0;
-        }
-        m.cell_ocean_mask[c] = ocean ? 1 : 0;
-        m.cell_land_mask[c] = ocean ? 0 : 1;
+        const bool in_ocean = ocean[refined.slot_of_vertex[m.cell_source_vertex[c]]] != 0;
+        m.cell_ocean_mask[c] = in_ocean ? 1 : 0;
+        m.cell_land_mask[c] = in_ocean ? 0 : 1;
     }
 }
 
@@ -429,7 +422,7 @@ MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined) {
         for (int32_t v = 0; v < m.n_vertices; ++v)
             m.vertex_side[v] = static_cast<int32_t>(refined.triangle_side[m.vertex_source_triangle[v]]);
     }
-    add_cell_masks(m);
+    if (!m.cell_side.empty()) add_cell_masks(refined, m);
     if (refined.gamma) add_edge_features(refined, m);
     return m;
 }

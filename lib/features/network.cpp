@@ -11,7 +11,7 @@ namespace um::features {
 
 namespace {
 
-constexpr const char *kKindNames[] = {"coastline", "lake", "river", "watershed", "other"};
+constexpr const char *kKindNames[] = {"coastline", "lake", "river", "watershed", "other", "passage"};
 
 bool equal_ascii_nocase(std::string_view a, std::string_view b) {
     if (a.size() != b.size()) return false;
@@ -103,7 +103,7 @@ public:
                      " is not 0 or 1");
             if (!is_kind(in_.kind[p]))
                 fail(UM_ERR_INVALID_ARGUMENT, "kind[", p, "] = ", in_.kind[p],
-                     " is not a feature kind (UM_FEATURE_COASTLINE = 1 to UM_FEATURE_OTHER = 5)");
+                     " is not a feature kind (UM_FEATURE_COASTLINE = 1 to UM_FEATURE_PASSAGE = 6)");
         }
     }
 
@@ -139,10 +139,14 @@ public:
             out.points.pop_back(), out.lon.pop_back(), out.lat.pop_back(), source.pop_back();
         }
         const int64_t kept = static_cast<int64_t>(source.size());
-        if (kept < 2)
+        // A passage may be one point (open: a ring of one point has no arc).
+        const bool point_allowed = in_.kind[p] == static_cast<int32_t>(Kind::passage) && !closed;
+        if (kept < (point_allowed ? 1 : 2))
             fail(UM_ERR_TOO_FEW_POINTS, place(p, -1, -1), " has ", kept,
-                 " distinct point", kept == 1 ? "" : "s", " (", n,
-                 " given); a line needs at least 2");
+                 " distinct point", kept == 1 ? "" : "s", " (", n, " given); ",
+                 point_allowed ? "a passage needs at least 1"
+                 : in_.kind[p] == static_cast<int32_t>(Kind::passage) ? "a closed passage needs at least 2"
+                                                                        : "a line needs at least 2");
         for (int64_t k = 1; k < kept; ++k) {
             size_t a = start + k - 1, b = start + k;
             if (antipodal(out.lon[a], out.lat[a], out.points[a], out.lon[b], out.lat[b],
@@ -261,7 +265,7 @@ void append(std::vector<T> &to, const std::vector<T> &from) {
 }  // namespace
 
 bool is_kind(int32_t value) {
-    return value >= static_cast<int32_t>(Kind::coastline) && value <= static_cast<int32_t>(Kind::other);
+    return value >= static_cast<int32_t>(Kind::coastline) && value <= static_cast<int32_t>(Kind::passage);
 }
 
 const char *kind_name(Kind kind) {
@@ -270,7 +274,7 @@ const char *kind_name(Kind kind) {
 }
 
 bool kind_from_name(std::string_view name, Kind &kind) {
-    for (int32_t k = 1; k <= 5; ++k)
+    for (int32_t k = 1; k <= static_cast<int32_t>(Kind::passage); ++k)
         if (equal_ascii_nocase(name, kKindNames[k - 1])) {
             kind = static_cast<Kind>(k);
             return true;
@@ -323,6 +327,30 @@ void Network::add(const PartsInput &in, const Locator &where) {
 
 double Network::segment_length(int64_t s) const {
     return geom::arc_length(segment_a(s), segment_b(s));
+}
+
+Network parts_of_kind(const Network &net, Kind kind, bool keep, std::vector<int64_t> *source_parts) {
+    std::vector<double> lon, lat;
+    std::vector<int64_t> offsets{0};
+    std::vector<int32_t> closed, kinds, ids;
+    if (source_parts) source_parts->clear();
+    for (int64_t index = 0; index < net.part_count(); ++index) {
+        const Part &p = net.part(index);
+        if ((p.kind == kind) != keep) continue;
+        if (source_parts) source_parts->push_back(index);
+        for (int64_t i = p.first_point; i < p.first_point + p.n_points; ++i)
+            lon.push_back(net.lon_deg(i)), lat.push_back(net.lat_deg(i));
+        offsets.push_back(static_cast<int64_t>(lon.size()));
+        closed.push_back(p.closed), kinds.push_back(static_cast<int32_t>(p.kind)), ids.push_back(p.id);
+    }
+    Network out;
+    if (closed.empty()) return out;
+    PartsInput in;
+    in.n_points = static_cast<int64_t>(lon.size()), in.lon_deg = lon.data(), in.lat_deg = lat.data();
+    in.n_parts = static_cast<int64_t>(closed.size()), in.part_offsets = offsets.data();
+    in.closed = closed.data(), in.kind = kinds.data(), in.part_id = ids.data();
+    out.add(in);  // already checked and cleaned: the same parts again
+    return out;
 }
 
 geom::ArcTree segment_arc_tree(const Network *net) {

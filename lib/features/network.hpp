@@ -36,10 +36,12 @@ namespace um::features {
 using geom::Vec3;
 
 // The values of UM_FEATURE_* in unimesh.h.
-enum class Kind : int32_t { coastline = 1, lake = 2, river = 3, watershed = 4, other = 5 };
+// A passage is not part of Gamma: a line (or a point: a part of one point)
+// across which the ocean mesh is kept open (split off before refinement).
+enum class Kind : int32_t { coastline = 1, lake = 2, river = 3, watershed = 4, other = 5, passage = 6 };
 
 bool is_kind(int32_t value);
-// "coastline", "lake", "river", "watershed", "other".
+// "coastline", "lake", "river", "watershed", "other", "passage".
 const char *kind_name(Kind kind);
 // The kind of one of those names (ASCII case-insensitive); false if none.
 bool kind_from_name(std::string_view name, Kind &kind);
@@ -70,7 +72,7 @@ using Locator = std::function<std::string(int64_t part, int64_t point, int coord
 // One stored part.
 struct Part {
     int64_t first_point = 0;    // its points are [first_point, first_point + n_points)
-    int64_t n_points = 0;       // distinct consecutive points, >= 2
+    int64_t n_points = 0;       // distinct consecutive points, >= 2 (>= 1 for an open passage)
     int64_t first_segment = 0;  // its segments are [first_segment, first_segment + n_segments)
     int64_t n_segments = 0;     // n_points - 1 when open, n_points when closed
     bool closed = false;
@@ -132,6 +134,11 @@ private:
     std::vector<int32_t> segment_part_;
     double total_length_ = 0;
 };
+
+// The parts of `net` of kind `kind` (keep) or every other part (!keep), as a
+// network of their own, ids kept; source_parts (when given) gets the index in
+// net of each.
+Network parts_of_kind(const Network &net, Kind kind, bool keep, std::vector<int64_t> *source_parts = nullptr);
 
 // The arc tree of every segment of `net` (arc i = segment i); empty for a
 // null or empty network.

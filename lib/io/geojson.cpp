@@ -276,7 +276,7 @@ private:
             input_error(path + field(path, "properties.") + name, " = ", shown(*value),
                         " is not a known feature kind (",
                         options_.kind_values.empty()
-                            ? "coastline, lake, river, watershed or other"
+                            ? "coastline, lake, river, watershed, other or passage"
                             : "not in the caller's table of values",
                         ") and no default kind was given");
         }
@@ -365,10 +365,18 @@ private:
                 read_geometry(g, type_of(g, path, "a geometry object"), attributes, path,
                               depth + 1);
             }
-        } else if (type == "Point" || type == "MultiPoint") {
-            format_error(path, " is a ", type,
-                         ", not a line (LineString, MultiLineString, Polygon, MultiPolygon or "
-                         "GeometryCollection)");
+        } else if (type == "Point") {
+            // A part of one point: the network refuses it unless it is a passage.
+            const json &c = coordinates_of(geometry, type, path);
+            PathScope scope(path, field(path, "coordinates"));
+            read_point(c, attributes, path);
+        } else if (type == "MultiPoint") {
+            const json &c = coordinates_of(geometry, type, path);
+            PathScope scope(path, field(path, "coordinates"));
+            for (size_t k = 0; k < c.size(); ++k) {
+                PathScope point(path, concat("[", k, "]"));
+                read_point(c[k], attributes, path);
+            }
         } else {
             format_error(path, " has type \"", type, "\", which is not a GeoJSON geometry");
         }
@@ -381,21 +389,8 @@ private:
             format_error(path, " is ", type_name(positions), ", not an array of positions");
         const size_t n = positions.size();
         for (size_t i = 0; i < n; ++i) {
-            const json &p = positions[i];
-            if (!p.is_array() || p.size() < 2) {
-                PathScope scope(path, concat("[", i, "]"));
-                if (!p.is_array())
-                    format_error(path, " is ", type_name(p), ", not a position [lon, lat]");
-                format_error(path, " has ", p.size(), " number", p.size() == 1 ? "" : "s",
-                             "; a position needs at least 2 (lon, lat)");
-            }
-            for (size_t k = 0; k < 2; ++k)
-                if (!p[k].is_number()) {
-                    PathScope scope(path, concat("[", i, "][", k, "]"));
-                    format_error(path, " is ", type_name(p[k]), ", not a number");
-                }
-            lon_.push_back(p[0].get<double>());
-            lat_.push_back(p[1].get<double>());
+            PathScope scope(path, concat("[", i, "]"));
+            read_position(positions[i], path);
         }
         int32_t closed = ring ? 1 : attributes.closed;
         if (closed < 0) {
@@ -409,6 +404,32 @@ private:
                              : 0;
             }
         }
+        end_part(closed, attributes, path);
+    }
+
+    // One position -> a part of one point (the network refuses it unless it
+    // is a passage).
+    void read_point(const json &position, const Attributes &attributes, std::string &path) {
+        read_position(position, path);
+        end_part(0, attributes, path);
+    }
+
+    void read_position(const json &p, std::string &path) {
+        if (!p.is_array())
+            format_error(path, " is ", type_name(p), ", not a position [lon, lat]");
+        if (p.size() < 2)
+            format_error(path, " has ", p.size(), " number", p.size() == 1 ? "" : "s",
+                         "; a position needs at least 2 (lon, lat)");
+        for (size_t k = 0; k < 2; ++k)
+            if (!p[k].is_number()) {
+                PathScope scope(path, concat("[", k, "]"));
+                format_error(path, " is ", type_name(p[k]), ", not a number");
+            }
+        lon_.push_back(p[0].get<double>());
+        lat_.push_back(p[1].get<double>());
+    }
+
+    void end_part(int32_t closed, const Attributes &attributes, const std::string &path) {
         offsets_.push_back(static_cast<int64_t>(lon_.size()));
         closed_.push_back(closed);
         kind_.push_back(attributes.kind);

@@ -10,6 +10,7 @@
 #include "refine/lattice.hpp"
 #include "refine/relax.hpp"
 #include "refine/surface.hpp"
+#include "tri/cell_walk.hpp"
 
 namespace um::mesh {
 
@@ -122,6 +123,20 @@ void number_vertices(RefinedMesh &m) {
 // What every stage hands on: no degenerate dual edge, compact slots in
 // Hilbert order (tri::Triangulation::reorder_spatially), vertex numbers,
 // and Tri|Gamma with the sides for the triangulation as it is now.
+// Gamma is every part of the caller's features but the passages, which go
+// to m.passages (the one copy the mesh keeps of each part).
+void split_passages(RefinedMesh &m, std::shared_ptr<const features::Network> features) {
+    const bool any = features && std::any_of(features->parts().begin(), features->parts().end(),
+                                             [](const features::Part &p) { return p.kind == features::Kind::passage; });
+    if (!any) {
+        m.gamma = std::move(features);
+        return;
+    }
+    m.gamma = std::make_shared<features::Network>(
+        features::parts_of_kind(*features, features::Kind::passage, false, &m.features_part));
+    m.passages = std::make_shared<features::Network>(features::parts_of_kind(*features, features::Kind::passage, true));
+}
+
 void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
     separate_degenerate_dual_edges(ctx, m.tri);
     m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
@@ -186,7 +201,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     }
     RefinedMesh m;
     m.radius_m = options.real(UM_OPT_SPHERE_RADIUS);
-    m.gamma = std::move(gamma);
+    split_passages(m, std::move(gamma));
     m.spacing = std::move(h);
     const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
     const geom::ArcTree arcs = features::segment_arc_tree(m.gamma.get());
@@ -341,6 +356,42 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
         put_back(m, std::move(undo));
         throw;
     }
+}
+
+std::vector<uint8_t> RefinedMesh::ocean_cells() const {
+    std::vector<uint8_t> ocean = refine::ocean_mesh_cells(tri, vertex_side, triangle_side);
+    if (!passages) return ocean;
+    int32_t at = -1;  // where the last walk ended: the next starts there
+    auto keep_open = [&](int32_t v) {
+        if (v >= 0 && !ocean[v]) ocean[v] = 2;
+        if (v >= 0) at = v;
+    };
+    for (const features::Part &p : passages->parts()) {
+        if (p.n_segments == 0) keep_open(tri::cell_holding(tri, passages->point(p.first_point), at));
+        for (int64_t s = p.first_segment; s < p.first_segment + p.n_segments; ++s)
+            for (int32_t v : tri::cells_along_arc(tri, passages->segment_a(s), passages->segment_b(s), at))
+                keep_open(v);
+    }
+    return ocean;
+}
+
+std::vector<std::pair<int32_t, int32_t>> RefinedMesh::coastline_contacts() const {
+    std::vector<std::pair<int32_t, int32_t>> contacts;
+    if (!gamma) return contacts;
+    auto ring_of = [&](int64_t segment) {
+        const int64_t p = gamma->segment_part(segment);
+        return refine::is_closed_coastline(gamma->part(p)) ? static_cast<int32_t>(p) : -1;
+    };
+    for (int32_t v = 0; v < static_cast<int32_t>(on_segment.size()); ++v)
+        if (on_segment[v] >= 0 && tri.in_triangulation(v) && ring_of(on_segment[v]) >= 0)
+            contacts.push_back({v, ring_of(on_segment[v])});
+    for (const refine::RestrictedEdge &e : restricted) {
+        const int32_t ring = ring_of(e.arc);
+        if (ring < 0) continue;
+        contacts.push_back({tri.vertex(e.triangle, (e.edge + 1) % 3), ring});
+        contacts.push_back({tri.vertex(e.triangle, (e.edge + 2) % 3), ring});
+    }
+    return contacts;
 }
 
 }  // namespace um::mesh

@@ -25,6 +25,12 @@ namespace um::mesh {
 struct RefinedMesh {
     tri::Triangulation tri;
     std::shared_ptr<const features::Network> gamma;  // may be empty
+    // The caller's passages (UM_FEATURE_PASSAGE parts, split off Gamma): where
+    // the ocean mesh is kept open. May be null.
+    std::shared_ptr<const features::Network> passages;
+    // Per part of gamma, its index among the caller's features (empty: the
+    // same index, when no passage was split off).
+    std::vector<int64_t> features_part;
     hfun::SpacingPtr spacing;                         // what it was refined to
     double radius_m = 0;
     // Per vertex slot: the Gamma segment it was placed on, or -1.
@@ -48,9 +54,19 @@ struct RefinedMesh {
     optim::OptimiseStats optimisation;
 
     int64_t vertex_count() const { return static_cast<int64_t>(slot_of_vertex.size()); }
-    // Per vertex slot, 1 when its cell is in the ocean mesh (the rule of the
-    // MPAS cellOceanMask, refine::ocean_mesh_cells).
-    std::vector<uint8_t> ocean_cells() const { return refine::ocean_mesh_cells(tri, vertex_side, triangle_side); }
+    // The index among the caller's features of the part of Gamma segment s.
+    int64_t features_part_of_segment(int64_t s) const {
+        const int64_t p = gamma->segment_part(s);
+        return features_part.empty() ? p : features_part[static_cast<size_t>(p)];
+    }
+    // Per vertex slot, non-zero when its cell is in the ocean mesh (the MPAS
+    // cellOceanMask): 1 by the rule of refine::ocean_mesh_cells, 2 when only
+    // because a passage passes through it.
+    std::vector<uint8_t> ocean_cells() const;
+    // Which closed coastline rings each cell touches, as (vertex slot, part
+    // of gamma) pairs: the cells on a ring and the two ends of each
+    // restricted edge of one (what tells water bodies apart).
+    std::vector<std::pair<int32_t, int32_t>> coastline_contacts() const;
 };
 
 // Refines from the icosahedron. gamma may be null (no features); h is read

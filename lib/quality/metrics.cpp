@@ -34,14 +34,21 @@ std::string json_summary(const Summary &s) {
 // JSON has no inf or nan: null stands for them.
 std::string json_number(double v) { return std::isfinite(v) ? to_text(v) : "null"; }
 
-// The ocean regions as [[cells, lon, lat], ...], at most kListedRegions
-// of them (the largest; the count is always whole).
-constexpr size_t kListedRegions = 100;
-std::string json_regions(const std::vector<Report::OceanEdges::Region> &regions) {
-    std::string list;
-    for (size_t i = 0; i < std::min(regions.size(), kListedRegions); ++i)
-        list += concat(i ? ", " : "", "[", regions[i].cells, ", ", regions[i].lon, ", ", regions[i].lat, "]");
-    return concat("{\"count\": ", regions.size(), ", \"largest\": [", list, "]}");
+// The ocean regions as [[cells, lon, lat], ...] and the closed passages as
+// [[lon, lat, land cells], ...], at most kListed of each (the largest
+// regions, the thinnest closures; the counts are always whole).
+constexpr size_t kListed = 100;
+std::string json_connectivity(const OceanConnectivity &c) {
+    std::string regions, closed;
+    for (size_t i = 0; i < std::min(c.regions.size(), kListed); ++i)
+        regions += concat(i ? ", " : "", "[", c.regions[i].cells, ", ", c.regions[i].lon, ", ", c.regions[i].lat, "]");
+    for (size_t i = 0; i < std::min(c.closed_passages.size(), kListed); ++i) {
+        const OceanConnectivity::ClosedPassage &p = c.closed_passages[i];
+        closed += concat(i ? ", " : "", "[", p.lon, ", ", p.lat, ", ", p.land_cells, "]");
+    }
+    return concat("\"regions\": {\"count\": ", c.regions.size(), ", \"largest\": [", regions,
+                  "]}, \"water_bodies\": ", c.water_bodies, ", \"closed_passages\": {\"count\": ",
+                  c.closed_passages.size(), ", \"thinnest\": [", closed, "]}");
 }
 
 std::string json_offset(const Summary &s) {
@@ -398,49 +405,16 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
 
 namespace {
 
-// Union-find root of v, halving the path on the way.
-int32_t root_of(std::vector<int32_t> &parent, int32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-}
-
 }  // namespace
 
-std::vector<Report::OceanEdges::Region> ocean_regions(const tri::Triangulation &tri, const std::vector<uint8_t> &ocean_cell) {
-    const int32_t n = tri.vertex_slots();
-    auto ocean = [&](int32_t v) { return static_cast<size_t>(v) < ocean_cell.size() && ocean_cell[v] != 0; };
-    std::vector<int32_t> parent(static_cast<size_t>(n));
-    for (int32_t v = 0; v < n; ++v) parent[v] = v;
-    for (int32_t t = 0; t < tri.triangle_slots(); ++t) {
-        if (tri.is_free(t)) continue;
-        for (int k = 0; k < 3; ++k) {
-            const int32_t a = tri.vertex(t, (k + 1) % 3), b = tri.vertex(t, (k + 2) % 3);
-            if (a < b && ocean(a) && ocean(b)) {
-                const int32_t ra = root_of(parent, a), rb = root_of(parent, b);
-                if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);  // the root: the lowest slot
-            }
-        }
-    }
-    std::vector<int64_t> cells(static_cast<size_t>(n), 0);
-    for (int32_t v = 0; v < n; ++v)
-        if (tri.in_triangulation(v) && ocean(v)) ++cells[root_of(parent, v)];
-    std::vector<Report::OceanEdges::Region> regions;
-    for (int32_t v = 0; v < n; ++v) {
-        if (cells[v] == 0) continue;
-        Report::OceanEdges::Region r{cells[v], 0, 0};
-        geom::lonlat_deg_from_unit(tri.direction(v), r.lon, r.lat);
-        regions.push_back(r);
-    }
-    std::stable_sort(regions.begin(), regions.end(), [](const auto &p, const auto &q) { return p.cells > q.cells; });
-    return regions;
-}
-
 Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
-                                       const std::vector<uint8_t> &ocean_cell, double floor) {
+                                       const std::vector<uint8_t> &ocean_cell, double floor,
+                                       const std::vector<std::pair<int32_t, int32_t>> &contacts) {
     constexpr int64_t kBlock = 16384;
     const int64_t n = tri.triangle_slots(), n_blocks = (n + kBlock - 1) / kBlock;
     std::vector<Report::OceanEdges> part(static_cast<size_t>(n_blocks));
     auto ocean = [&](int32_t v) { return static_cast<size_t>(v) < ocean_cell.size() && ocean_cell[v] != 0; };
+    auto kept_open = [&](int32_t v) { return ocean_cell[v] == 2; };
     ctx.parallel_for_with_heartbeat("quality", n_blocks, 1, [&](int64_t b0, int64_t b1) {
         for (int64_t blk = b0; blk < b1; ++blk) {
             Report::OceanEdges &o = part[static_cast<size_t>(blk)];
@@ -450,10 +424,16 @@ Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &t
                 if (tri.is_free(t)) continue;
                 for (int k = 0; k < 3; ++k) {
                     if (tri.neighbour(t, k) < t) continue;  // each edge once
-                    if (!ocean(tri.vertex(t, (k + 1) % 3)) || !ocean(tri.vertex(t, (k + 2) % 3))) continue;
+                    const int32_t a = tri.vertex(t, (k + 1) % 3), b = tri.vertex(t, (k + 2) % 3);
+                    if (!ocean(a) || !ocean(b)) continue;
                     const EdgeOffsets e = edge_offsets(tri, t, k);
                     const double ratio = e.dc_edge / h(e.x_edge);
-                    ++o.edges, o.below_floor += ratio < floor;
+                    ++o.edges;
+                    if (kept_open(a) || kept_open(b)) {
+                        o.kept_open_below_floor += ratio < floor;
+                        continue;
+                    }
+                    o.below_floor += ratio < floor;
                     o.min_ratio = std::min(o.min_ratio, ratio);
                 }
             }
@@ -462,10 +442,11 @@ Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &t
     Report::OceanEdges all;
     all.measured = true, all.floor = floor, all.min_ratio = std::numeric_limits<double>::infinity();
     for (const Report::OceanEdges &o : part) {
-        all.edges += o.edges, all.below_floor += o.below_floor;
+        all.edges += o.edges, all.below_floor += o.below_floor, all.kept_open_below_floor += o.kept_open_below_floor;
         all.min_ratio = std::min(all.min_ratio, o.min_ratio);
     }
-    all.regions = ocean_regions(tri, ocean_cell);
+    for (int32_t v = 0; v < tri.vertex_slots(); ++v) all.kept_open_cells += tri.in_triangulation(v) && kept_open(v);
+    all.connectivity = ocean_connectivity(tri, ocean_cell, contacts);
     return all;
 }
 
@@ -486,7 +467,9 @@ std::string to_json(const Report &r, const std::string &indent,
         text += concat(",", nl, "\"ocean_floor\": {\"floor\": ", r.ocean.floor, ", \"ocean_edges\": ", r.ocean.edges,
                        ", \"min_ratio\": ", json_number(r.ocean.min_ratio),
                        ", \"all_edges_min_ratio\": ", json_number(r.cell_spacing_ratio.min),
-                       ", \"below_floor\": ", r.ocean.below_floor, ", \"regions\": ", json_regions(r.ocean.regions), "}");
+                       ", \"below_floor\": ", r.ocean.below_floor, ", \"kept_open\": {\"cells\": ",
+                       r.ocean.kept_open_cells, ", \"below_floor\": ", r.ocean.kept_open_below_floor, "}, ",
+                       json_connectivity(r.ocean.connectivity), "}");
     if (!extra_members.empty()) text += concat(",", nl, extra_members);
     return text + concat("\n", indent, "}", indent.empty() ? "\n" : "");
 }

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/context.hpp"
+#include "quality/ocean_connectivity.hpp"
 #include "refine/surface.hpp"
 #include "tri/triangulation.hpp"
 
@@ -72,32 +73,26 @@ struct Report {
     Summary centroid_offset, dual_edge_offset, primal_edge_offset, cell_spacing_ratio;
     // The time-step floor: over the edges between two cells of the ocean
     // mesh, the least dcEdge / h(xEdge) and how many are below the floor the
-    // mesh was built to (measured when the ocean cells are given).
+    // mesh was built to (measured when the ocean cells are given). The edges
+    // of cells in the ocean mesh only because a passage keeps them open are
+    // the exceptions: counted apart (kept_open_*), not in the others.
     struct OceanEdges {
         bool measured = false;
         double floor = 0;
         int64_t edges = 0, below_floor = 0;
         double min_ratio = 0;
-        // The connected regions of the ocean mesh (cells joined by their
-        // edges), largest first: a channel the floor closed shows as a
-        // region more than with a floor of 0. Each: its cells and the
-        // position (degrees) of its cell of the lowest slot.
-        struct Region {
-            int64_t cells;
-            double lon, lat;
-        };
-        std::vector<Region> regions;
+        int64_t kept_open_cells = 0, kept_open_below_floor = 0;
+        // Its regions, water bodies and the passages the mesh closed.
+        OceanConnectivity connectivity;
     } ocean;
 };
 
-// The connected regions of the ocean mesh (Report::OceanEdges::regions).
-std::vector<Report::OceanEdges::Region> ocean_regions(const tri::Triangulation &tri,
-                                                      const std::vector<uint8_t> &ocean_cell);
-
 // The ocean edges of a report (Report::ocean): ocean_cell per vertex slot
-// (1: its cell is in the ocean mesh).
+// (0: its cell is not in the ocean mesh, 1: it is, 2: only because a passage
+// keeps it open); contacts as ocean_connectivity takes them.
 Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
-                                       const std::vector<uint8_t> &ocean_cell, double floor);
+                                       const std::vector<uint8_t> &ocean_cell, double floor,
+                                       const std::vector<std::pair<int32_t, int32_t>> &contacts);
 
 // Every metric over the live triangles, edges and cells (in parallel; the
 // same result for any thread count). h may be empty: then h_r and dcEdge / h

@@ -1,6 +1,8 @@
 /* CMocka suite: the time-step floor (UM_OPT_OCEAN_FLOOR) on planted narrow
- * features - an inlet and a strait narrower than the floor - and its
- * report in the quality JSON ("ocean_floor"). */
+ * features - an inlet and a strait narrower than the floor, a sea behind a
+ * channel narrower than the cells - its report in the quality JSON
+ * ("ocean_floor"), the passages it closes and those kept open
+ * (UM_FEATURE_PASSAGE). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -37,11 +39,25 @@ static um_features *planted_coasts(um_context *ctx) {
     return f;
 }
 
-static um_mesh *build(um_context *ctx, double floor) {
+/* A continent (counter-clockwise) holding a sea of 20 by 16 degrees, joined
+ * to the ocean east of it by a channel 0.3 h wide and 20 degrees long along
+ * the equator (the sea's shore runs clockwise: land stays on the left). */
+static um_features *sea_behind_a_channel(um_context *ctx) {
+    const double w = 0.5 * degrees_of_km(0.3 * H_KM);
+    const double lon[] = {-30, 30, 30, 10, 10, -10, -10, 10, 10, 30, 30, -30};
+    const double lat[] = {-20, -20, -w, -w, -8, -8, 8, 8, w, w, 20, 20};
+    const int64_t offsets[] = {0, 12};
+    const int32_t closed[] = {1}, kind[] = {UM_FEATURE_COASTLINE};
+    um_features *f = NULL;
+    assert_int_equal(um_features_create(ctx, &f), UM_OK);
+    assert_int_equal(um_features_add(f, 12, lon, lat, 1, offsets, closed, kind, NULL), UM_OK);
+    return f;
+}
+
+static um_mesh *build_from(um_context *ctx, um_features *f, double floor) {
     um_spacing *h = NULL;
     um_options *o = NULL;
     um_mesh *m = NULL;
-    um_features *f = planted_coasts(ctx);
     assert_int_equal(um_spacing_create_constant(ctx, H_KM, &h), UM_OK);
     assert_int_equal(um_options_create(ctx, &o), UM_OK);
     if (floor >= 0) /* (else the default) */
@@ -54,9 +70,12 @@ static um_mesh *build(um_context *ctx, double floor) {
     return m;
 }
 
+static um_mesh *build(um_context *ctx, double floor) { return build_from(ctx, planted_coasts(ctx), floor); }
+
 typedef struct {
     double floor, min_ratio, all_edges_min_ratio;
-    int64_t ocean_edges, below_floor, regions;
+    int64_t ocean_edges, below_floor, regions, water_bodies, closed_passages, kept_open_cells;
+    double closed_lon, closed_lat; /* the thinnest closed passage, if any */
 } ocean_report;
 
 static double member(const char *json, const char *key) {
@@ -77,7 +96,17 @@ static ocean_report report_of(um_mesh *m) {
     assert_int_equal(um_mesh_quality_json(m, json, needed, &needed), UM_OK);
     ocean_report r = {member(json, "floor"), member(json, "min_ratio"), member(json, "all_edges_min_ratio"),
                       (int64_t)member(json, "ocean_edges"), (int64_t)member(json, "below_floor"),
-                      (int64_t)member(json, "count")};
+                      (int64_t)member(json, "count"), (int64_t)member(json, "water_bodies"), 0,
+                      (int64_t)member(json, "cells"), 0, 0};
+    const char *anchor = "\"closed_passages\": {\"count\": ";
+    const char *closed = strstr(strstr(json, "\"ocean_floor\""), anchor);
+    assert_non_null(closed);
+    r.closed_passages = strtoll(closed + strlen(anchor), NULL, 10);
+    if (r.closed_passages > 0) {
+        const char *list = strstr(closed, "\"thinnest\": [[");
+        assert_non_null(list);
+        assert_int_equal(sscanf(list, "\"thinnest\": [[%lf, %lf", &r.closed_lon, &r.closed_lat), 2);
+    }
     free(json);
     return r;
 }
@@ -114,6 +143,49 @@ static void the_floor_lifts_the_short_ocean_edges(void **state) {
     um_mesh_destroy(with);
 }
 
+/* The channel is far narrower than the cells: the mesh closes it, and the
+ * report says where. A passage drawn along it keeps it open: its cells join
+ * the ocean mesh, one region, their short edges counted apart. */
+static void a_closed_channel_is_reported_and_a_passage_keeps_it_open(void **state) {
+    um_context *ctx = *state;
+    um_mesh *closed = build_from(ctx, sea_behind_a_channel(ctx), -1);
+    const ocean_report a = report_of(closed);
+    um_mesh_destroy(closed);
+    print_message("closed: %lld regions, %lld water bodies, %lld closed passages (thinnest at %.2f, %.2f)\n",
+                  (long long)a.regions, (long long)a.water_bodies, (long long)a.closed_passages, a.closed_lon,
+                  a.closed_lat);
+    assert_int_equal(a.regions, 2);
+    assert_int_equal(a.water_bodies, 1);
+    assert_int_equal(a.closed_passages, 1);
+    assert_true(a.closed_lon > 8 && a.closed_lon < 32 && fabs(a.closed_lat) < 3);
+    assert_int_equal(a.kept_open_cells, 0);
+
+    um_features *f = sea_behind_a_channel(ctx);
+    const double lon[] = {5, 35, 0}, lat[] = {0, 0, -40};
+    const int64_t offsets[] = {0, 2, 3};
+    const int32_t open[] = {0, 0}, kind[] = {UM_FEATURE_PASSAGE, UM_FEATURE_PASSAGE}, id[] = {90, 91};
+    assert_int_equal(um_features_add(f, 3, lon, lat, 2, offsets, open, kind, id), UM_OK);
+    um_mesh *kept = build_from(ctx, f, -1);
+    const ocean_report b = report_of(kept);
+    print_message("kept open: %lld regions, %lld closed passages, %lld cells kept open, %lld below the floor "
+                  "outside them\n", (long long)b.regions, (long long)b.closed_passages,
+                  (long long)b.kept_open_cells, (long long)b.below_floor);
+    assert_int_equal(b.regions, 1);
+    assert_int_equal(b.water_bodies, 1);
+    assert_int_equal(b.closed_passages, 0);
+    assert_true(b.kept_open_cells >= 3);
+    assert_int_equal(b.below_floor, 0);
+    /* The passages are not features of the mesh: no vertex on them. */
+    int64_t n = 0;
+    assert_int_equal(um_mesh_counts(kept, &n, NULL, NULL, NULL), UM_OK);
+    int32_t *parts = malloc((size_t)n * sizeof(int32_t));
+    assert_non_null(parts);
+    assert_int_equal(um_mesh_copy_vertex_parts(kept, 0, parts, n), UM_OK);
+    for (int64_t v = 0; v < n; ++v) assert_true(parts[v] == -1 || parts[v] == 0);
+    free(parts);
+    um_mesh_destroy(kept);
+}
+
 static void copy_points(um_mesh *m, double **lon, double **lat, int64_t *n) {
     assert_int_equal(um_mesh_counts(m, n, NULL, NULL, NULL), UM_OK);
     *lon = malloc((size_t)*n * sizeof(double)), *lat = malloc((size_t)*n * sizeof(double));
@@ -143,6 +215,7 @@ static void the_floor_is_bit_identical_for_any_thread_count(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(the_floor_lifts_the_short_ocean_edges),
+        cmocka_unit_test(a_closed_channel_is_reported_and_a_passage_keeps_it_open),
         cmocka_unit_test(the_floor_is_bit_identical_for_any_thread_count),
     };
     return cmocka_run_group_tests(tests, setup_context, teardown_context);

@@ -100,6 +100,39 @@ class Build(unittest.TestCase):
             r = run("build", "--case", case, "--kind", "sea", "--out", out)
             self.assertIn("--kind sea", r.stderr)
 
+    def test_passages_keep_a_strait_open(self):
+        # The Bosphorus and the Dardanelles, far narrower than 300 km cells: the
+        # report lists the closure; drawn as a passage, the Black Sea is joined.
+        strait = {"type": "Feature", "properties": {"name": "Turkish straits"},
+                  "geometry": {"type": "LineString",
+                               "coordinates": [[29.2, 41.3], [28.9, 41.0], [28.0, 40.7], [26.6, 40.3], [26.1, 40.0]]}}
+        with tempfile.TemporaryDirectory() as out:
+            def ocean_floor(*extra):
+                r = run("build", "--spacing-km", "300", "--geometry", COAST, *extra, "--out", out)
+                self.assertEqual(r.returncode, 0, r.stderr)
+                self.assertIn("optimised ocean connectivity: ", r.stdout)
+                with open(os.path.join(out, "quality.json")) as f:
+                    return json.load(f)["ocean_floor"]
+            closed = ocean_floor()
+            near = [p for p in closed["closed_passages"]["thinnest"] if 25 < p[0] < 31 and 39 < p[1] < 42]
+            self.assertEqual(len(near), 1, closed["closed_passages"])
+            self.assertEqual(closed["kept_open"], {"cells": 0, "below_floor": 0})
+            passages = os.path.join(out, "straits.geojson")
+            with open(passages, "w") as f:
+                json.dump({"type": "FeatureCollection", "features": [strait]}, f)
+            kept = ocean_floor("--passages", passages)
+            self.assertEqual(kept["regions"]["count"], closed["regions"]["count"] - 1)
+            self.assertEqual(kept["closed_passages"]["count"], closed["closed_passages"]["count"] - 1)
+            self.assertGreater(kept["kept_open"]["cells"], 0)
+            self.assertEqual(kept["below_floor"], 0)
+            # A passages file holds passages only.
+            strait["properties"]["kind"] = "coastline"
+            with open(passages, "w") as f:
+                json.dump({"type": "FeatureCollection", "features": [strait]}, f)
+            r = run("build", "--spacing-km", "300", "--passages", passages, "--out", out)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("--passages " + passages + ": the feature of id 0 has a kind other than", r.stderr)
+
     def test_version_flag_and_command(self):
         for args in (["--version"], ["version"]):
             r = run(*args)

@@ -227,8 +227,8 @@ void bad_values_are_rejected_with_their_place(void **) {
     // Unknown kinds and closed flags.
     assert_int_equal(add(net, {line({0, 0, 1, 1}, 0, 0)}, &m), UM_ERR_INVALID_ARGUMENT);
     assert_true(contains(m, "kind[0] = 0"));
-    assert_int_equal(add(net, {line({0, 0, 1, 1}), line({0, 0, 1, 1}, 0, 6)}, &m), UM_ERR_INVALID_ARGUMENT);
-    assert_true(contains(m, "kind[1] = 6"));
+    assert_int_equal(add(net, {line({0, 0, 1, 1}), line({0, 0, 1, 1}, 0, 7)}, &m), UM_ERR_INVALID_ARGUMENT);
+    assert_true(contains(m, "kind[1] = 7"));
     assert_int_equal(add(net, {line({0, 0, 1, 1}, 2)}, &m), UM_ERR_INVALID_ARGUMENT);
     assert_true(contains(m, "closed[0] = 2"));
     assert_int_equal(net.part_count(), 0);
@@ -328,7 +328,9 @@ void kind_names(void **) {
     assert_false(features::kind_from_name("", k));
     assert_string_equal(features::kind_name(Kind::river), "river");
     assert_true(features::is_kind(UM_FEATURE_COASTLINE) && features::is_kind(UM_FEATURE_OTHER));
-    assert_false(features::is_kind(0) || features::is_kind(6));
+    assert_true(features::kind_from_name("Passage", k) && k == Kind::passage);
+    assert_true(features::is_kind(UM_FEATURE_PASSAGE));
+    assert_false(features::is_kind(0) || features::is_kind(7));
 }
 
 // --------------------------------------------------------------- GeoJSON
@@ -555,7 +557,7 @@ void wrong_structures(void **) {
          "properties is a number, not an object or null"},
         {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"river\"}, \"geometry\": "
          "{\"type\": \"Point\", \"coordinates\": [1, 2]}}",
-         UM_ERR_FILE_FORMAT, "geometry is a Point, not a line"},
+         UM_ERR_TOO_FEW_POINTS, "geometry.coordinates has 1 distinct point (1 given); a line needs at least 2"},
         {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"river\"}, \"geometry\": "
          "{\"type\": \"Circle\", \"coordinates\": [1, 2]}}",
          UM_ERR_FILE_FORMAT, "geometry has type \"Circle\", which is not a GeoJSON geometry"},
@@ -632,6 +634,43 @@ void wrong_structures(void **) {
                      UM_OK);
     assert_int_equal(net.part_count(), 1);
     assert_int_equal(int(net.part(0).kind), UM_FEATURE_OTHER);
+}
+
+// Passages: points and lines, split off Gamma by parts_of_kind.
+void passages_of_points_and_lines(void **) {
+    Network net;
+    std::string m;
+    const char *text =
+        "{\"type\": \"FeatureCollection\", \"features\": ["
+        "{\"type\": \"Feature\", \"properties\": {\"kind\": \"passage\"}, \"geometry\": "
+        "{\"type\": \"Point\", \"coordinates\": [29, 41.1]}},"
+        "{\"type\": \"Feature\", \"properties\": {\"kind\": \"passage\"}, \"geometry\": "
+        "{\"type\": \"MultiPoint\", \"coordinates\": [[26.4, 40.2], [26.4, 40.2, 5]]}},"
+        "{\"type\": \"Feature\", \"properties\": {\"kind\": \"coastline\"}, \"geometry\": "
+        "{\"type\": \"LineString\", \"coordinates\": [[0, 0], [1, 1]]}},"
+        "{\"type\": \"Feature\", \"properties\": {\"kind\": \"passage\"}, \"geometry\": "
+        "{\"type\": \"LineString\", \"coordinates\": [[-5.6, 35.7], [-5.6, 36.1]]}}]}";
+    assert_int_equal(read_text(net, text, &m), UM_OK);
+    assert_int_equal(net.part_count(), 5);
+    for (int p : {0, 1, 2}) {
+        assert_int_equal(int(net.part(p).kind), UM_FEATURE_PASSAGE);
+        assert_int_equal(net.part(p).n_points, 1);
+        assert_int_equal(net.part(p).n_segments, 0);
+    }
+    assert_int_equal(net.segment_count(), 2);
+    const Network passages = features::parts_of_kind(net, Kind::passage, true);
+    const Network gamma = features::parts_of_kind(net, Kind::passage, false);
+    assert_int_equal(passages.part_count(), 4);
+    assert_int_equal(passages.part(3).n_points, 2);
+    assert_int_equal(passages.part(3).id, 3);
+    assert_int_equal(gamma.part_count(), 1);
+    assert_int_equal(int(gamma.part(0).kind), UM_FEATURE_COASTLINE);
+    assert_true(gamma.lon_deg(1) == 1.0);
+    // Only an open passage may be a point.
+    Network refused;
+    assert_int_equal(add(refused, {line({5, 5}, 1, UM_FEATURE_PASSAGE)}, &m), UM_ERR_TOO_FEW_POINTS);
+    assert_true(contains(m, "a closed passage needs at least 2"));
+    assert_int_equal(add(refused, {line({5, 5}, 0, UM_FEATURE_PASSAGE)}, &m), UM_OK);
 }
 
 // The GSHHG files: counts against data/README.md. All shorelines are closed
@@ -717,6 +756,7 @@ int main() {
         cmocka_unit_test(kinds_from_a_caller_table),
         cmocka_unit_test(malformed_files),
         cmocka_unit_test(wrong_structures),
+        cmocka_unit_test(passages_of_points_and_lines),
         cmocka_unit_test(corrupted_bytes),
         cmocka_unit_test(shipped_data),
         cmocka_unit_test(shared_data),

@@ -86,11 +86,27 @@ int32_t kind_code(const std::string &name) {
         const char *name;
         int32_t code;
     } kinds[] = {{"coastline", UM_FEATURE_COASTLINE}, {"lake", UM_FEATURE_LAKE}, {"river", UM_FEATURE_RIVER},
-                 {"watershed", UM_FEATURE_WATERSHED}, {"other", UM_FEATURE_OTHER}};
+                 {"watershed", UM_FEATURE_WATERSHED}, {"other", UM_FEATURE_OTHER},
+                 {"passage", UM_FEATURE_PASSAGE}};
     if (name.empty()) return 0;
     for (const auto &k : kinds)
         if (name == k.name) return k.code;
-    throw Failure{"--kind " + name + ": not coastline, lake, river, watershed or other"};
+    throw Failure{"--kind " + name + ": not coastline, lake, river, watershed, other or passage"};
+}
+
+// The features of a --passages file: passages, whatever else the file holds
+// is refused (a coastline there would silently become part of the mesh).
+void add_passages(um_context *ctx, um_features *f, const std::string &path) {
+    int64_t before = 0, after = 0;
+    um_features_counts(f, &before, nullptr, nullptr);
+    check(um_features_read_geojson(f, path.c_str(), nullptr, UM_FEATURE_PASSAGE), ctx, "--passages " + path);
+    um_features_counts(f, &after, nullptr, nullptr);
+    std::vector<int32_t> kind(static_cast<size_t>(after)), id(static_cast<size_t>(after));
+    check(um_features_copy_parts(f, nullptr, nullptr, kind.data(), id.data(), after), ctx, "--passages " + path);
+    for (int64_t p = before; p < after; ++p)
+        if (kind[p] != UM_FEATURE_PASSAGE)
+            throw Failure{"--passages " + path + ": the feature of id " + std::to_string(id[p]) +
+                          " has a kind other than \"passage\"; give it with --geometry"};
 }
 
 um_spacing *make_spacing(um_context *ctx, const BuildArgs &a) {
@@ -137,6 +153,16 @@ double diagnostic(const std::string &json, const char *member, const char *key) 
     return value;
 }
 
+// The number after `anchor` in the mesh's own part of its JSON report (the
+// first after "operator_diagnostics"); NaN when absent.
+double number_after(const std::string &json, const std::string &anchor) {
+    size_t at = json.find("\"operator_diagnostics\"");
+    if (at != std::string::npos) at = json.find(anchor, at);
+    double value = NAN;
+    if (at != std::string::npos) std::from_chars(json.data() + at + anchor.size(), json.data() + json.size(), value);
+    return value;
+}
+
 void print_quality(const char *what, um_context *ctx, um_mesh *m) {
     int64_t nt = 0, obtuse = 0, bad = 0;
     um_mesh_counts(m, nullptr, &nt, nullptr, nullptr);
@@ -165,6 +191,13 @@ void print_quality(const char *what, um_context *ctx, um_mesh *m) {
                 "%.0f ocean edges below the floor\n",
                 what, d("ocean_floor", "floor"), d("ocean_floor", "min_ratio"), d("ocean_floor", "ocean_edges"),
                 d("ocean_floor", "all_edges_min_ratio"), d("ocean_floor", "below_floor"));
+    // Passages: the ones the mesh closed (quality.json lists where), the ones kept open.
+    auto n = [&](const char *anchor) { return number_after(json, anchor); };
+    std::printf("%-9s ocean connectivity: %.0f regions in %.0f water bodies, %.0f passages closed; "
+                "%.0f cells kept open by passages, %.0f of their edges below the floor\n",
+                what, n("\"regions\": {\"count\": "), n("\"water_bodies\": "),
+                n("\"closed_passages\": {\"count\": "), n("\"kept_open\": {\"cells\": "),
+                d("kept_open", "below_floor"));
     std::fflush(stdout);
 }
 
@@ -245,11 +278,12 @@ int run_build(const BuildArgs &a) {
         check(um_options_create(ctx, &opts), ctx, "options");
         if (!a.options.empty()) check(um_options_set_string(opts, a.options.c_str()), ctx, "--option");
         h = make_spacing(ctx, a);
-        if (!a.geometry.empty()) {
+        if (!a.geometry.empty() || !a.passages.empty()) {
             check(um_features_create(ctx, &f), ctx, "features");
             for (const auto &g : a.geometry)
                 check(um_features_read_geojson(f, g.c_str(), nullptr, kind_code(a.default_kind)), ctx,
                       "--geometry " + g);
+            for (const auto &p : a.passages) add_passages(ctx, f, p);
         }
         std::unique_ptr<OutputSet> out;
         try {

@@ -8,6 +8,7 @@
 
 struct BuildArgs {
     std::vector<std::string> geometry;  // GeoJSON files
+    std::vector<std::string> passages;  // GeoJSON files of passages (UM_FEATURE_PASSAGE)
     // The kind of a GeoJSON feature without a "kind" property (coastline,
     // lake, river, watershed or other); "" = such a feature is an error.
     std::string default_kind;

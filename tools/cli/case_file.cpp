@@ -47,13 +47,13 @@ std::string option_text(const toml::node &node, const std::string &key) {
 }
 
 void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given, BuildArgs &a) {
-    static const std::set<std::string> known = {"geometry", "kind",  "spacing_km", "spacing_file",
+    static const std::set<std::string> known = {"geometry", "passages", "kind", "spacing_km", "spacing_file",
                                                 "spacing_preset", "threads", "optimise", "out", "options"};
     for (const auto &[key, node] : t) {
         const std::string k(key.str());
         if (!known.count(k))
             throw CaseError{"unknown key '" + k + "'" + where(node) +
-                            "; known: geometry, kind, spacing_km, spacing_file, spacing_preset, threads, "
+                            "; known: geometry, passages, kind, spacing_km, spacing_file, spacing_preset, threads, "
                             "optimise, out, [options]"};
     }
     if (const toml::node *g = t.get("geometry"); g && !given.geometry) {
@@ -61,6 +61,12 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
         if (!list) throw CaseError{"'geometry' must be an array of file names" + where(*g)};
         a.geometry.clear();
         for (const toml::node &item : *list) a.geometry.push_back(resolve(folder, string_value(item, "geometry")));
+    }
+    if (const toml::node *g = t.get("passages"); g && !given.passages) {
+        const toml::array *list = g->as_array();
+        if (!list) throw CaseError{"'passages' must be an array of file names" + where(*g)};
+        a.passages.clear();
+        for (const toml::node &item : *list) a.passages.push_back(resolve(folder, string_value(item, "passages")));
     }
     if (const toml::node *n = t.get("kind"); n && !given.kind) a.default_kind = string_value(*n, "kind");
     if (!given.spacing) {

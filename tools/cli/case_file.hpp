@@ -2,6 +2,7 @@
 // in one file a mesh builder keeps with the mesh. TOML (toml++ from Debian):
 //
 //   geometry = ["coast.geojson", "rivers.geojson"]  # paths relative to the case file
+//   passages = ["straits.geojson"]  # passages kept open in the ocean mesh (as --passages)
 //   kind = "coastline"         # of features without a "kind" property (as --kind)
 //   spacing_km = 60            # or spacing_file = "cellWidth.nc", or spacing_preset = "EC60to30"
 //   threads = 0                # 0 = all cores
@@ -20,7 +21,7 @@
 
 // Which flags the command line gave (those keep their values).
 struct GivenFlags {
-    bool geometry = false, kind = false, spacing = false, threads = false, no_optimise = false, out = false;
+    bool geometry = false, passages = false, kind = false, spacing = false, threads = false, no_optimise = false, out = false;
 };
 
 // Reads path into args; false with a one-line *error naming the file, the

@@ -31,9 +31,13 @@ int main(int argc, char **argv) {
         ->check(CLI::ExistingFile);
     build->add_option("--geometry", b.geometry, "GeoJSON features (coastlines, lakes, rivers); repeatable")
         ->check(CLI::ExistingFile);
+    build->add_option("--passages", b.passages,
+                      "GeoJSON lines or points across which the ocean mesh is kept open (critical "
+                      "passages; a feature's kind must be \"passage\" or absent); repeatable")
+        ->check(CLI::ExistingFile);
     build->add_option("--kind,--default-kind", b.default_kind,
                       "kind of a GeoJSON feature without a \"kind\" property: coastline, lake, river, "
-                      "watershed or other (default: such a feature is an error)");
+                      "watershed, other or passage (default: such a feature is an error)");
     auto *km = build->add_option("--spacing-km", b.spacing_km, "constant spacing h, km");
     auto *file = build->add_option("--spacing-file", b.spacing_file,
                                    "MPAS-tools spacing file: netCDF lon, lat, cellWidth(lat, lon) km");
@@ -72,6 +76,7 @@ int main(int argc, char **argv) {
         if (!case_file.empty()) {
             GivenFlags given;
             given.geometry = build->count("--geometry") > 0;
+            given.passages = build->count("--passages") > 0;
             given.kind = build->count("--kind") > 0;
             given.spacing = build->count("--spacing-km") + build->count("--spacing-file") +
                                 build->count("--spacing-preset") > 0;

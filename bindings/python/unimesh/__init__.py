@@ -114,6 +114,7 @@ class FeatureKind(enum.IntEnum):
     RIVER = 3
     WATERSHED = 4
     OTHER = 5
+    PASSAGE = 6  # not Gamma: a line or point where the ocean mesh is kept open
 
 
 class Side(enum.IntEnum):
