@@ -28,6 +28,9 @@ const um::quality::Report &quality_of(const um_mesh *m) {
         um::quality::Report r = um::quality::measure(*m->context, m->mesh.tri, h, &m->mesh.on_segment);
         r.ocean = um::quality::measure_ocean_edges(*m->context, m->mesh.tri, h, m->mesh.ocean_cells(),
                                                    m->mesh.ocean_floor, m->mesh.coastline_contacts());
+        if (m->mesh.gamma)
+            r.coastline = um::quality::measure_coastline_fidelity(m->mesh.tri, m->mesh.restricted, m->mesh.coastline_arcs(),
+                                                                  h, m->mesh.boundary_beta);
         m->quality = std::move(r);
     }
     return *m->quality;

@@ -218,13 +218,8 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
         for (size_t s = 0; s < arcs.size(); ++s) part_of_arc[s] = m.gamma->segment_part(static_cast<int64_t>(s));
         bo.part_of_arc = &part_of_arc;
     }
-    std::vector<uint8_t> coast_arc;
-    if (arcs.size() > 0) {
-        coast_arc.resize(arcs.size());
-        for (size_t s = 0; s < arcs.size(); ++s)
-            coast_arc[s] = refine::is_closed_coastline(m.gamma->part(m.gamma->segment_part(static_cast<int64_t>(s))));
-        bo.filter.coast_arc = &coast_arc, bo.filter.coast_filter = options.real(UM_OPT_OCEAN_FLOOR);
-    }
+    const std::vector<uint8_t> coast_arc = m.coastline_arcs();
+    if (arcs.size() > 0) bo.filter.coast_arc = &coast_arc, bo.filter.coast_filter = options.real(UM_OPT_OCEAN_FLOOR);
     refine::SurfaceOptions so;
     so.alpha = options.real(UM_OPT_REFINE_ALPHA);
     so.rho = options.real(UM_OPT_REFINE_RHO);
@@ -373,6 +368,13 @@ std::vector<uint8_t> RefinedMesh::ocean_cells() const {
                 keep_open(v);
     }
     return ocean;
+}
+
+std::vector<uint8_t> RefinedMesh::coastline_arcs() const {
+    std::vector<uint8_t> coast(static_cast<size_t>(gamma ? gamma->segment_count() : 0));
+    for (size_t s = 0; s < coast.size(); ++s)
+        coast[s] = refine::is_closed_coastline(gamma->part(gamma->segment_part(static_cast<int64_t>(s))));
+    return coast;
 }
 
 std::vector<std::pair<int32_t, int32_t>> RefinedMesh::coastline_contacts() const {

@@ -63,6 +63,8 @@ struct RefinedMesh {
     // cellOceanMask): 1 by the rule of refine::ocean_mesh_cells, 2 when only
     // because a passage passes through it.
     std::vector<uint8_t> ocean_cells() const;
+    // Per Gamma segment, 1 when it is of a closed coastline.
+    std::vector<uint8_t> coastline_arcs() const;
     // Which closed coastline rings each cell touches, as (vertex slot, part
     // of gamma) pairs: the cells on a ring and the two ends of each
     // restricted edge of one (what tells water bodies apart).

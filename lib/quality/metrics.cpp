@@ -9,6 +9,7 @@
 #include "core/text.hpp"
 #include "dual/spherical.hpp"
 #include "geom/predicates.hpp"
+#include "refine/boundary.hpp"
 
 namespace um::quality {
 
@@ -450,6 +451,24 @@ Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &t
     return all;
 }
 
+Report::CoastlineFidelity measure_coastline_fidelity(const tri::Triangulation &tri,
+                                                     const std::vector<refine::RestrictedEdge> &restricted,
+                                                     const std::vector<uint8_t> &coast_arc,
+                                                     const refine::SpacingRadians &h, double beta) {
+    Report::CoastlineFidelity f;
+    f.measured = true, f.beta = beta;
+    double sum = 0;
+    for (const refine::RestrictedEdge &e : restricted) {
+        if (!coast_arc[static_cast<size_t>(e.arc)]) continue;
+        const refine::EdgeMeasure m = refine::measure(tri, e, h);
+        const double ratio = m.eps / (beta * m.h);
+        ++f.restricted_edges, f.beyond_beta += ratio >= 1;
+        sum += ratio, f.eps_max = std::max(f.eps_max, ratio);
+    }
+    f.eps_mean = f.restricted_edges ? sum / double(f.restricted_edges) : 0;
+    return f;
+}
+
 std::string to_json(const Report &r, const std::string &indent,
                     const std::string &extra_members) {
     const std::string nl = "\n" + indent + "  ";
@@ -470,6 +489,11 @@ std::string to_json(const Report &r, const std::string &indent,
                        ", \"below_floor\": ", r.ocean.below_floor, ", \"kept_open\": {\"cells\": ",
                        r.ocean.kept_open_cells, ", \"below_floor\": ", r.ocean.kept_open_below_floor, "}, ",
                        json_connectivity(r.ocean.connectivity), "}");
+    if (r.coastline.measured)
+        text += concat(",", nl, "\"coastline_fidelity\": {\"beta\": ", r.coastline.beta,
+                       ", \"restricted_edges\": ", r.coastline.restricted_edges, ", \"eps_over_beta_h\": {\"mean\": ",
+                       r.coastline.eps_mean, ", \"max\": ", r.coastline.eps_max, "}, \"beyond_beta\": ",
+                       r.coastline.beyond_beta, "}");
     if (!extra_members.empty()) text += concat(",", nl, extra_members);
     return text + concat("\n", indent, "}", indent.empty() ? "\n" : "");
 }

@@ -24,6 +24,7 @@
 
 #include "core/context.hpp"
 #include "quality/ocean_connectivity.hpp"
+#include "refine/restricted.hpp"
 #include "refine/surface.hpp"
 #include "tri/triangulation.hpp"
 
@@ -85,6 +86,16 @@ struct Report {
         // Its regions, water bodies and the passages the mesh closed.
         OceanConnectivity connectivity;
     } ocean;
+    // How closely Tri|Gamma follows the closed coastlines (what the floor's
+    // filtering costs): their restricted edges, and eps (the distance from
+    // an edge's midpoint to its crossing with the coastline) over beta * h
+    // (the boundary refinement's bound, 1 = at it).
+    struct CoastlineFidelity {
+        bool measured = false;
+        double beta = 0;
+        int64_t restricted_edges = 0, beyond_beta = 0;
+        double eps_mean = 0, eps_max = 0;  // of eps / (beta h)
+    } coastline;
 };
 
 // The ocean edges of a report (Report::ocean): ocean_cell per vertex slot
@@ -93,6 +104,13 @@ struct Report {
 Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
                                        const std::vector<uint8_t> &ocean_cell, double floor,
                                        const std::vector<std::pair<int32_t, int32_t>> &contacts);
+
+// The coastline fidelity of a report (Report::coastline): the restricted
+// edges whose arc coast_arc flags (per Gamma arc: a closed coastline).
+Report::CoastlineFidelity measure_coastline_fidelity(const tri::Triangulation &tri,
+                                                     const std::vector<refine::RestrictedEdge> &restricted,
+                                                     const std::vector<uint8_t> &coast_arc,
+                                                     const refine::SpacingRadians &h, double beta);
 
 // Every metric over the live triangles, edges and cells (in parallel; the
 // same result for any thread count). h may be empty: then h_r and dcEdge / h

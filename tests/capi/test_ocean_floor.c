@@ -3,6 +3,7 @@
  * channel narrower than the cells - its report in the quality JSON
  * ("ocean_floor"), the passages it closes and those kept open
  * (UM_FEATURE_PASSAGE). */
+#include <inttypes.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -76,6 +77,8 @@ typedef struct {
     double floor, min_ratio, all_edges_min_ratio;
     int64_t ocean_edges, below_floor, regions, water_bodies, closed_passages, kept_open_cells;
     double closed_lon, closed_lat; /* the thinnest closed passage, if any */
+    int64_t coast_edges, beyond_beta;  /* "coastline_fidelity" */
+    double eps_mean;
 } ocean_report;
 
 static double member(const char *json, const char *key) {
@@ -107,6 +110,11 @@ static ocean_report report_of(um_mesh *m) {
         assert_non_null(list);
         assert_int_equal(sscanf(list, "\"thinnest\": [[%lf, %lf", &r.closed_lon, &r.closed_lat), 2);
     }
+    const char *coast = strstr(json, "\"coastline_fidelity\": ");
+    assert_non_null(coast);
+    assert_int_equal(sscanf(coast, "\"coastline_fidelity\": {\"beta\": %*f, \"restricted_edges\": %" SCNd64
+                            ", \"eps_over_beta_h\": {\"mean\": %lf, \"max\": %*f}, \"beyond_beta\": %" SCNd64,
+                            &r.coast_edges, &r.eps_mean, &r.beyond_beta), 3);
     free(json);
     return r;
 }
@@ -128,6 +136,11 @@ static void the_floor_lifts_the_short_ocean_edges(void **state) {
     const ocean_report b = report_of(with);
     print_message("ocean edges: min dcEdge/h %.3f without the floor, %.3f with it (%lld of %lld below 0.7)\n",
                   a.min_ratio, b.min_ratio, (long long)b.below_floor, (long long)b.ocean_edges);
+    print_message("coastline: %lld restricted edges, eps/(beta h) mean %.3f, %lld beyond beta h without the "
+                  "floor; %lld, %.3f, %lld with it\n", (long long)a.coast_edges, a.eps_mean,
+                  (long long)a.beyond_beta, (long long)b.coast_edges, b.eps_mean, (long long)b.beyond_beta);
+    /* The cost of the floor, visible: the inlet and the strait are no longer followed. */
+    assert_true(b.coast_edges > 0 && b.coast_edges < a.coast_edges);
     assert_true(b.floor == 0.7);
     assert_true(b.ocean_edges > 30000);
     assert_true(b.min_ratio >= 0.7);

@@ -6,7 +6,9 @@
 // phase, peak memory and the quality metrics before and after optimising
 // (--no-optimise: refinement only; --log: the library's log lines of level
 // info and above go to stderr; --options "name=value;...": options for both
-// calls, as um_options_set_string reads them).
+// calls, as um_options_set_string reads them; --floors 0,0.7: each case at
+// each time-step floor, side by side, to show what the floor costs the
+// coastline's fidelity).
 //
 //   (a) uniform 30 km, global, no features;
 //   (b) coast_global_l + rivers_global_l at 60 km;
@@ -41,7 +43,11 @@ struct Quality {
     // The time-step floor: least dcEdge/h over the ocean mesh's edges and
     // how many are below the floor the mesh was built to.
     double ocean_min = 0, floor = 0;
-    int64_t below_floor = 0;
+    int64_t below_floor = 0, closed_passages = 0;
+    // How closely the mesh follows the closed coastlines: their restricted
+    // edges, mean eps / (beta h), and how many are beyond beta h.
+    int64_t coast_edges = 0, beyond_beta = 0;
+    double eps_mean = 0;
 };
 
 // Edge lengths of the refined mesh over h at their midpoints (the
@@ -66,7 +72,7 @@ struct Result {
 };
 
 bool g_log = false;          // --log
-const char *g_options = "";  // --options: um_options_set_string assignments for both calls
+std::string g_options;  // --options (and the floor of --floors): um_options_set_string assignments for both calls
 
 // Phase timing through the progress callback: time spent since the first
 // report of a stage until the first report of the next one.
@@ -108,6 +114,13 @@ Quality quality_in(const std::string &json, size_t from) {
     q.floor = number_after(json, ocean, "\"floor\": ");
     q.ocean_min = number_after(json, ocean, "\"min_ratio\": ");
     q.below_floor = static_cast<int64_t>(number_after(json, ocean, "\"below_floor\": "));
+    q.closed_passages = static_cast<int64_t>(number_after(json, ocean, "\"closed_passages\": {\"count\": "));
+    const size_t coast = json.find("\"coastline_fidelity\"", from);
+    if (coast != std::string::npos && coast < json.find("\"before_optimisation\"", from)) {
+        q.coast_edges = static_cast<int64_t>(number_after(json, coast, "\"restricted_edges\": "));
+        q.eps_mean = number_after(json, coast, "\"mean\": ");
+        q.beyond_beta = static_cast<int64_t>(number_after(json, coast, "\"beyond_beta\": "));
+    }
     return q;
 }
 
@@ -325,7 +338,7 @@ Result run_case(const std::string &name, const std::string &data, int threads, b
     um_mesh *m = nullptr;
     um_options *opts = nullptr;
     check(um_options_create(ctx, &opts), ctx, "options");
-    check(um_options_set_string(opts, g_options), ctx, "--options");
+    check(um_options_set_string(opts, g_options.c_str()), ctx, "--options");
     um_status s = um_mesh_refine(ctx, h, f, opts, &m);
     auto t1 = Clock::now();
     double refine_s = std::chrono::duration<double>(t1 - t0).count();
@@ -378,18 +391,31 @@ Result in_child(const std::string &name, const std::string &data, int threads, b
     return r;
 }
 
+// "a,b,c" -> {"a", "b", "c"} (empty items dropped).
+std::vector<std::string> comma_list(const std::string &list) {
+    std::vector<std::string> items;
+    for (size_t b = 0, e; b <= list.size(); b = e + 1) {
+        e = list.find(',', b);
+        if (e == std::string::npos) e = list.size();
+        if (e > b) items.push_back(list.substr(b, e - b));
+    }
+    return items;
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
     std::string data = UNIMESH_DATA_DIR;
     std::vector<std::string> cases = {"uniform-30km", "coast-rivers-60km", "midatlantic"};
     std::vector<int> thread_counts = {1, 2};
+    std::vector<std::string> floors = {""};  // "": the options' (or the default) floor
     bool optimise = true;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--data") && i + 1 < argc) data = argv[++i];
         else if (!std::strcmp(argv[i], "--no-optimise")) optimise = false;
         else if (!std::strcmp(argv[i], "--log")) g_log = true;
         else if (!std::strcmp(argv[i], "--options") && i + 1 < argc) g_options = argv[++i];
+        else if (!std::strcmp(argv[i], "--floors") && i + 1 < argc) floors = comma_list(argv[++i]);
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) {
             thread_counts.clear();
             for (const char *p = argv[++i]; *p;) {
@@ -401,16 +427,16 @@ int main(int argc, char **argv) {
             }
         }
         else if (!std::strcmp(argv[i], "--cases") && i + 1 < argc) {
-            cases.clear();
-            std::string list = argv[++i];
-            for (size_t b = 0, e; b <= list.size(); b = e + 1) {
-                e = list.find(',', b);
-                if (e == std::string::npos) e = list.size();
-                if (e > b) cases.push_back(list.substr(b, e - b));
-            }
+            cases = comma_list(argv[++i]);
+            for (const auto &c : cases)
+                if (c != "uniform-30km" && c != "coast-rivers-60km" && c != "midatlantic") {
+                    std::fprintf(stderr, "bench_refine: --cases: no case '%s'\n", c.c_str());
+                    return 2;
+                }
         } else {
             std::fprintf(stderr, "usage: bench_refine [--cases uniform-30km,coast-rivers-60km,midatlantic] "
-                                 "[--threads 1,2] [--no-optimise] [--log] [--options \"name=value;...\"] [--data DIR]\n");
+                                 "[--threads 1,2] [--no-optimise] [--log] [--options \"name=value;...\"] [--floors 0,0.7] "
+                                 "[--data DIR]\n");
             return 2;
         }
     }
@@ -422,7 +448,8 @@ int main(int argc, char **argv) {
     std::printf("%-18s %3s %8s %8s %8s %8s %6s %6s %6s %8s %8s %8s %7s  %-40s  %-40s  %-32s  %s\n", "case", "thr",
                 "cells", "restrict", "boundary", "surface", "par%", "relax", "tags", "optimise", "total_s", "peak_MB", "B/cell",
                 "before: QTmin QPmin maxang obt% nwc/off", "after: QTmin QPmin maxang obt% nwc/off",
-                "final l/h: min max <0.75% >1.35%", "obtuse on-Gamma% all-Gamma% forced%  ocean: floor min below");
+                "final l/h: min max <0.75% >1.35%",
+                "obtuse on-Gamma% all-Gamma% forced%  ocean: floor min below closed  coast: edges eps/bh >bh");
     int failures = 0;
     auto quality_text = [](const Quality &q) {
         char buf[64];
@@ -430,8 +457,11 @@ int main(int argc, char **argv) {
                       q.obtuse_pct, (long long)q.not_well_centred, (long long)q.not_well_centred_off_gamma);
         return std::string(buf);
     };
+    const std::string options = g_options;
     for (const auto &c : cases)
+        for (const std::string &floor : floors)
         for (int threads : thread_counts) {
+            g_options = floor.empty() ? options : options + (options.empty() ? "" : ";") + "ocean_floor=" + floor;
             Result r = in_child(c, data, threads, optimise);
             if (!r.ok) {
                 std::printf("%-18s %3d FAILED: %s\n", c.c_str(), threads, r.error);
@@ -443,7 +473,7 @@ int main(int argc, char **argv) {
                 std::snprintf(edges, sizeof edges, "%.3f %.3f %6.2f %6.2f", r.edges.min, r.edges.max,
                               r.edges.share_below, r.edges.share_above);
             std::printf("%-18s %3d %8lld %8lld %8.3f %8.3f %6.1f %6.3f %6.3f %8.3f %8.3f %8.1f %7.0f  %-40s  %-40s  "
-                        "%-32s  %lld %.1f %.1f %.1f  %.2f %.3f %lld\n",
+                        "%-32s  %lld %.1f %.1f %.1f  %.2f %.3f %lld %lld  %lld %.3f %lld\n",
                         c.c_str(), threads, (long long)r.cells, (long long)r.restricted, r.boundary_s,
                         r.surface_s, r.surface_points > 0 ? 100.0 * double(r.by_territories) / double(r.surface_points) : 0.0,
                         r.relax_s, r.tags_s, r.optimise_s, r.total_s, r.peak_mb,
@@ -452,7 +482,8 @@ int main(int argc, char **argv) {
                         r.obtuse > 0 ? 100.0 * double(r.obtuse_on_gamma) / double(r.obtuse) : 0.0,
                         r.obtuse > 0 ? 100.0 * double(r.obtuse_all_gamma) / double(r.obtuse) : 0.0,
                         r.obtuse > 0 ? 100.0 * double(r.obtuse_forced) / double(r.obtuse) : 0.0, r.after.floor,
-                        r.after.ocean_min, (long long)r.after.below_floor);
+                        r.after.ocean_min, (long long)r.after.below_floor, (long long)r.after.closed_passages,
+                        (long long)r.after.coast_edges, r.after.eps_mean, (long long)r.after.beyond_beta);
             std::fflush(stdout);
         }
     std::printf("# boundary = boundary refinement; surface = surface refinement; par%% = share of the\n"
@@ -465,6 +496,8 @@ int main(int argc, char **argv) {
                 "# QT = area-length ratio, QP = primal-dual, obt%% = %% of triangles with an angle > 90,\n"
                 "# nwc/off = triangles not containing their orthocentre / those of them with a vertex off Gamma\n"
                 "# ocean: the ocean_floor option, the least dcEdge/h over the edges between two cells of the ocean\n"
-                "# mesh, and how many of them are below the floor\n");
+                "# mesh, how many of them are below the floor, and the passages the mesh closed\n"
+                "# coast: the restricted edges on closed coastlines, their mean eps/(beta h) (eps: the distance from\n"
+                "# the edge's midpoint to the coastline) and how many are beyond beta h\n");
     return failures ? 1 : 0;
 }

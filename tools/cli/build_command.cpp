@@ -198,6 +198,12 @@ void print_quality(const char *what, um_context *ctx, um_mesh *m) {
                 what, n("\"regions\": {\"count\": "), n("\"water_bodies\": "),
                 n("\"closed_passages\": {\"count\": "), n("\"kept_open\": {\"cells\": "),
                 d("kept_open", "below_floor"));
+    // What the floor's filtering costs the coastline.
+    if (!std::isnan(d("coastline_fidelity", "restricted_edges")))
+        std::printf("%-9s coastline fidelity: %.0f restricted edges on closed coastlines, eps/(beta h) mean %.3f "
+                    "max %.3f, %.0f beyond beta h\n",
+                    what, d("coastline_fidelity", "restricted_edges"), d("coastline_fidelity", "mean"),
+                    d("coastline_fidelity", "max"), d("coastline_fidelity", "beyond_beta"));
     std::fflush(stdout);
 }
 
