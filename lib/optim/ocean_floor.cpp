@@ -11,8 +11,8 @@ namespace um::optim::detail {
 namespace {
 
 // The scan's cheap ratio (chord over the ends' mean h) is within a few per
-// cent of the measure (arc over h at the midpoint) where h is smooth: edges
-// below this many floors get the measure.
+// cent of the measure (arc over h at xEdge) where h is smooth: edges below
+// this many floors get the measure.
 constexpr double kScanMargin = 1.2;
 // A vertex pushed off a too near neighbour lands this many floors from it.
 constexpr double kPushPast = 1.02;
@@ -34,7 +34,8 @@ std::vector<OceanFloor::ShortEdge> OceanFloor::short_ocean_edges() const {
                 const double chord = geom::norm(xa - xb);
                 if (!(chord < kScanMargin * floor * 0.5 * (s_.h_at[a] + s_.h_at[b]))) continue;
                 if (!s_.off_land(a) || !s_.off_land(b)) continue;
-                const double ratio = 2 * std::asin(std::min(1.0, 0.5 * chord)) / s_.h(geom::normalized(xa + xb));
+                // h where the dual edge crosses the edge (MPAS's xEdge), as the quality report reads it.
+                const double ratio = 2 * std::asin(std::min(1.0, 0.5 * chord)) / s_.h(s_.tri.edge_orthocentre(ti, k));
                 if (ratio < floor) out.push_back({ratio, std::min(a, b), std::max(a, b)});
             }
         });
@@ -50,8 +51,9 @@ int64_t OceanFloor::count_below() {
     return static_cast<int64_t>(short_ocean_edges().size());
 }
 
-int64_t OceanFloor::lift() {
+int64_t OceanFloor::lift(bool last) {
     if (!(s_.options.ocean_floor > 0)) return 0;
+    last_ = last;
     s_.refresh_sides();
     std::vector<uint8_t> locked(static_cast<size_t>(s_.tri.vertex_slots()), 0);
     int64_t taken_out = 0;
@@ -70,6 +72,10 @@ int64_t OceanFloor::lift() {
 
 bool OceanFloor::lift_edge(const ShortEdge &e) {
     fixing_ = e.ratio;
+    return lift_keeping_gamma(e) || lift_at_any_cost_to_gamma(e);
+}
+
+bool OceanFloor::lift_keeping_gamma(const ShortEdge &e) {
     const bool a_on = s_.on_segment[e.a] >= 0, b_on = s_.on_segment[e.b] >= 0;
     const int32_t off = a_on ? e.b : e.a, on = a_on ? e.a : e.b;
     // (A fixed boundary keeps Gamma's vertices where they are.)
@@ -78,6 +84,19 @@ bool OceanFloor::lift_edge(const ShortEdge &e) {
            : s_.options.fix_boundary
                ? false
                : merge_along_gamma(e.a, e.b) || take_out_of_gamma(e.b) || take_out_of_gamma(e.a);
+}
+
+// Either end taken out, the one off Gamma first, Gamma free to pass through
+// more cells (a fixed boundary keeps Gamma's vertices).
+bool OceanFloor::lift_at_any_cost_to_gamma(const ShortEdge &e) {
+    const bool a_on = s_.on_segment[e.a] >= 0, b_on = s_.on_segment[e.b] >= 0;
+    const int32_t first = a_on && !b_on ? e.b : (b_on && !a_on ? e.a : e.b);
+    const int32_t second = first == e.a ? e.b : e.a;
+    auto may_go = [&](int32_t v) { return s_.on_segment[v] < 0 || !s_.options.fix_boundary; };
+    gamma_may_spread_ = true;
+    const bool done = (may_go(first) && take_out(first)) || (may_go(second) && take_out(second));
+    gamma_may_spread_ = false;
+    return done;
 }
 
 // What a removal is judged against: the region it may change (the closed
@@ -116,25 +135,28 @@ OceanFloor::Before OceanFloor::before(std::initializer_list<int32_t> vertices) c
     return b;
 }
 
-// After the removal: Gamma in no more cells off it, the vertex that moved
-// (kept) with no edge shorter than the one being lifted, no edge across the
-// hole longer than split_ratio h (the split that would follow would put a
-// vertex back) nor more edges off the land below the floor around, and once
-// the weights are tuned no more obtuse triangles and none more not holding
-// its orthocentre (before, the sweeps that follow reshape them). `kept`,
-// when not -1, is a vertex that moved and stays.
+// After the removal: Gamma in no more cells off it (but for the last
+// resort), the vertex that moved (kept) with no edge shorter than the one
+// being lifted, no edge across the hole longer than split_ratio h (the split
+// that would follow would put a vertex back) nor more edges off the land
+// below the floor around, and once the weights are tuned no more obtuse
+// triangles (and in the last pass none more not holding its orthocentre:
+// before, the sweeps and the mends that follow re-tune them). `kept`, when
+// not -1, is a vertex that moved and stays.
 bool OceanFloor::acceptable(const Before &b, int32_t kept) const {
     std::vector<int32_t> region = b.link;
     if (kept >= 0) region.push_back(kept);
     auto at = [&](int32_t u) { return s_.generator(u); };
     const int crossings = s_.stars_gamma_crossings(region.data(), static_cast<int>(region.size()), at, false);
-    if (b.crossings < 0 || crossings < 0 || crossings > b.crossings) return false;
+    if (b.crossings < 0 || crossings < 0 || (crossings > b.crossings && !gamma_may_spread_)) return false;
     if (kept >= 0 && shortest_edge(kept) < fixing_) return false;
     if (leaves_long_edge(region)) return false;
     if (s_.below_floor_at(region) > b.below_floor) return false;
     if (!s_.weighing) return true;
     std::sort(region.begin(), region.end());
-    return off_centre_touching(region) <= b.off_centre && s_.obtuse_touching(region) <= b.obtuse;
+    // Triangles not holding their orthocentre the weight sweeps and the
+    // mends re-tune, until the last pass.
+    return s_.obtuse_touching(region) <= b.obtuse && (!last_ || off_centre_touching(region) <= b.off_centre);
 }
 
 // The shortest edge of v over h (the scan's chord measure).

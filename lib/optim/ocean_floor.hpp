@@ -10,11 +10,18 @@
 //     neighbours along Gamma passes within floor h of it (the detail
 //     narrower than the floor is filtered, as the boundary refinement
 //     filters detail narrower than the spacing).
+// Where none of those lifts the edge, either end is taken out (off Gamma
+// first) even where Gamma then passes through more cells off it: the floor
+// comes before following detail of Gamma narrower than it (two shores, a
+// lake and a coast, nearer than the floor). With a fixed boundary, Gamma's
+// vertices stay.
 // Each pass first brings the sides of the vertices up to date
 // (MeshState::refresh_sides). A
-// removal is kept only if it lets Gamma into no more cells off it, leaves
-// no edge longer than split_ratio h and, once the weights are tuned, adds
-// no obtuse triangle and none not holding its orthocentre; the sweeps then
+// removal is kept only if (but for that last resort) it lets Gamma into no
+// more cells off it, leaves no edge longer than split_ratio h nor more
+// edges below the floor around and, once the weights are tuned, adds no
+// obtuse triangle; in the last pass (after the mends, which re-tune the
+// weights) none not holding its orthocentre either. The sweeps then
 // re-centre the neighbours. Land and river edges may be shorter. Serial,
 // one change per neighbourhood per pass, in a fixed order: deterministic.
 #pragma once
@@ -31,10 +38,11 @@ namespace um::optim::detail {
 class OceanFloor {
 public:
     explicit OceanFloor(MeshState &s) : s_(s) {}
-    // One pass; the vertices taken out.
-    int64_t lift();
+    // One pass; the vertices taken out. `last`: after the mends (nothing
+    // re-tunes the weights after it).
+    int64_t lift(bool last = false);
     // The edges between two generators off the land still shorter than
-    // floor h (the pass's own measure: arc over h at the midpoint).
+    // floor h (the pass's own measure: arc over h at xEdge, as the report measures it).
     int64_t count_below();
 
 private:
@@ -44,6 +52,8 @@ private:
     };
     std::vector<ShortEdge> short_ocean_edges() const;
     bool lift_edge(const ShortEdge &e);
+    bool lift_keeping_gamma(const ShortEdge &e);
+    bool lift_at_any_cost_to_gamma(const ShortEdge &e);
     struct Before;
     Before before(std::initializer_list<int32_t> vertices) const;
     bool acceptable(const Before &b, int32_t kept) const;
@@ -60,7 +70,9 @@ private:
     double shortest_edge(int32_t v) const;
 
     MeshState &s_;
-    double fixing_ = 0;  // the ratio of the edge being lifted
+    double fixing_ = 0;          // the ratio of the edge being lifted
+    bool last_ = false;          // the pass after the mends
+    bool gamma_may_spread_ = false;  // the last resort: Gamma may go into more cells
 };
 
 }  // namespace um::optim::detail

@@ -39,6 +39,9 @@ namespace {
 constexpr int kFirstRings = 3, kLaterRings = 1;
 constexpr int kSettleIterations = 3;
 constexpr double kLeastDefectDrop = 0.1;
+// The floor passes after the mends, at most (each stops when one takes
+// nothing out).
+constexpr int kLastFloorPasses = 4;
 
 // The passes of Algorithm 1 in their order over the shared mesh state.
 class Schedule {
@@ -121,12 +124,18 @@ OptimiseStats Schedule::run() {
     }
     if (!s_.weighing && o.outer_iterations > 0) s_.stats.moves += centroidal_.relax_to_centroids(graph_);
     const bool mends = o.mends && o.outer_iterations > 0;
+    // What the last outer iteration's pass left, while the mends can still
+    // re-tune the weights around a removal.
+    for (int pass = 0; pass < kLastFloorPasses && o.outer_iterations > 0; ++pass)
+        if (floor_.lift() == 0) break;
     const int64_t off_centre_left = mends && o.weights ? mend_off_centre_triangles() : 0;
     if (mends) mend_obtuse_triangles();
     if (off_centre_left > 0) mend_off_centre_after_moves();
     // After the mends' moves: what they brought below the floor, where a
     // removal keeps what they reached.
-    if (o.outer_iterations > 0) floor_.lift();  // (counts its removals in the stats itself)
+    // (Each pass changes a neighbourhood once: a few more for what one left.)
+    for (int pass = 0; pass < kLastFloorPasses && o.outer_iterations > 0; ++pass)
+        if (floor_.lift(true) == 0) break;
     s_.ctx.log(UM_LOG_INFO, concat("optimise: ocean floor ", o.ocean_floor, " h: ", s_.stats.floor_removals,
                                    " vertices taken out, ", floor_.count_below(), " edges off the land still below"));
     s_.ctx.progress("optimise", 1.0);
