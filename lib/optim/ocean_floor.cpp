@@ -11,8 +11,8 @@ namespace um::optim::detail {
 namespace {
 
 // The scan's cheap ratio (chord over the ends' mean h) is within a few per
-// cent of the measure (arc over h at xEdge) where h is smooth: edges below
-// this many floors get the measure.
+// cent of the report's measure (arc over h at xEdge) where h is smooth:
+// edges below this many floors get that measure.
 constexpr double kScanMargin = 1.2;
 // A vertex pushed off a too near neighbour lands this many floors from it.
 constexpr double kPushPast = 1.02;
@@ -31,11 +31,16 @@ std::vector<OceanFloor::ShortEdge> OceanFloor::short_ocean_edges() const {
                 if (s_.tri.neighbour(ti, k) < ti) continue;  // each edge once
                 const int32_t a = s_.tri.vertex(ti, (k + 1) % 3), b = s_.tri.vertex(ti, (k + 2) % 3);
                 const Vec3 xa = s_.tri.direction(a), xb = s_.tri.direction(b);
-                const double chord = geom::norm(xa - xb);
-                if (!(chord < kScanMargin * floor * 0.5 * (s_.h_at[a] + s_.h_at[b]))) continue;
+                const double chord = geom::norm(xa - xb), mean_h = 0.5 * (s_.h_at[a] + s_.h_at[b]);
+                if (!(chord < kScanMargin * floor * mean_h)) continue;
                 if (!s_.off_land(a) || !s_.off_land(b)) continue;
-                // h where the dual edge crosses the edge (MPAS's xEdge), as the quality report reads it.
-                const double ratio = 2 * std::asin(std::min(1.0, 0.5 * chord)) / s_.h(s_.tri.edge_orthocentre(ti, k));
+                // Until the mends, the guards' measure (MeshState::below_floor_at):
+                // an edge a split or a move let through is not taken out again
+                // (which the split would undo, every iteration). After them, the
+                // report's: the arc over h where the dual edge crosses (xEdge).
+                const double ratio = stage_ != Stage::after_mends
+                                         ? chord / mean_h
+                                         : 2 * std::asin(std::min(1.0, 0.5 * chord)) / s_.h(s_.tri.edge_orthocentre(ti, k));
                 if (ratio < floor) out.push_back({ratio, std::min(a, b), std::max(a, b)});
             }
         });
@@ -51,9 +56,9 @@ int64_t OceanFloor::count_below() {
     return static_cast<int64_t>(short_ocean_edges().size());
 }
 
-int64_t OceanFloor::lift(bool last) {
+int64_t OceanFloor::lift(Stage stage) {
     if (!(s_.options.ocean_floor > 0)) return 0;
-    last_ = last;
+    stage_ = stage;
     s_.refresh_sides();
     std::vector<uint8_t> locked(static_cast<size_t>(s_.tri.vertex_slots()), 0);
     int64_t taken_out = 0;
@@ -78,9 +83,12 @@ bool OceanFloor::lift_edge(const ShortEdge &e) {
 bool OceanFloor::lift_keeping_gamma(const ShortEdge &e) {
     const bool a_on = s_.on_segment[e.a] >= 0, b_on = s_.on_segment[e.b] >= 0;
     const int32_t off = a_on ? e.b : e.a, on = a_on ? e.a : e.b;
-    // (A fixed boundary keeps Gamma's vertices where they are.)
-    return !a_on && !b_on ? merge_at_midpoint(e.a, e.b)
-           : a_on != b_on ? take_out(off) || (!s_.weighing && push_away(off, on))
+    // A push only where no weight sweep follows that would move it back
+    // (and the next pass push it again): in the shape phase, or after the
+    // mends. (A fixed boundary keeps Gamma's vertices where they are.)
+    const bool may_push = !s_.weighing || stage_ == Stage::after_mends;
+    return !a_on && !b_on ? merge_at_midpoint(e.a, e.b) || (may_push && (push_away(e.b, e.a) || push_away(e.a, e.b)))
+           : a_on != b_on ? take_out(off) || (may_push && push_away(off, on))
            : s_.options.fix_boundary
                ? false
                : merge_along_gamma(e.a, e.b) || take_out_of_gamma(e.b) || take_out_of_gamma(e.a);
@@ -140,9 +148,9 @@ OceanFloor::Before OceanFloor::before(std::initializer_list<int32_t> vertices) c
 // being lifted, no edge across the hole longer than split_ratio h (the split
 // that would follow would put a vertex back) nor more edges off the land
 // below the floor around, and once the weights are tuned no more obtuse
-// triangles (and in the last pass none more not holding its orthocentre:
-// before, the sweeps and the mends that follow re-tune them). `kept`, when
-// not -1, is a vertex that moved and stays.
+// triangles and (but just before the mends, which re-tune them) none more
+// not holding its orthocentre. `kept`, when not -1, is a vertex that moved
+// and stays.
 bool OceanFloor::acceptable(const Before &b, int32_t kept) const {
     std::vector<int32_t> region = b.link;
     if (kept >= 0) region.push_back(kept);
@@ -154,9 +162,10 @@ bool OceanFloor::acceptable(const Before &b, int32_t kept) const {
     if (s_.below_floor_at(region) > b.below_floor) return false;
     if (!s_.weighing) return true;
     std::sort(region.begin(), region.end());
-    // Triangles not holding their orthocentre the weight sweeps and the
-    // mends re-tune, until the last pass.
-    return s_.obtuse_touching(region) <= b.obtuse && (!last_ || off_centre_touching(region) <= b.off_centre);
+    // (Triangles not holding their orthocentre the mends re-tune; in an
+    // outer iteration a split could undo the removal every iteration.)
+    return s_.obtuse_touching(region) <= b.obtuse &&
+           (stage_ == Stage::before_mends || off_centre_touching(region) <= b.off_centre);
 }
 
 // The shortest edge of v over h (the scan's chord measure).
@@ -214,14 +223,15 @@ bool OceanFloor::take_out(int32_t v) {
 }
 
 // A vertex off Gamma that cannot go (its removal would leave a poor
-// triangle or a long edge) moves away from its too near neighbour on Gamma
-// to just past floor h from it. Only in the shape phase: the weight
-// phase's sweeps near Gamma would move it back, and the next pass push it
-// again, every outer iteration.
+// triangle or a long edge) moves away from its too near neighbour to just
+// past floor h from it.
 bool OceanFloor::push_away(int32_t v, int32_t from) {
+    const double reach = kPushPast * s_.options.ocean_floor * s_.h_at[v];
+    // (On a mesh of a few huge cells a push would go round the sphere: the
+    // bound of the stars a removal may open.)
+    if (!s_.removable(v) || !(reach < MeshState::kLargestRemovableStar)) return false;
     const Before b = before({v});
     const Vec3 was = s_.tri.lifted(v), x = s_.tri.direction(v), y = s_.tri.direction(from);
-    const double reach = kPushPast * s_.options.ocean_floor * s_.h_at[v];
     const Vec3 away = geom::normalized(x - geom::dot(x, y) * y);  // tangent at y towards x
     const Vec3 to = geom::normalized(std::cos(reach) * y + std::sin(reach) * away);
     if (!s_.tri.move(v, to).empty() || !acceptable(b, v)) {

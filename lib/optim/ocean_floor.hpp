@@ -5,6 +5,9 @@
 // first, loses a vertex:
 //   - neither end on Gamma: the two merge at the edge's midpoint;
 //   - one end on Gamma: the other is taken out (Gamma keeps its vertices);
+//   - where neither goes, in the shape phase and after the mends (where no
+//     weight sweep follows to move it back), one end off Gamma is pushed
+//     to just past floor h from the other;
 //   - both on Gamma (a bend, an inlet, the two shores of a narrow channel):
 //     one of them is taken out where the chord left between its
 //     neighbours along Gamma passes within floor h of it (the detail
@@ -20,8 +23,8 @@
 // removal is kept only if (but for that last resort) it lets Gamma into no
 // more cells off it, leaves no edge longer than split_ratio h nor more
 // edges below the floor around and, once the weights are tuned, adds no
-// obtuse triangle; in the last pass (after the mends, which re-tune the
-// weights) none not holding its orthocentre either. The sweeps then
+// obtuse triangle and, but in the passes just before the mends (which
+// re-tune the weights), none not holding its orthocentre. The sweeps then
 // re-centre the neighbours. Land and river edges may be shorter. Serial,
 // one change per neighbourhood per pass, in a fixed order: deterministic.
 #pragma once
@@ -38,9 +41,12 @@ namespace um::optim::detail {
 class OceanFloor {
 public:
     explicit OceanFloor(MeshState &s) : s_(s) {}
-    // One pass; the vertices taken out. `last`: after the mends (nothing
-    // re-tunes the weights after it).
-    int64_t lift(bool last = false);
+    // When a pass runs: in an outer iteration, after them before the mends
+    // (which re-tune the weights around a triangle left off-centre), or
+    // after the mends (no weight sweep follows to undo a push).
+    enum class Stage { iteration, before_mends, after_mends };
+    // One pass; the vertices taken out.
+    int64_t lift(Stage stage = Stage::iteration);
     // The edges between two generators off the land still shorter than
     // floor h (the pass's own measure: arc over h at xEdge, as the report measures it).
     int64_t count_below();
@@ -71,7 +77,7 @@ private:
 
     MeshState &s_;
     double fixing_ = 0;          // the ratio of the edge being lifted
-    bool last_ = false;          // the pass after the mends
+    Stage stage_ = Stage::iteration;
     bool gamma_may_spread_ = false;  // the last resort: Gamma may go into more cells
 };
 

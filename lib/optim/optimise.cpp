@@ -127,7 +127,7 @@ OptimiseStats Schedule::run() {
     // What the last outer iteration's pass left, while the mends can still
     // re-tune the weights around a removal.
     for (int pass = 0; pass < kLastFloorPasses && o.outer_iterations > 0; ++pass)
-        if (floor_.lift() == 0) break;
+        if (floor_.lift(OceanFloor::Stage::before_mends) == 0) break;
     const int64_t off_centre_left = mends && o.weights ? mend_off_centre_triangles() : 0;
     if (mends) mend_obtuse_triangles();
     if (off_centre_left > 0) mend_off_centre_after_moves();
@@ -135,7 +135,7 @@ OptimiseStats Schedule::run() {
     // removal keeps what they reached.
     // (Each pass changes a neighbourhood once: a few more for what one left.)
     for (int pass = 0; pass < kLastFloorPasses && o.outer_iterations > 0; ++pass)
-        if (floor_.lift(true) == 0) break;
+        if (floor_.lift(OceanFloor::Stage::after_mends) == 0) break;
     s_.ctx.log(UM_LOG_INFO, concat("optimise: ocean floor ", o.ocean_floor, " h: ", s_.stats.floor_removals,
                                    " vertices taken out, ", floor_.count_below(), " edges off the land still below"));
     s_.ctx.progress("optimise", 1.0);
