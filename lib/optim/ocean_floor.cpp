@@ -87,11 +87,15 @@ bool OceanFloor::lift_keeping_gamma(const ShortEdge &e) {
     // (and the next pass push it again): in the shape phase, or after the
     // mends. (A fixed boundary keeps Gamma's vertices where they are.)
     const bool may_push = !s_.weighing || stage_ == Stage::after_mends;
+    // (A slide along Gamma only after the mends: in the shape phase the
+    // corner passes put the vertices back, every iteration.)
+    const bool may_slide = stage_ == Stage::after_mends && !s_.options.fix_boundary;
     return !a_on && !b_on ? merge_at_midpoint(e.a, e.b) || (may_push && (push_away(e.b, e.a) || push_away(e.a, e.b)))
-           : a_on != b_on ? take_out(off) || (may_push && push_away(off, on))
+           : a_on != b_on ? take_out(off) || (may_push && push_away(off, on)) || (may_slide && slide_apart(on, off))
            : s_.options.fix_boundary
                ? false
-               : merge_along_gamma(e.a, e.b) || take_out_of_gamma(e.b) || take_out_of_gamma(e.a);
+               : merge_along_gamma(e.a, e.b) || take_out_of_gamma(e.b) || take_out_of_gamma(e.a) ||
+                     (may_slide && (slide_apart(e.b, e.a) || slide_apart(e.a, e.b)));
 }
 
 // Either end taken out, the one off Gamma first, Gamma free to pass through
@@ -236,6 +240,29 @@ bool OceanFloor::push_away(int32_t v, int32_t from) {
     const Vec3 to = geom::normalized(std::cos(reach) * y + std::sin(reach) * away);
     if (!s_.tri.move(v, to).empty() || !acceptable(b, v)) {
         s_.tri.place(v, was);
+        return false;
+    }
+    keep_moved(v, b.link);
+    return true;
+}
+
+// A vertex on Gamma slid along its part away from a too near neighbour,
+// to the point of the part nearest to where a push would put it (just past
+// floor h from the neighbour), where every edge along Gamma around stays.
+bool OceanFloor::slide_apart(int32_t v, int32_t from) {
+    const double reach = kPushPast * s_.options.ocean_floor * s_.h_at[v];
+    if (!s_.removable(v) || !(reach < MeshState::kLargestRemovableStar)) return false;
+    const auto gamma_edges = s_.gamma_edges_among(s_.closed_stars({v}));
+    const Before b = before({v});
+    const Vec3 was = s_.tri.lifted(v), x = s_.tri.direction(v), y = s_.tri.direction(from);
+    const int32_t segment_was = s_.on_segment[v];
+    const Vec3 away = geom::normalized(x - geom::dot(x, y) * y);
+    const PointOnGamma p = slide_along(*s_.gamma, segment_was, geom::normalized(std::cos(reach) * y + std::sin(reach) * away));
+    const bool hid = !s_.tri.move(v, p.x).empty();
+    s_.on_segment[v] = static_cast<int32_t>(p.segment);
+    if (hid || !s_.gamma_edges_stay(gamma_edges) || !acceptable(b, v)) {
+        s_.tri.place(v, was);
+        s_.on_segment[v] = segment_was;
         return false;
     }
     keep_moved(v, b.link);

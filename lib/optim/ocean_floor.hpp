@@ -7,7 +7,8 @@
 //   - one end on Gamma: the other is taken out (Gamma keeps its vertices);
 //   - where neither goes, in the shape phase and after the mends (where no
 //     weight sweep follows to move it back), one end off Gamma is pushed
-//     to just past floor h from the other;
+//     to just past floor h from the other (after the mends also one on
+//     Gamma, slid along it as far);
 //   - both on Gamma (a bend, an inlet, the two shores of a narrow channel):
 //     one of them is taken out where the chord left between its
 //     neighbours along Gamma passes within floor h of it (the detail
@@ -70,6 +71,7 @@ private:
     bool take_out(int32_t v);
     bool take_out_of_gamma(int32_t v);
     bool push_away(int32_t v, int32_t from);
+    bool slide_apart(int32_t v, int32_t from);
     bool merge_along_gamma(int32_t a, int32_t b);
     bool neighbours_along_gamma(int32_t v, int32_t (&along)[2]) const;
     bool leaves_long_edge(const std::vector<int32_t> &link) const;
