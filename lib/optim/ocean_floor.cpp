@@ -229,15 +229,23 @@ bool OceanFloor::take_out(int32_t v) {
 // A vertex off Gamma that cannot go (its removal would leave a poor
 // triangle or a long edge) moves away from its too near neighbour to just
 // past floor h from it.
-bool OceanFloor::push_away(int32_t v, int32_t from) {
+// Where a push puts v: on the arc from `from` through v, just past floor h
+// from `from`. False where that is further than the stars a removal may
+// open (on a mesh of a few huge cells a push would go round the sphere).
+bool OceanFloor::push_target(int32_t v, int32_t from, Vec3 &to) const {
     const double reach = kPushPast * s_.options.ocean_floor * s_.h_at[v];
-    // (On a mesh of a few huge cells a push would go round the sphere: the
-    // bound of the stars a removal may open.)
     if (!s_.removable(v) || !(reach < MeshState::kLargestRemovableStar)) return false;
-    const Before b = before({v});
-    const Vec3 was = s_.tri.lifted(v), x = s_.tri.direction(v), y = s_.tri.direction(from);
+    const Vec3 x = s_.tri.direction(v), y = s_.tri.direction(from);
     const Vec3 away = geom::normalized(x - geom::dot(x, y) * y);  // tangent at y towards x
-    const Vec3 to = geom::normalized(std::cos(reach) * y + std::sin(reach) * away);
+    to = geom::normalized(std::cos(reach) * y + std::sin(reach) * away);
+    return true;
+}
+
+bool OceanFloor::push_away(int32_t v, int32_t from) {
+    Vec3 to;
+    if (!push_target(v, from, to)) return false;
+    const Before b = before({v});
+    const Vec3 was = s_.tri.lifted(v);
     if (!s_.tri.move(v, to).empty() || !acceptable(b, v)) {
         s_.tri.place(v, was);
         return false;
@@ -250,14 +258,13 @@ bool OceanFloor::push_away(int32_t v, int32_t from) {
 // to the point of the part nearest to where a push would put it (just past
 // floor h from the neighbour), where every edge along Gamma around stays.
 bool OceanFloor::slide_apart(int32_t v, int32_t from) {
-    const double reach = kPushPast * s_.options.ocean_floor * s_.h_at[v];
-    if (!s_.removable(v) || !(reach < MeshState::kLargestRemovableStar)) return false;
+    Vec3 to;
+    if (!push_target(v, from, to)) return false;
     const auto gamma_edges = s_.gamma_edges_among(s_.closed_stars({v}));
     const Before b = before({v});
-    const Vec3 was = s_.tri.lifted(v), x = s_.tri.direction(v), y = s_.tri.direction(from);
+    const Vec3 was = s_.tri.lifted(v);
     const int32_t segment_was = s_.on_segment[v];
-    const Vec3 away = geom::normalized(x - geom::dot(x, y) * y);
-    const PointOnGamma p = slide_along(*s_.gamma, segment_was, geom::normalized(std::cos(reach) * y + std::sin(reach) * away));
+    const PointOnGamma p = slide_along(*s_.gamma, segment_was, to);
     const bool hid = !s_.tri.move(v, p.x).empty();
     s_.on_segment[v] = static_cast<int32_t>(p.segment);
     if (hid || !s_.gamma_edges_stay(gamma_edges) || !acceptable(b, v)) {

@@ -70,6 +70,7 @@ private:
     bool merge_at_midpoint(int32_t kept, int32_t gone);
     bool take_out(int32_t v);
     bool take_out_of_gamma(int32_t v);
+    bool push_target(int32_t v, int32_t from, Vec3 &to) const;
     bool push_away(int32_t v, int32_t from);
     bool slide_apart(int32_t v, int32_t from);
     bool merge_along_gamma(int32_t a, int32_t b);
