@@ -101,9 +101,8 @@ bool OceanFloor::lift_keeping_gamma(const ShortEdge &e) {
 // Either end taken out, the one off Gamma first, Gamma free to pass through
 // more cells (a fixed boundary keeps Gamma's vertices).
 bool OceanFloor::lift_at_any_cost_to_gamma(const ShortEdge &e) {
-    const bool a_on = s_.on_segment[e.a] >= 0, b_on = s_.on_segment[e.b] >= 0;
-    const int32_t first = a_on && !b_on ? e.b : (b_on && !a_on ? e.a : e.b);
-    const int32_t second = first == e.a ? e.b : e.a;
+    const bool only_b_on = s_.on_segment[e.b] >= 0 && s_.on_segment[e.a] < 0;
+    const int32_t first = only_b_on ? e.a : e.b, second = only_b_on ? e.b : e.a;
     auto may_go = [&](int32_t v) { return s_.on_segment[v] < 0 || !s_.options.fix_boundary; };
     gamma_may_spread_ = true;
     const bool done = (may_go(first) && take_out(first)) || (may_go(second) && take_out(second));

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -140,27 +141,24 @@ std::string quality_json(um_context *ctx, um_mesh *m) {
     return text;
 }
 
-// A number of the mesh's own operator diagnostics in its JSON report
-// (`key` of `member`; the mesh's own come before "before_optimisation"):
-// the C API gives no rms or std. NaN when absent or null (not finite).
-double diagnostic(const std::string &json, const char *member, const char *key) {
+// The number after the last of `anchors`, each found after the one before,
+// in the mesh's own part of its JSON report (from "operator_diagnostics",
+// before "before_optimisation" reports the refined mesh); NaN when absent or
+// null (not finite). The C API gives no rms, std or ocean floor counts.
+double number_after(const std::string &json, std::initializer_list<std::string> anchors) {
     size_t at = json.find("\"operator_diagnostics\"");
-    if (at != std::string::npos) at = json.find(std::string("\"") + member + "\"", at);
-    if (at != std::string::npos) at = json.find(std::string("\"") + key + "\": ", at);
+    size_t length = 0;
+    for (const std::string &a : anchors)
+        if (at != std::string::npos) at = json.find(a, at + length), length = a.size();
     double value = NAN;
     if (at != std::string::npos)  // locale-independent, as the library writes it
-        std::from_chars(json.data() + at + std::strlen(key) + 4, json.data() + json.size(), value);
+        std::from_chars(json.data() + at + length, json.data() + json.size(), value);
     return value;
 }
 
-// The number after `anchor` in the mesh's own part of its JSON report (the
-// first after "operator_diagnostics"); NaN when absent.
-double number_after(const std::string &json, const std::string &anchor) {
-    size_t at = json.find("\"operator_diagnostics\"");
-    if (at != std::string::npos) at = json.find(anchor, at);
-    double value = NAN;
-    if (at != std::string::npos) std::from_chars(json.data() + at + anchor.size(), json.data() + json.size(), value);
-    return value;
+// `key` of `member` among the mesh's own diagnostics.
+double diagnostic(const std::string &json, const char *member, const char *key) {
+    return number_after(json, {std::string("\"") + member + "\"", std::string("\"") + key + "\": "});
 }
 
 void print_quality(const char *what, um_context *ctx, um_mesh *m) {
@@ -192,7 +190,7 @@ void print_quality(const char *what, um_context *ctx, um_mesh *m) {
                 what, d("ocean_floor", "floor"), d("ocean_floor", "min_ratio"), d("ocean_floor", "ocean_edges"),
                 d("ocean_floor", "all_edges_min_ratio"), d("ocean_floor", "below_floor"));
     // Passages: the ones the mesh closed (quality.json lists where), the ones kept open.
-    auto n = [&](const char *anchor) { return number_after(json, anchor); };
+    auto n = [&](const char *anchor) { return number_after(json, {anchor}); };
     std::printf("%-9s ocean connectivity: %.0f regions in %.0f water bodies, %.0f passages closed; "
                 "%.0f cells kept open by passages, %.0f of their edges below the floor\n",
                 what, n("\"regions\": {\"count\": "), n("\"water_bodies\": "),
