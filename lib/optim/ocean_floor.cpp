@@ -99,13 +99,16 @@ bool OceanFloor::lift_keeping_gamma(const ShortEdge &e) {
 }
 
 // Either end taken out, the one off Gamma first, Gamma free to pass through
-// more cells (a fixed boundary keeps Gamma's vertices).
+// more cells (a fixed boundary keeps Gamma's vertices); where either hole
+// would leave a long edge (the two shores of a channel narrower than the
+// floor), the two merge into one off Gamma at the edge's midpoint.
 bool OceanFloor::lift_at_any_cost_to_gamma(const ShortEdge &e) {
     const bool only_b_on = s_.on_segment[e.b] >= 0 && s_.on_segment[e.a] < 0;
     const int32_t first = only_b_on ? e.a : e.b, second = only_b_on ? e.b : e.a;
     auto may_go = [&](int32_t v) { return s_.on_segment[v] < 0 || !s_.options.fix_boundary; };
     gamma_may_spread_ = true;
-    const bool done = (may_go(first) && take_out(first)) || (may_go(second) && take_out(second));
+    const bool done = (may_go(first) && take_out(first)) || (may_go(second) && take_out(second)) ||
+                      (stage_ != Stage::iteration && may_go(first) && may_go(second) && merge_off_gamma(second, first));
     gamma_may_spread_ = false;
     return done;
 }
@@ -164,9 +167,11 @@ bool OceanFloor::acceptable(const Before &b, int32_t kept) const {
     if (leaves_long_edge(region)) return false;
     if (s_.below_floor_at(region) > b.below_floor) return false;
     if (!s_.weighing) return true;
+    // Triangles not holding their orthocentre the mends re-tune (in an outer
+    // iteration a split could undo the removal every iteration); the last
+    // resort leaves them the obtuse ones too.
+    if (stage_ == Stage::before_mends && gamma_may_spread_) return true;
     std::sort(region.begin(), region.end());
-    // (Triangles not holding their orthocentre the mends re-tune; in an
-    // outer iteration a split could undo the removal every iteration.)
     return s_.obtuse_touching(region) <= b.obtuse &&
            (stage_ == Stage::before_mends || off_centre_touching(region) <= b.off_centre);
 }
@@ -210,6 +215,15 @@ bool OceanFloor::merge_at_midpoint(int32_t kept, int32_t gone) {
     }
     keep_moved(kept, b.link);
     return true;
+}
+
+// merge_at_midpoint where either may be on Gamma: the one kept leaves it.
+bool OceanFloor::merge_off_gamma(int32_t kept, int32_t gone) {
+    const int32_t segment_was = s_.on_segment[kept];
+    s_.on_segment[kept] = -1;
+    if (merge_at_midpoint(kept, gone)) return true;
+    s_.on_segment[kept] = segment_was;
+    return false;
 }
 
 // A vertex off Gamma taken out where its neighbour on Gamma is too near.

@@ -15,17 +15,18 @@
 //     narrower than the floor is filtered, as the boundary refinement
 //     filters detail narrower than the spacing).
 // Where none of those lifts the edge, either end is taken out (off Gamma
-// first) even where Gamma then passes through more cells off it: the floor
-// comes before following detail of Gamma narrower than it (two shores, a
-// lake and a coast, nearer than the floor). With a fixed boundary, Gamma's
-// vertices stay.
+// first), or the two merge off Gamma at the midpoint, even where Gamma then
+// passes through more cells off it: the floor comes before following
+// detail of Gamma narrower than it (two shores, a lake and a coast, nearer
+// than the floor). With a fixed boundary, Gamma's vertices stay.
 // Each pass first brings the sides of the vertices up to date
 // (MeshState::refresh_sides). A
 // removal is kept only if (but for that last resort) it lets Gamma into no
 // more cells off it, leaves no edge longer than split_ratio h nor more
 // edges below the floor around and, once the weights are tuned, adds no
 // obtuse triangle and, but in the passes just before the mends (which
-// re-tune the weights), none not holding its orthocentre. The sweeps then
+// re-tune the weights, and move the vertices of obtuse triangles: there the
+// last resort may add those too), none not holding its orthocentre. The sweeps then
 // re-centre the neighbours. Land and river edges may be shorter. Serial,
 // one change per neighbourhood per pass, in a fixed order: deterministic.
 #pragma once
@@ -69,6 +70,7 @@ private:
     int off_centre_touching(const std::vector<int32_t> &vertices) const;
     bool merge_at_midpoint(int32_t kept, int32_t gone);
     bool take_out(int32_t v);
+    bool merge_off_gamma(int32_t kept, int32_t gone);
     bool take_out_of_gamma(int32_t v);
     bool push_target(int32_t v, int32_t from, Vec3 &to) const;
     bool push_away(int32_t v, int32_t from);
