@@ -130,13 +130,13 @@ bool Centroidal::update_centroidal(const StarGraph &g, int32_t v) {
     const double floor = std::min(0.0, lloyd_margin(ring, here));
     const bool guarded = !s_.near_gamma.empty() && s_.near_gamma[v];
     int crossings = -1;
-    const double slack = s_.floor_slack(v);
+    const double slack = s_.floor_slack(v, ring, g.link(v));
     double step = 1;
     for (int i = 0; i <= kCentroidalHalvings; ++i, step *= 0.5) {
         Generator moved = here;
         moved.x = geom::normalized((1 - step) * here.x + step * target);
         if (lloyd_margin(ring, moved, floor) < floor) continue;
-        if (!star_is_valid(ring, moved) || !s_.move_keeps_floor(v, moved.x, slack)) continue;
+        if (!star_is_valid(ring, moved) || !s_.move_keeps_floor(v, moved.x, slack, ring, g.link(v))) continue;
         if (guarded) {
             if (crossings < 0) crossings = s_.gamma_crossings(v, ring, g.link(v), here);
             if (s_.gamma_crossings(v, ring, g.link(v), moved) > crossings) continue;

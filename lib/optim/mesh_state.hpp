@@ -268,13 +268,16 @@ public:
     // With a floor: whether moving v, off the land, to `to` makes no edge to
     // a generator off the land shorter than floor h that was not, nor a
     // shorter one shorter still (true on the land).
-    // `slack`, when given, is floor_slack(v): moves shorter than it keep the
-    // floor without a look at the neighbours (the sweeps try many per vertex).
-    bool move_keeps_floor(int32_t v, const Vec3 &to, double slack = -1) const;
+    bool move_keeps_floor(int32_t v, const Vec3 &to) const;
+    // The same for a sweep's trial, from v's ring and link (the ring holds
+    // the neighbours' positions). `slack` is floor_slack's: moves shorter
+    // than it keep the floor without a look at the neighbours (the sweeps
+    // try many per vertex).
+    bool move_keeps_floor(int32_t v, const Vec3 &to, double slack, const Ring &ring, const int32_t *link) const;
     // How far v may move before an edge of it could pass below the floor
     // (whatever the sides): the least of its edges' chords less floor h;
     // infinite without a floor.
-    double floor_slack(int32_t v) const;
+    double floor_slack(int32_t v, const Ring &ring, const int32_t *link) const;
     // With a floor: the edges at `vertices` (each once) between two
     // generators off the land shorter than floor h (0 without a floor).
     int below_floor_at(const std::vector<int32_t> &vertices) const;

@@ -122,35 +122,53 @@ double MeshState::floor_to_lift() const {
     return options.ocean_floor * (weighing ? 1.0 : kShapeMargin);
 }
 
-double MeshState::floor_slack(int32_t v) const {
+double MeshState::floor_slack(int32_t v, const Ring &ring, const int32_t *link) const {
     const double floor = options.ocean_floor;
     if (!(floor > 0) || side_id.empty()) return kInfinity;
     const Vec3 x = tri.direction(v);
     double slack = kInfinity;
-    tri.for_each_neighbour(v, [&](int32_t w) {
-        const double least = floor * 0.5 * (static_cast<double>(h_at[v]) + static_cast<double>(h_at[w]));
-        slack = std::min(slack, geom::norm(x - tri.direction(w)) - least);
-    });
+    for (int k = 0; k < ring.m; ++k) {
+        const double least = floor * 0.5 * (static_cast<double>(h_at[v]) + static_cast<double>(h_at[link[k]]));
+        slack = std::min(slack, geom::norm(x - ring.at(k).x) - least);
+    }
     return slack;
 }
 
-bool MeshState::move_keeps_floor(int32_t v, const Vec3 &to, double slack) const {
-    const double floor = options.ocean_floor;
-    if (!(floor > 0) || side_id.empty()) return true;
-    const Vec3 x = tri.direction(v);
+namespace {
+
+// move_keeps_floor over v's neighbours, each given to `each` as (slot, direction).
+template <class ForEachNeighbour>
+bool keeps_floor_among(const MeshState &s, int32_t v, const Vec3 &to, double slack, ForEachNeighbour &&each) {
+    const double floor = s.options.ocean_floor;
+    if (!(floor > 0) || s.side_id.empty()) return true;
+    const Vec3 x = s.tri.direction(v);
     if (slack >= 0 && geom::norm(to - x) <= slack) return true;
     int v_off_land = -1;  // not looked up yet
     bool keeps = true;
-    tri.for_each_neighbour(v, [&](int32_t w) {
+    each([&](int32_t w, const Vec3 &y) {
         if (!keeps) return;
-        const Vec3 y = tri.direction(w);
         const double now = geom::norm(to - y);
-        const double least = floor * 0.5 * (static_cast<double>(h_at[v]) + static_cast<double>(h_at[w]));
+        const double least = floor * 0.5 * (static_cast<double>(s.h_at[v]) + static_cast<double>(s.h_at[w]));
         if (now >= least || now >= geom::norm(x - y)) return;
-        if (v_off_land < 0) v_off_land = off_land(v);
-        keeps = !v_off_land || !off_land(w);
+        if (v_off_land < 0) v_off_land = s.off_land(v);
+        keeps = !v_off_land || !s.off_land(w);
     });
     return keeps;
+}
+
+}  // namespace
+
+bool MeshState::move_keeps_floor(int32_t v, const Vec3 &to) const {
+    return keeps_floor_among(*this, v, to, -1, [&](auto &&f) {
+        tri.for_each_neighbour(v, [&](int32_t w) { f(w, tri.direction(w)); });
+    });
+}
+
+bool MeshState::move_keeps_floor(int32_t v, const Vec3 &to, double slack, const Ring &ring,
+                                 const int32_t *link) const {
+    return keeps_floor_among(*this, v, to, slack, [&](auto &&f) {
+        for (int k = 0; k < ring.m; ++k) f(link[k], ring.at(k).x);
+    });
 }
 
 // (The sides are looked up only for the edges that are short: most are not.)

@@ -118,8 +118,8 @@ struct ShapeSweeps::MoveTrial {
     // The floor's slack (MeshState::floor_slack), taken once (NaN: not yet).
     double slack = std::numeric_limits<double>::quiet_NaN();
     bool keeps_floor(const Generator &moved) {
-        if (std::isnan(slack)) slack = s.floor_slack(v);
-        return s.move_keeps_floor(v, moved.x, slack);
+        if (std::isnan(slack)) slack = s.floor_slack(v, ring, g.link(v));
+        return s.move_keeps_floor(v, moved.x, slack, ring, g.link(v));
     }
 
     bool keeps_gamma(const Generator &moved) {
