@@ -36,6 +36,12 @@ class Build(unittest.TestCase):
                 self.assertGreater(os.path.getsize(os.path.join(out, name)), 0, name)
             self.assertIn("optimised quality", r.stdout)
             self.assertIn("optimised operator diagnostics: centroid offset rms ", r.stdout)
+            # The pictures (tools/setup.sh installs what draws them): the
+            # histograms and the map of the cells and the input lines.
+            for name in ("quality.png", "mesh.png"):
+                with open(os.path.join(out, name), "rb") as f:
+                    self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n", name)
+                self.assertIn(os.path.join(out, name), r.stdout)
             with open(os.path.join(out, "quality.json")) as f:
                 report = json.load(f)
             self.assertIn("before_optimisation", report)

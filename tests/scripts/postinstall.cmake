@@ -70,14 +70,16 @@ if(PYTHON AND PYTHON_SOURCE_DIR)
   endif()
 endif()
 
-# The CLI from the prefix: it finds its library and its plotting script there.
+# The CLI from the prefix: it finds its library and its plotting scripts there.
 run("CLI --version" ${prefix}/bin/unimesh --version)
 run("CLI build" ${prefix}/bin/unimesh build --spacing-km 2000 --threads 1 --out ${WORK_DIR}/out)
 if(NOT EXISTS ${WORK_DIR}/out/mesh.nc)
   message(FATAL_ERROR "the installed CLI wrote no mesh.nc")
 endif()
-execute_process(COMMAND /usr/bin/python3 -c "import matplotlib" RESULT_VARIABLE no_matplotlib
+execute_process(COMMAND /usr/bin/python3 -c "import matplotlib, netCDF4, numpy" RESULT_VARIABLE no_matplotlib
                 OUTPUT_QUIET ERROR_QUIET)
-if(no_matplotlib EQUAL 0 AND NOT EXISTS ${WORK_DIR}/out/quality.png)
-  message(FATAL_ERROR "the installed CLI drew no quality.png (its plotting script not found?)")
-endif()
+foreach(picture quality.png mesh.png)
+  if(no_matplotlib EQUAL 0 AND NOT EXISTS ${WORK_DIR}/out/${picture})
+    message(FATAL_ERROR "the installed CLI drew no ${picture} (its plotting script not found?)")
+  endif()
+endforeach()

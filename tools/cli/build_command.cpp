@@ -205,40 +205,48 @@ void print_quality(const char *what, um_context *ctx, um_mesh *m) {
     std::fflush(stdout);
 }
 
-// quality.png: the Figure 10 histograms, drawn by tools/plot_quality.py
-// (Debian's matplotlib). A missing Python or matplotlib costs the picture,
-// not the mesh: a warning, and the exit status stays that of the mesh files.
-// Debian's own Python (where setup.sh installs python3-matplotlib) first.
-// The script installed beside this executable, else the source tree's.
-std::string plot_script() {
+// quality.png (the Figure 10 histograms, tools/plot_quality.py) and
+// mesh.png (a map of the cells and the input lines, tools/plot_mesh.py),
+// drawn with Debian's matplotlib. A missing Python or matplotlib costs the
+// picture, not the mesh: a warning, and the exit status stays that of the
+// mesh files. Debian's own Python (where setup.sh installs the packages)
+// first. The scripts installed beside this executable, else the source tree's.
+std::string plot_script(const std::string &name) {
     char exe[4096];
     const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
     if (n > 0) {
         std::string dir(exe, static_cast<size_t>(n));
         dir.erase(dir.find_last_of('/') + 1);
-        const std::string installed = dir + UNIMESH_INSTALLED_PLOT_SCRIPT;
+        const std::string installed = dir + UNIMESH_INSTALLED_PLOT_DIR + "/" + name;
         if (access(installed.c_str(), R_OK) == 0) return installed;
     }
-    return UNIMESH_PLOT_SCRIPT;
+    return std::string(UNIMESH_PLOT_DIR) + "/" + name;
 }
 
-bool plot_quality(const std::string &json, const std::string &png, const std::string &shown) {
-    const std::string script_path = plot_script();
-    const char *script = script_path.c_str();
+// Runs `script` with `arguments`; false (after a warning naming `shown`) if
+// it fails.
+bool plot(const std::string &script, const std::vector<std::string> &arguments, const std::string &shown) {
+    const std::string script_path = plot_script(script);
     const char *python = access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
+    std::vector<char *> argv{const_cast<char *>(python), const_cast<char *>(script_path.c_str())};
+    for (const std::string &a : arguments) argv.push_back(const_cast<char *>(a.c_str()));
+    argv.push_back(nullptr);
     pid_t pid = fork();
     if (pid == 0) {
-        execlp(python, python, script, json.c_str(), png.c_str(), static_cast<char *>(nullptr));
+        execvp(python, argv.data());
         _exit(127);
     }
     int status = -1;
     if (pid > 0) waitpid(pid, &status, 0);
     if (pid > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
     // The script says why on stderr; the hint only where it applies (status
-    // 3: no matplotlib; 127: no Python).
+    // 3: a package missing; 127: no Python).
     const int code = pid > 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    const char *hint = code == 3 ? "; is python3-matplotlib installed?" : code == 127 ? "; is python3 installed?" : "";
-    std::fprintf(stderr, "unimesh build: warning: no %s (%s %s failed%s)\n", shown.c_str(), python, script, hint);
+    const char *hint = code == 3 ? "; are python3-matplotlib, python3-numpy and python3-netcdf4 installed?"
+                       : code == 127 ? "; is python3 installed?"
+                                     : "";
+    std::fprintf(stderr, "unimesh build: warning: no %s (%s %s failed%s)\n", shown.c_str(), python,
+                 script_path.c_str(), hint);
     return false;
 }
 
@@ -321,11 +329,16 @@ int run_build(const BuildArgs &a) {
         check(um_mesh_write_jigsaw(m, out->staged("mesh.msh").c_str()), ctx, "writing " + dir + "mesh.msh");
         const std::string quality = quality_json(ctx, m);
         write_text(out->staged("quality.json"), quality);
-        const bool plotted = plot_quality(out->staged("quality.json"), out->staged("quality.png"), dir + "quality.png");
+        const bool plotted = plot("plot_quality.py", {out->staged("quality.json"), out->staged("quality.png")},
+                                  dir + "quality.png");
+        std::vector<std::string> map_arguments{mesh_nc, out->staged("mesh.png")};
+        map_arguments.insert(map_arguments.end(), a.geometry.begin(), a.geometry.end());
+        const bool mapped = plot("plot_mesh.py", map_arguments, dir + "mesh.png");
         std::vector<std::string> written{"mesh.nc", "graph.info", "mesh.vtu", "triangles.vtu", "mesh.msh",
                                          "quality.json"};
         std::vector<std::string> not_written;
         (plotted ? written : not_written).push_back("quality.png");
+        (mapped ? written : not_written).push_back("mesh.png");
         try {
             out->publish(written, not_written, file_id_of(mesh_nc));
         } catch (const std::runtime_error &e) {
@@ -339,10 +352,9 @@ int run_build(const BuildArgs &a) {
                     (long long)nv, (long long)nt, (long long)nr, (long long)nf, refine_s,
                     a.no_optimise ? 0.0 : optimise_s);
         print_quality(a.no_optimise ? "refined" : "optimised", ctx, m);
-        std::printf("wrote %smesh.nc, %sgraph.info, %smesh.vtu, %striangles.vtu, %smesh.msh, "
-                    "%squality.json%s%s, %smanifest.json\n", dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(),
-                    dir.c_str(), dir.c_str(), plotted ? ", " : "", plotted ? (dir + "quality.png").c_str() : "",
-                    dir.c_str());
+        std::string files;
+        for (const std::string &name : written) files += dir + name + ", ";
+        std::printf("wrote %s%smanifest.json\n", files.c_str(), dir.c_str());
     } catch (const Failure &e) {
         if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-60s\r", "");
         std::fprintf(stderr, "unimesh build: %s\n", e.message.c_str());

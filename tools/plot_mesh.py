@@ -1,0 +1,184 @@
+#!/usr/bin/env python3
+"""A map of an MPAS mesh from unimesh, and the lines it was built to follow.
+
+    plot_mesh.py mesh.nc mesh.png [features.geojson ...]
+
+Top: the globe (longitude-latitude), each cell coloured by its size
+(sqrt(areaCell), km), the input coastlines (black) and rivers (blue) over it.
+Bottom: a zoom on the region where the input lines are densest (without
+them, where the cells are smallest), with the cells' edges, the ocean cells
+(cellOceanMask) shaded blue and the land ones tan, and the input lines.
+Uses Debian's python3-matplotlib and python3-netcdf4, without a display.
+"""
+import json
+import math
+import sys
+
+# Exit status 3: matplotlib, numpy or netCDF4 is missing (the caller's hint
+# names the packages); any other failure is reported on stderr as it is.
+try:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: E402  (the backend is chosen first)
+    from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+    from matplotlib.colors import LogNorm, Normalize  # noqa: E402
+    import netCDF4  # noqa: E402
+    import numpy as np  # noqa: E402
+except ImportError as e:
+    print(f"plot_mesh.py: {e}", file=sys.stderr)
+    sys.exit(3)
+
+# The zoom shows about this many cells across.
+ZOOM_CELLS_ACROSS = 30
+
+
+def wrap(lon):
+    """Longitudes in degrees into [-180, 180)."""
+    return (np.asarray(lon) + 180.0) % 360.0 - 180.0
+
+
+def read_lines(paths):
+    """The input lines as (lon, lat, is_river) arrays, from GeoJSON files.
+
+    Points are skipped (a passage given as a point has no line to draw)."""
+    lines = []
+
+    def add(coordinates, river):
+        xy = np.asarray([c[:2] for c in coordinates if len(c) >= 2], dtype=float)
+        if len(xy) >= 2:
+            lines.append((xy[:, 0], xy[:, 1], river))
+
+    for path in paths:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+        features = data.get("features", [data]) if isinstance(data, dict) else []
+        for feature in features:
+            geometry = feature.get("geometry") or {}
+            properties = feature.get("properties") or {}
+            river = properties.get("kind") == "river"
+            kind, coordinates = geometry.get("type"), geometry.get("coordinates") or []
+            if kind == "LineString":
+                add(coordinates, river)
+            elif kind in ("MultiLineString", "Polygon"):
+                for line in coordinates:
+                    add(line, river)
+            elif kind == "MultiPolygon":
+                for polygon in coordinates:
+                    for line in polygon:
+                        add(line, river)
+    return lines
+
+
+def segments(lines, river):
+    """Line segments of the rivers (or the rest), none across the dateline."""
+    out = []
+    for lon, lat, is_river in lines:
+        if is_river != river:
+            continue
+        lon = wrap(lon)
+        keep = np.abs(np.diff(lon)) < 180.0
+        pairs = np.stack([np.stack([lon[:-1], lat[:-1]], 1), np.stack([lon[1:], lat[1:]], 1)], 1)
+        out.append(pairs[keep])
+    return np.concatenate(out) if out else np.zeros((0, 2, 2))
+
+
+def draw_lines(ax, lines, width):
+    ax.add_collection(LineCollection(segments(lines, False), colors="black", linewidths=width))
+    ax.add_collection(LineCollection(segments(lines, True), colors="tab:blue", linewidths=width))
+
+
+def read_mesh(path):
+    with netCDF4.Dataset(path) as d:
+        d.set_auto_mask(False)
+        radius = float(getattr(d, "sphere_radius", 6371229.0))
+        mesh = {name: d[name][:] for name in ("lonCell", "latCell", "lonVertex", "latVertex", "areaCell",
+                                               "nEdgesOnCell", "verticesOnCell", "cellsOnVertex")}
+        mesh["ocean"] = d["cellOceanMask"][:] if "cellOceanMask" in d.variables else None
+    for name in ("lonCell", "latCell", "lonVertex", "latVertex"):
+        mesh[name] = np.degrees(mesh[name])
+    mesh["lonCell"], mesh["lonVertex"] = wrap(mesh["lonCell"]), wrap(mesh["lonVertex"])
+    # (areaCell is in sphere_radius units squared: metres on the Earth, else
+    # a unit sphere, scaled to the Earth's mean radius.)
+    metres_per_unit = 1.0 if radius > 1000.0 else 6371220.0 / radius
+    mesh["size_km"] = np.sqrt(mesh["areaCell"]) * metres_per_unit / 1000.0
+    return mesh
+
+
+def draw_globe(ax, fig, mesh, lines):
+    triangles = mesh["cellsOnVertex"].astype(np.int64) - 1
+    triangles = triangles[(triangles >= 0).all(axis=1)]
+    lon, lat = mesh["lonCell"], mesh["latCell"]
+    span = lon[triangles].max(axis=1) - lon[triangles].min(axis=1)
+    triangles = triangles[span < 180.0]  # (those across the dateline would smear the map)
+    size = mesh["size_km"]
+    low, high = float(size.min()), float(size.max())
+    norm = LogNorm(low, high) if high > 3.0 * low else Normalize(low, max(high, low * 1.0001))
+    shaded = ax.tripcolor(lon, lat, triangles, facecolors=size[triangles].mean(axis=1), norm=norm,
+                          cmap="viridis", shading="flat", rasterized=True)
+    draw_lines(ax, lines, 0.25)
+    ax.set_xlim(-180, 180), ax.set_ylim(-90, 90), ax.set_aspect("equal")
+    ax.set_title(f"{len(size):,} cells, coloured by size")
+    fig.colorbar(shaded, ax=ax, shrink=0.8, label="cell size sqrt(areaCell), km")
+
+
+def zoom_centre(mesh, lines):
+    """Where the input lines are densest (5-degree bins), else the smallest cells."""
+    if lines:
+        lon = wrap(np.concatenate([x for x, _, _ in lines]))
+        lat = np.concatenate([y for _, y, _ in lines])
+        counts, lon_edges, lat_edges = np.histogram2d(lon, lat, bins=(72, 36), range=((-180, 180), (-90, 90)))
+        i, j = np.unravel_index(np.argmax(counts), counts.shape)
+        inside = (lon >= lon_edges[i]) & (lon <= lon_edges[i + 1]) & (lat >= lat_edges[j]) & (lat <= lat_edges[j + 1])
+        return float(np.median(lon[inside])), float(np.median(lat[inside]))
+    smallest = np.argmin(mesh["size_km"])
+    return float(mesh["lonCell"][smallest]), float(mesh["latCell"][smallest])
+
+
+def draw_zoom(ax, mesh, lines):
+    lon0, lat0 = zoom_centre(mesh, lines)
+    lon, lat = mesh["lonCell"], mesh["latCell"]
+    dlon = wrap(lon - lon0)
+    near = (np.abs(lat - lat0) < 5.0) & (np.abs(dlon) * math.cos(math.radians(lat0)) < 5.0)
+    size_km = float(np.median(mesh["size_km"][near])) if near.any() else float(np.median(mesh["size_km"]))
+    half_lat = min(20.0, max(0.02, 0.5 * ZOOM_CELLS_ACROSS * size_km / 111.2))
+    half_lon = min(60.0, half_lat / max(0.2, math.cos(math.radians(lat0))))
+    shown = np.nonzero((np.abs(dlon) < 1.2 * half_lon) & (np.abs(lat - lat0) < 1.2 * half_lat))[0]
+    polygons, colours = [], []
+    for c in shown:
+        corners = mesh["verticesOnCell"][c, : mesh["nEdgesOnCell"][c]].astype(np.int64) - 1
+        corners = corners[corners >= 0]
+        xy = np.stack([lon0 + wrap(mesh["lonVertex"][corners] - lon0), mesh["latVertex"][corners]], 1)
+        polygons.append(xy)
+        ocean = mesh["ocean"] is not None and mesh["ocean"][c] > 0
+        colours.append("#cfe3f5" if ocean else "#efe4cc")
+    ax.add_collection(PolyCollection(polygons, facecolors=colours, edgecolors="0.35", linewidths=0.3))
+    shifted = [(lon0 + wrap(x - lon0), y, river) for x, y, river in lines]
+    draw_lines(ax, shifted, 0.8)
+    ax.set_xlim(lon0 - half_lon, lon0 + half_lon), ax.set_ylim(lat0 - half_lat, lat0 + half_lat)
+    ax.set_aspect(1.0 / max(0.2, math.cos(math.radians(lat0))))
+    ax.set_title(f"around ({lon0:.2f}, {lat0:.2f}): cells of about {size_km:.3g} km "
+                 "(ocean blue, land tan), the input lines")
+    ax.set_xlabel("longitude"), ax.set_ylabel("latitude")
+
+
+def main(argv):
+    if len(argv) < 3:
+        print("usage: plot_mesh.py mesh.nc mesh.png [features.geojson ...]", file=sys.stderr)
+        return 2
+    mesh = read_mesh(argv[1])
+    lines = read_lines(argv[3:])
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(11, 12), gridspec_kw={"height_ratios": [1, 1.1]})
+    draw_globe(top, fig, mesh, lines)
+    draw_zoom(bottom, mesh, lines)
+    fig.tight_layout()
+    try:
+        fig.savefig(argv[2], dpi=110)
+    except OSError as e:
+        print(f"plot_mesh.py: cannot write {argv[2]}: {e.strerror}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
