@@ -2,7 +2,12 @@
  * unimesh.h -- the one public header of libunimesh.
  *
  * unimesh builds "unified" Laguerre-Power (weighted Delaunay / power diagram)
- * meshes of the sphere for MPAS-type staggered models.
+ * meshes of the sphere for MPAS-type staggered models, as D. Engwirda and
+ * C. Liao, "'Unified' Laguerre-Power meshes for coupled earth system
+ * modelling", describe them: a restricted triangulation that follows the
+ * coastlines and rivers (their section 5), optimised by the weighted
+ * primal-dual scheme (section 6, Algorithm 1), judged by the metrics of their
+ * Figure 10.
  *
  * ABI rules
  *   - Pure C99. Every symbol is prefixed um_ / UM_.
