@@ -275,10 +275,24 @@ class ContextTests(unittest.TestCase):
         self.ctx.threads = 2  # nothing left pending
         self.assertEqual(self.ctx.last_error, "")
 
-    def test_progress_callback_can_be_set_and_removed(self):
-        # No call of the current API reports progress; only registration is tested.
-        self.ctx.set_progress(lambda stage, fraction: False)
+    def test_progress_callback_reports_and_cancels(self):
+        seen = []
+        self.ctx.set_progress(lambda stage, fraction: seen.append((stage, fraction)) and False)
+        h = unimesh.Spacing.constant(self.ctx, 1500.0)
+        unimesh.Mesh.refine(self.ctx, h).optimise().close()
+        stages = {stage.split()[0] for stage, _ in seen}
+        self.assertTrue({"refine", "optimise"} <= stages, stages)
+        self.assertTrue(all(0.0 <= fraction <= 1.0 for _, fraction in seen))
+        # A true return cancels the call, which raises CANCELLED; None removes the callback.
+        self.ctx.set_progress(lambda stage, fraction: stage == "optimise")
+        mesh = unimesh.Mesh.refine(self.ctx, h)
+        with self.assertRaises(UnimeshError) as caught:
+            mesh.optimise()
+        self.assertEqual(caught.exception.status, Status.CANCELLED)
+        mesh.close()
         self.ctx.set_progress(None)
+        unimesh.Mesh.refine(self.ctx, h).close()
+        h.close()
 
 
 class OptionsTests(unittest.TestCase):
