@@ -408,10 +408,10 @@ private:
     }
 
     // One position -> a part of one point (the network refuses it unless it
-    // is a passage).
+    // is an open passage: "closed": true is passed on, to be refused).
     void read_point(const json &position, const Attributes &attributes, std::string &path) {
         read_position(position, path);
-        end_part(0, attributes, path);
+        end_part(attributes.closed == 1 ? 1 : 0, attributes, path);
     }
 
     void read_position(const json &p, std::string &path) {

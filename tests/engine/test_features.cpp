@@ -671,6 +671,15 @@ void passages_of_points_and_lines(void **) {
     assert_int_equal(add(refused, {line({5, 5}, 1, UM_FEATURE_PASSAGE)}, &m), UM_ERR_TOO_FEW_POINTS);
     assert_true(contains(m, "a closed passage needs at least 2"));
     assert_int_equal(add(refused, {line({5, 5}, 0, UM_FEATURE_PASSAGE)}, &m), UM_OK);
+    // A GeoJSON point said to be closed is refused too, not read as open.
+    Network closed_point;
+    const char *closed_text =
+        "{\"type\": \"Feature\", \"properties\": {\"kind\": \"passage\", \"closed\": true}, \"geometry\": "
+        "{\"type\": \"Point\", \"coordinates\": [29, 41.1]}}";
+    assert_int_equal(read_text(closed_point, closed_text, &m), UM_ERR_TOO_FEW_POINTS);
+    print_message("%s\n", m.c_str());
+    assert_true(contains(m, "geometry.coordinates") && contains(m, "a closed passage needs at least 2"));
+    assert_int_equal(closed_point.part_count(), 0);
 }
 
 // The GSHHG files: counts against data/README.md. All shorelines are closed
