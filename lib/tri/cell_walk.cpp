@@ -1,5 +1,7 @@
 #include "tri/cell_walk.hpp"
 
+#include <algorithm>
+
 namespace um::tri {
 
 namespace {
@@ -25,11 +27,27 @@ int32_t first_vertex(const Triangulation &tri) {
     return -1;
 }
 
+// Whether the arc a -> b, from ca's cell into its neighbour cb's, crosses
+// their shared boundary where no third cell is higher: else it passes
+// through a corner of another cell between them.
+bool crosses_directly(const Triangulation &tri, const Vec3 &a, int32_t ca, const Vec3 &b, int32_t cb) {
+    const Vec3 d = tri.lifted(ca) - tri.lifted(cb);
+    const double da = geom::dot(a, d), db = geom::dot(b, d);
+    if (!(da - db > 0)) return true;  // (a degenerate boundary: nothing to find)
+    const double t = da / (da - db);
+    const Vec3 p = geom::normalized((1 - t) * a + t * b);  // where the two are equally high
+    const double top = std::max(geom::dot(p, tri.lifted(ca)), geom::dot(p, tri.lifted(cb)));
+    bool direct = true;
+    for (int32_t c : {ca, cb})
+        tri.for_each_neighbour(c, [&](int32_t w) { direct = direct && !(geom::dot(p, tri.lifted(w)) > top); });
+    return direct;
+}
+
 // Appends the cells strictly after ca up to and including cb along a -> b.
 void append_between(const Triangulation &tri, const Vec3 &a, int32_t ca, const Vec3 &b, int32_t cb,
                      int depth, std::vector<int32_t> &out) {
     if (ca == cb) return;
-    if (depth == kMaxHalvings || are_neighbours(tri, ca, cb)) {
+    if (depth == kMaxHalvings || (are_neighbours(tri, ca, cb) && crosses_directly(tri, a, ca, b, cb))) {
         out.push_back(cb);
         return;
     }

@@ -19,7 +19,8 @@ int32_t cell_holding(const Triangulation &tri, const Vec3 &x, int32_t start = -1
 
 // The cells the minor arc a -> b passes through, in order from a's cell to
 // b's, each sharing an edge with the one before (found by halving the arc
-// until consecutive cells are neighbours).
+// until consecutive cells are neighbours and the arc crosses straight from
+// one into the other, not through the corner of a third).
 std::vector<int32_t> cells_along_arc(const Triangulation &tri, const Vec3 &a, const Vec3 &b,
                                      int32_t start = -1);
 

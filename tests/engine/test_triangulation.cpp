@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "support/point_sets.hpp"
+#include "tri/cell_walk.hpp"
 #include "tri/triangulation.hpp"
 #include "tri/validate.hpp"
 
@@ -915,10 +916,65 @@ void flips_keep_a_valid_sphere(void **) {
     assert_true(irregular > 0);
 }
 
+// The vertex whose power cell holds x, by brute force: the lifted hull's
+// vertex furthest along x. Its height along x.
+double furthest_along(const tri::Triangulation &t, const Vec3 &x) {
+    double best = -HUGE_VAL;
+    for (int32_t v = 0; v < t.vertex_slots(); ++v)
+        if (t.in_triangulation(v)) best = std::max(best, geom::dot(t.lifted(v), x));
+    return best;
+}
+
+bool neighbours(const tri::Triangulation &t, int32_t a, int32_t b) {
+    bool found = false;
+    t.for_each_neighbour(a, [&](int32_t u) { found = found || u == b; });
+    return found;
+}
+
+// cell_holding against brute force on a weighted triangulation (some
+// points hidden), from every kind of start; cells_along_arc from a's cell
+// to b's through neighbours, holding every point of the arc sampled.
+void cell_walks_find_the_power_cells(void **) {
+    const auto pts = test::random_points(4000, 91);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> weight(-2e-4, 2e-4);  // about the spacing squared
+    std::vector<double> w(pts.size());
+    for (double &x : w) x = weight(rng);
+    const tri::Triangulation t = build(pts, &w);
+    const auto probes = test::random_points(500, 92);
+    int32_t start = -1;
+    for (const Vec3 &x : probes) {
+        const int32_t v = tri::cell_holding(t, x, start);
+        assert_true(t.in_triangulation(v));
+        assert_true(geom::dot(t.lifted(v), x) >= furthest_along(t, x) - 1e-14);
+        start = v;  // (the next walk starts where this one ended)
+    }
+    for (size_t i = 0; i + 1 < probes.size(); i += 25) {
+        const Vec3 &a = probes[i], &b = probes[i + 1];
+        if (geom::dot(a, b) < -0.9) continue;  // (a minor arc of nearly half the sphere is ill defined)
+        const std::vector<int32_t> cells = tri::cells_along_arc(t, a, b);
+        assert_true(!cells.empty());
+        assert_true(geom::dot(t.lifted(cells.front()), a) >= furthest_along(t, a) - 1e-14);
+        assert_true(geom::dot(t.lifted(cells.back()), b) >= furthest_along(t, b) - 1e-14);
+        for (size_t k = 1; k < cells.size(); ++k) assert_true(neighbours(t, cells[k - 1], cells[k]));
+        for (int k = 0; k <= 200; ++k) {
+            const double f = k / 200.0;
+            const Vec3 p = geom::normalized((1 - f) * a + f * b);
+            const int32_t v = tri::cell_holding(t, p);
+            const double top = furthest_along(t, p);
+            // p's cell is on the list (or, on a cell boundary, a cell as high there).
+            bool listed = std::find(cells.begin(), cells.end(), v) != cells.end();
+            for (int32_t c : cells) listed = listed || geom::dot(t.lifted(c), p) >= top - 1e-14;
+            assert_true(listed);
+        }
+    }
+}
+
 }  // namespace
 
 int main() {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(cell_walks_find_the_power_cells),
         cmocka_unit_test(random_points_small_and_large),
         cmocka_unit_test(a_million_random_points),
         cmocka_unit_test(icosahedral_grids_to_level_8),
