@@ -54,8 +54,12 @@ def read_lines(paths):
             data = json.load(f)
         features = data.get("features", [data]) if isinstance(data, dict) else []
         for feature in features:
-            geometry = feature.get("geometry") or {}
-            properties = feature.get("properties") or {}
+            if not isinstance(feature, dict):
+                continue
+            # (A bare geometry at the top level is its own feature.)
+            geometry = feature.get("geometry") if feature.get("type") == "Feature" else feature
+            geometry = geometry if isinstance(geometry, dict) else {}
+            properties = feature.get("properties") if isinstance(feature.get("properties"), dict) else {}
             river = properties.get("kind") == "river"
             kind, coordinates = geometry.get("type"), geometry.get("coordinates") or []
             if kind == "LineString":
@@ -158,7 +162,7 @@ def draw_zoom(ax, mesh, lines):
     ax.set_xlim(lon0 - half_lon, lon0 + half_lon), ax.set_ylim(lat0 - half_lat, lat0 + half_lat)
     ax.set_aspect(1.0 / max(0.2, math.cos(math.radians(lat0))))
     ax.set_title(f"around ({lon0:.2f}, {lat0:.2f}): cells of about {size_km:.3g} km "
-                 "(ocean blue, land tan), the input lines")
+                 f"(ocean blue, land tan){', the input lines' if lines else ''}")
     ax.set_xlabel("longitude"), ax.set_ylabel("latitude")
 
 
