@@ -246,6 +246,14 @@ enum {
                                           points, only its 12 corners not six-valent): a
                                           uniform spacing's whole sphere, a graded one's
                                           background; 0: the frontal refinement everywhere */
+    UM_OPT_SPACING_GRADIENT = 106,     /* real in [0, 10], km per km; default 0.25. A grid
+                                          spacing (also clamped, or a minimum of grids) steeper
+                                          than this is meshed gradient-limited to it (as
+                                          um_spacing_limit_gradient), so that a feature the
+                                          mesh cannot grade to at once (a fine spot in a coarse
+                                          background) gets a transition instead of being lost;
+                                          the mesh and its report follow the limited spacing.
+                                          0: as given. Other kinds are meshed as given */
     /* optimisation (paper section 6, Algorithm 1) */
     UM_OPT_OPTIM_OUTER_ITERATIONS = 200, /* int; N, default 20 */
     UM_OPT_OPTIM_INNER_ITERATIONS = 201, /* int; M, default 8 */
@@ -530,7 +538,7 @@ UM_API um_status um_spacing_create_preset(um_context *ctx, const char *name, um_
 UM_API void um_spacing_destroy(um_spacing *s); /* NULL-safe */
 
 /* Limits the gradient of a grid spacing (from um_spacing_create_grid or
- * _from_file, also after a clamp) to |grad h| <= g, g in km per km (finite,
+ * _from_file, also after a clamp or in a minimum of grids) to |grad h| <= g, g in km per km (finite,
  * > 0): every grid value becomes min over grid nodes j of (h_j + g * d), with
  * d the geodesic path length along grid neighbours (8 per node, across the
  * longitude wrap when periodic), so neighbouring values differ by at most

@@ -78,6 +78,7 @@ module unimesh_cint
   integer(c_int32_t), parameter :: UM_OPT_REFINE_TOPOLOGY_CHECK = 103
   integer(c_int32_t), parameter :: UM_OPT_REFINE_RELAX = 104
   integer(c_int32_t), parameter :: UM_OPT_REFINE_LATTICE = 105
+  integer(c_int32_t), parameter :: UM_OPT_SPACING_GRADIENT = 106
   integer(c_int32_t), parameter :: UM_OPT_OPTIM_OUTER_ITERATIONS = 200
   integer(c_int32_t), parameter :: UM_OPT_OPTIM_INNER_ITERATIONS = 201
   integer(c_int32_t), parameter :: UM_OPT_OPTIM_TOLERANCE = 202

@@ -24,6 +24,7 @@ const OptionSpec kSpecs[] = {
     {UM_OPT_REFINE_TOPOLOGY_CHECK, "refine_topology_check", UM_OPTION_TYPE_INT, 0, 1, 0},
     {UM_OPT_REFINE_RELAX, "refine_relax", UM_OPTION_TYPE_INT, 0, 1, 1},
     {UM_OPT_REFINE_LATTICE, "refine_lattice", UM_OPTION_TYPE_INT, 0, 1, 1},
+    {UM_OPT_SPACING_GRADIENT, "spacing_gradient", UM_OPTION_TYPE_REAL, 0.0, 10.0, refine::kDefaultSpacingGradient},
     {UM_OPT_OPTIM_OUTER_ITERATIONS, "optim_outer_iterations", UM_OPTION_TYPE_INT, 0, 1000, 20},
     {UM_OPT_OPTIM_INNER_ITERATIONS, "optim_inner_iterations", UM_OPTION_TYPE_INT, 0, 1000, 8},
     {UM_OPT_OPTIM_TOLERANCE, "optim_tolerance", UM_OPTION_TYPE_REAL, 0.0, 1.0, 1e-4},

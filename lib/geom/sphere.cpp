@@ -118,6 +118,27 @@ void lonlat_deg_from_unit(Vec3 u, double &lon_deg, double &lat_deg) {
     lat_deg = std::atan2(u.z, std::hypot(u.x, u.y)) / kDegree;
 }
 
+CapBox cap_box(Vec3 centre, double radius) {
+    // Rounding of the trigonometry, in degrees, added on every side.
+    constexpr double kSlackDeg = 1e-9;
+    double lon, lat;
+    lonlat_deg_from_unit(centre, lon, lat);
+    const double r_deg = radius / kDegree;
+    CapBox box;
+    box.lat_min = std::max(-90.0, lat - r_deg - kSlackDeg);
+    box.lat_max = std::min(90.0, lat + r_deg + kSlackDeg);
+    // The cap's widest longitude reach: sin(dlon) = sin(r) / cos(lat).
+    const double reach = std::sin(radius) / std::cos(lat * kDegree);
+    if (box.lat_min <= -90.0 || box.lat_max >= 90.0 || !(reach < 1.0) || radius >= M_PI / 2) {
+        box.all_lon = true;
+        box.lon_min = -180.0, box.lon_max = 180.0;
+        return box;
+    }
+    const double dlon = std::asin(reach) / kDegree + kSlackDeg;
+    box.lon_min = lon - dlon, box.lon_max = lon + dlon;
+    return box;
+}
+
 double arc_length(Vec3 a, Vec3 b) { return std::atan2(norm(cross(a, b)), dot(a, b)); }
 
 double signed_triangle_area(Vec3 a, Vec3 b, Vec3 c) {

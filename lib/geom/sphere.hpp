@@ -48,6 +48,17 @@ Vec3 unit_from_lonlat_deg(double lon_deg, double lat_deg);
 // Longitude in (-180, 180] and latitude in [-90, 90], degrees.
 void lonlat_deg_from_unit(Vec3 u, double &lon_deg, double &lat_deg);
 
+// The longitude/latitude box (degrees) holding the cap of arc radius
+// `radius` (radians) about a unit point: latitudes [lat_min, lat_max] within
+// [-90, 90]; longitudes from lon_min eastwards to lon_max (lon_max may pass
+// 180; lon_max - lon_min < 360), or every longitude when the cap holds a
+// pole or reaches round (all_lon). A little wider than exact, never narrower.
+struct CapBox {
+    double lon_min = 0, lon_max = 0, lat_min = 0, lat_max = 0;
+    bool all_lon = false;
+};
+CapBox cap_box(Vec3 centre, double radius);
+
 // Great-circle distance between unit vectors (radians), accurate for tiny
 // and near-antipodal separations (atan2 of |a x b| and a . b).
 double arc_length(Vec3 a, Vec3 b);

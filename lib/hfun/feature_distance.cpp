@@ -71,9 +71,12 @@ public:
         : tree_(std::move(tree)), ramp_(ramp), radius_km_(radius_km) {}
 
     double at(const Where &w) const override {
-        const double d = radius_km_ * nearest_feature_distance(tree_, w.unit());
-        if (d <= ramp_.distance_km) return ramp_.km_min;
-        return std::min(ramp_.km_max, ramp_.km_min + ramp_.rate * (d - ramp_.distance_km));
+        return at_distance(radius_km_ * nearest_feature_distance(tree_, w.unit()));
+    }
+    // h grows with the distance: its least over the cap is at the cap's
+    // nearest possible distance to a feature.
+    double smallest_in_cap(const geom::Vec3 &centre, double radius, double) const override {
+        return at_distance(radius_km_ * std::max(0.0, nearest_feature_distance(tree_, centre) - radius));
     }
     std::string describe() const override {
         return concat("a distance-to-features spacing (", ramp_.km_min, " km within ",
@@ -82,6 +85,11 @@ public:
     }
 
 private:
+    double at_distance(double d) const {
+        if (d <= ramp_.distance_km) return ramp_.km_min;
+        return std::min(ramp_.km_max, ramp_.km_min + ramp_.rate * (d - ramp_.distance_km));
+    }
+
     ArcTree tree_;
     DistanceRamp ramp_;
     double radius_km_;

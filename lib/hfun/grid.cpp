@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <queue>
 #include <utility>
 
@@ -108,6 +109,7 @@ GridSpacing::GridSpacing(std::vector<double> lon_deg, std::vector<double> lat_de
     for (size_t i = 1; i < lon_.size(); ++i) widest = std::max(widest, lon_[i] - lon_[i - 1]);
     double gap = lon_.front() + 360.0 - lon_.back();
     periodic_ = gap <= widest + kSpanSlackDeg;
+    minima_ = MinPyramid(cells_, n_lat(), n_lon());
 }
 
 GridSpacing::Span GridSpacing::lon_span(double lon_deg) const {
@@ -140,12 +142,92 @@ GridSpacing::Span GridSpacing::lat_span(double lat_deg) const {
 }
 
 // (1 - t) a + t b rather than a + t (b - a): exact at both nodes (t = 0, 1).
-double GridSpacing::at(const Where &where) const {
-    const Span x = lon_span(where.lon_deg()), y = lat_span(where.lat_deg());
+double GridSpacing::value(const Span &x, const Span &y) const {
     auto row = [&](int64_t j) {
         return (1 - x.t) * km_at_node(j, x.i0) + x.t * km_at_node(j, x.i1);
     };
     return (1 - y.t) * row(y.i0) + y.t * row(y.i1);
+}
+
+double GridSpacing::at(const Where &where) const {
+    return value(lon_span(where.lon_deg()), lat_span(where.lat_deg()));
+}
+
+double GridSpacing::smallest_in_cap(const geom::Vec3 &centre, double radius, double enough) const {
+    const geom::CapBox box = geom::cap_box(centre, radius);
+    // Beyond the first and last rows h is constant in latitude.
+    const double lat_lo = std::clamp(box.lat_min, lat_.front(), lat_.back());
+    const double lat_hi = std::clamp(box.lat_max, lat_.front(), lat_.back());
+    LonRange lons[2];
+    const int n_ranges = lon_ranges(box, lons);
+    double least = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < n_ranges; ++k) least = std::min(least, smallest_on_nodes(lat_lo, lat_hi, lons[k]));
+    if (least >= enough) return least;
+    least = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < n_ranges; ++k) least = std::min(least, smallest_in_box(lat_lo, lat_hi, lons[k]));
+    return least;
+}
+
+int GridSpacing::lon_ranges(const geom::CapBox &box, LonRange out[2]) const {
+    const double first = lon_.front();
+    if (box.all_lon) {
+        out[0] = {first, first + 360.0};
+        return 1;
+    }
+    double from = std::fmod(box.lon_min - first, 360.0);
+    if (from < 0) from += 360.0;
+    from += first;
+    const double to = from + (box.lon_max - box.lon_min);
+    if (to <= first + 360.0) {
+        out[0] = {from, to};
+        return 1;
+    }
+    out[0] = {from, first + 360.0}, out[1] = {first, to - 360.0};
+    return 2;
+}
+
+// The nodes of the grid cells holding the box: where the box passes the last
+// column (the wrap gap of a periodic grid, or beyond a regional grid, which
+// takes its edge columns' values there), the two edge columns too.
+double GridSpacing::smallest_on_nodes(double lat_lo, double lat_hi, const LonRange &lons) const {
+    const int64_t row_lo = static_cast<int64_t>(lat_index_.cell_below(lat_, lat_lo));
+    const int64_t row_hi = static_cast<int64_t>(lat_index_.cell_below(lat_, lat_hi)) + 1;
+    const double last = lon_.back();
+    double least = std::numeric_limits<double>::infinity();
+    if (lons.from <= last) {
+        const int64_t col_lo = static_cast<int64_t>(lon_index_.cell_below(lon_, lons.from));
+        const int64_t col_hi = static_cast<int64_t>(lon_index_.cell_below(lon_, std::min(lons.to, last))) + 1;
+        least = minima_.min_over(cells_, row_lo, row_hi, col_lo, col_hi);
+    }
+    if (lons.to > last) {
+        least = std::min(least, minima_.min_over(cells_, row_lo, row_hi, 0, 0));
+        least = std::min(least, minima_.min_over(cells_, row_lo, row_hi, n_lon() - 1, n_lon() - 1));
+    }
+    return least;
+}
+
+// The corners of the box's pieces: the box's own corners, the grid lines
+// where they cross its sides, the nodes inside it.
+double GridSpacing::smallest_in_box(double lat_lo, double lat_hi, const LonRange &lons) const {
+    const Span west = lon_span(lons.from), east = lon_span(lons.to);
+    const Span south = lat_span(lat_lo), north = lat_span(lat_hi);
+    // The grid lines strictly inside the box.
+    const int64_t row_lo = std::upper_bound(lat_.begin(), lat_.end(), lat_lo) - lat_.begin();
+    const int64_t row_hi = (std::lower_bound(lat_.begin(), lat_.end(), lat_hi) - lat_.begin()) - 1;
+    const int64_t col_lo = std::upper_bound(lon_.begin(), lon_.end(), lons.from) - lon_.begin();
+    const int64_t col_hi = (std::lower_bound(lon_.begin(), lon_.end(), lons.to) - lon_.begin()) - 1;
+    double least = std::min({value(west, south), value(west, north), value(east, south), value(east, north)});
+    for (int64_t r = row_lo; r <= row_hi; ++r) {
+        const Span row{r, r, 0.0};
+        least = std::min({least, value(west, row), value(east, row)});
+    }
+    for (int64_t c = col_lo; c <= col_hi; ++c) {
+        const Span column{c, c, 0.0};
+        least = std::min({least, value(column, south), value(column, north)});
+    }
+    if (row_lo <= row_hi && col_lo <= col_hi)
+        least = std::min(least, minima_.min_over(cells_, row_lo, row_hi, col_lo, col_hi));
+    return least;
 }
 
 std::string GridSpacing::describe() const {
@@ -154,9 +236,49 @@ std::string GridSpacing::describe() const {
 }
 
 SpacingPtr GridSpacing::gradient_limited(double g, double radius_km) const {
+    if (!steeper_than(g, radius_km)) {
+        if (SpacingPtr self = weak_from_this().lock()) return self;  // (a grid not owned by a pointer is copied)
+    }
     auto limited = std::make_shared<GridSpacing>(*this);
     limited->limit_gradient_in_place(g, radius_km);
+    limited->minima_ = MinPyramid(limited->cells_, n_lat(), n_lon());
     return limited;
+}
+
+bool GridSpacing::steeper_than(double g, double radius_km) const {
+    const int64_t nx = n_lon(), ny = n_lat();
+    std::vector<geom::Vec3> row(static_cast<size_t>(nx)), above(static_cast<size_t>(nx));
+    auto fill = [&](int64_t j, std::vector<geom::Vec3> &out) {
+        for (int64_t i = 0; i < nx; ++i) out[i] = geom::unit_from_lonlat_deg(lon_[i], lat_[j]);
+    };
+    // Each node against its east, north, north-east and north-west
+    // neighbours (across the wrap when periodic): every pair once.
+    auto steep = [&](int64_t j, int64_t i, const geom::Vec3 &p, int64_t jj, int64_t ii, const geom::Vec3 &q) {
+        const geom::Vec3 d = p - q;
+        return std::fabs(km_at_node(j, i) - km_at_node(jj, ii)) > g * radius_km * geom::norm(d);
+    };
+    fill(0, row);
+    for (int64_t j = 0; j < ny; ++j) {
+        if (j + 1 < ny) fill(j + 1, above);
+        for (int64_t i = 0; i < nx; ++i) {
+            const bool wraps = i + 1 == nx;
+            if (wraps && !periodic_) continue;
+            const int64_t e = wraps ? 0 : i + 1;
+            if (steep(j, i, row[i], j, e, row[e])) return true;
+        }
+        if (j + 1 == ny) break;
+        for (int64_t i = 0; i < nx; ++i) {
+            if (steep(j, i, row[i], j + 1, i, above[i])) return true;
+            for (int64_t di : {-1, 1}) {
+                int64_t ii = i + di;
+                if ((ii < 0 || ii >= nx) && !periodic_) continue;
+                ii = (ii + nx) % nx;
+                if (steep(j, i, row[i], j + 1, ii, above[ii])) return true;
+            }
+        }
+        row.swap(above);
+    }
+    return false;
 }
 
 // The fixed point of h_i = min(h_i, h_j + g d_ij) over the 8 grid neighbours

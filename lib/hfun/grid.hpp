@@ -15,8 +15,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "hfun/min_pyramid.hpp"
 #include "hfun/spacing.hpp"
 
 namespace um::hfun {
@@ -29,7 +31,7 @@ struct GridNames {
     const char *cells = "cell_width_km";
 };
 
-class GridSpacing final : public Spacing {
+class GridSpacing final : public Spacing, public std::enable_shared_from_this<GridSpacing> {
 public:
     // cells has lat.size() rows of lon.size() values (lon fastest). Throws
     // um::Error naming the array, index and value: UM_ERR_INVALID_ARGUMENT
@@ -44,6 +46,11 @@ public:
     double km_at_node(int64_t lat_index, int64_t lon_index) const {
         return cells_[static_cast<size_t>(lat_index * n_lon() + lon_index)];
     }
+    // The least value over the cap's lon/lat box (geom::cap_box): exact for
+    // the box, since between grid lines h is bilinear in lon and lat and so
+    // least at a corner of the box's pieces. First the nodes of the grid
+    // cells the box touches (a looser bound), enough away from features.
+    double smallest_in_cap(const geom::Vec3 &centre, double radius, double enough) const override;
     std::string describe() const override;
     SpacingPtr gradient_limited(double g, double radius_km) const override;
 
@@ -76,12 +83,25 @@ private:
     };
     Span lon_span(double lon_deg) const;
     Span lat_span(double lat_deg) const;
+    double value(const Span &x, const Span &y) const;
+    // A stretch of longitudes [from, to] in the grid's frame
+    // [lon[0], lon[0] + 360], from <= to.
+    struct LonRange {
+        double from, to;
+    };
+    int lon_ranges(const geom::CapBox &box, LonRange out[2]) const;
+    double smallest_on_nodes(double lat_lo, double lat_hi, const LonRange &lons) const;
+    double smallest_in_box(double lat_lo, double lat_hi, const LonRange &lons) const;
     // Replaces the cells with the largest values <= them whose differences
     // between grid neighbours obey |h_i - h_j| <= g * distance(i, j).
     void limit_gradient_in_place(double g, double radius_km);
+    // Whether some grid neighbours differ by more than g times their chord
+    // (below the arc: a grid that passes needs no limiting).
+    bool steeper_than(double g, double radius_km) const;
 
     std::vector<double> lon_, lat_, cells_;
     AxisIndex lon_index_, lat_index_;
+    MinPyramid minima_;  // of cells_
     bool periodic_ = false;
 };
 

@@ -42,6 +42,8 @@ double Where::lat_deg() const {
 
 SpacingPtr Spacing::gradient_limited(double, double) const { return nullptr; }
 
+double Spacing::smallest_in_cap(const geom::Vec3 &centre, double, double) const { return km_at(centre); }
+
 namespace {
 
 void check_km(double km, const char *argument) {
@@ -79,6 +81,12 @@ public:
         if (!valid_km(h)) return h;  // let evaluate() report the inner value
         return std::min(std::max(h, lo_), hi_);
     }
+    // Clamping is monotone: it keeps a lower bound one.
+    double smallest_in_cap(const geom::Vec3 &centre, double radius, double enough) const override {
+        double h = inner_->smallest_in_cap(centre, radius, enough);
+        if (!valid_km(h)) return h;
+        return std::min(std::max(h, lo_), hi_);
+    }
     std::string describe() const override {
         return concat(inner_->describe(), " clamped to [", lo_, ", ", hi_, "] km");
     }
@@ -104,6 +112,24 @@ public:
             best = std::min(best, h);
         }
         return best;
+    }
+    double smallest_in_cap(const geom::Vec3 &centre, double radius, double enough) const override {
+        double best = std::numeric_limits<double>::infinity();
+        for (const auto &part : parts_) {
+            double h = part->smallest_in_cap(centre, radius, enough);
+            if (!valid_km(h)) return h;
+            best = std::min(best, h);
+        }
+        return best;
+    }
+    // The minimum of g-limited parts obeys g too.
+    SpacingPtr gradient_limited(double g, double radius_km) const override {
+        std::vector<SpacingPtr> limited;
+        for (const auto &part : parts_) {
+            limited.push_back(part->gradient_limited(g, radius_km));
+            if (!limited.back()) return nullptr;
+        }
+        return std::make_shared<MinimumSpacing>(std::move(limited));
     }
     std::string describe() const override {
         std::string text = "the minimum of (";

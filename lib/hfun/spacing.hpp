@@ -66,12 +66,21 @@ public:
     }
     virtual double at(const Where &where) const = 0;
 
+    // A lower bound of h over the cap of arc radius `radius` (radians) about
+    // a unit point, so that the refinement sees a spacing feature narrower
+    // than its triangles (a fine spot between the points it samples). A kind
+    // may stop tightening the bound once it is at least `enough` (km).
+    // Kinds that vary over degrees (constant, presets) and callbacks (which
+    // can only be sampled) give h at the centre: the default.
+    virtual double smallest_in_cap(const geom::Vec3 &centre, double radius, double enough) const;
+
     // What this spacing is, for messages: "a constant spacing of 30 km".
     virtual std::string describe() const = 0;
 
     // The same spacing with |grad h| <= g (km per km) on a sphere of
     // radius_km, or nullptr when the kind cannot be limited (only grids can,
-    // also inside a clamp).
+    // also inside a clamp or a minimum of grids). A grid already within the
+    // bound may be returned as it is.
     virtual SpacingPtr gradient_limited(double g, double radius_km) const;
 };
 

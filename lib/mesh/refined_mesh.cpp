@@ -14,18 +14,34 @@
 
 namespace um::mesh {
 
-// h in radians on the unit sphere, refusing values no mesh can follow.
+namespace {
+
+// Refuses a value no mesh can follow.
+void check_spacing_km(double km, const geom::Vec3 &x) {
+    if (std::isfinite(km) && km > 0) return;
+    double lon, lat;
+    geom::lonlat_deg_from_unit(x, lon, lat);
+    fail(std::isfinite(km) ? UM_ERR_INVALID_ARGUMENT : UM_ERR_NONFINITE_INPUT, "the spacing is ", km,
+         " km at lon ", lon, ", lat ", lat, " degrees: it must be finite and > 0");
+}
+
+}  // namespace
+
+// h in radians on the unit sphere.
 refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m) {
     const double per_km = 1000.0 / radius_m;
     return [&h, per_km](const geom::Vec3 &x) {
-        double km = h.km_at(x);
-        if (!std::isfinite(km) || km <= 0) {
-            double lon, lat;
-            geom::lonlat_deg_from_unit(x, lon, lat);
-            fail(std::isfinite(km) ? UM_ERR_INVALID_ARGUMENT : UM_ERR_NONFINITE_INPUT,
-                 "the spacing is ", km, " km at lon ", lon, ", lat ", lat,
-                 " degrees: it must be finite and > 0");
-        }
+        const double km = h.km_at(x);
+        check_spacing_km(km, x);
+        return km * per_km;
+    };
+}
+
+refine::SmallestSpacingRadians smallest_spacing_radians(const hfun::Spacing &h, double radius_m) {
+    const double per_km = 1000.0 / radius_m;
+    return [&h, per_km](const geom::Vec3 &x, double r, double enough) {
+        const double km = h.smallest_in_cap(x, r, enough / per_km);
+        check_spacing_km(km, x);
         return km * per_km;
     };
 }
@@ -168,6 +184,17 @@ tri::Triangulation starting_triangulation(Context &ctx, const refine::SpacingRad
     return tri;
 }
 
+// The spacing the mesh follows: the caller's, gradient-limited to g (> 0)
+// where it is a grid steeper than that.
+hfun::SpacingPtr mesh_spacing(Context &ctx, hfun::SpacingPtr h, double g, double radius_m) {
+    if (!(g > 0)) return h;
+    hfun::SpacingPtr limited = h->gradient_limited(g, radius_m / 1000.0);
+    if (!limited || limited == h) return h;
+    ctx.log(UM_LOG_INFO, concat("refine: the spacing is steeper than ", g,
+                                " km per km in places: meshed gradient-limited to that (option spacing_gradient)"));
+    return limited;
+}
+
 }  // namespace
 
 int64_t estimated_cells(Context &ctx, const hfun::Spacing &h) {
@@ -194,13 +221,15 @@ int64_t estimated_cells(Context &ctx, const hfun::Spacing &h) {
 
 RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
                         std::shared_ptr<const features::Network> gamma, const Options &options) {
+    const double radius_m = options.real(UM_OPT_SPHERE_RADIUS);
+    h = mesh_spacing(ctx, std::move(h), options.real(UM_OPT_SPACING_GRADIENT), radius_m);
     if (ctx.memory_cap() > 0) {
         // Refused up front, before any work, when the cap cannot hold it.
         const int64_t cells = estimated_cells(ctx, *h);
         ctx.check_memory(cells * kRefineBytesPerCell, concat("a mesh of about ", cells, " cells").c_str());
     }
     RefinedMesh m;
-    m.radius_m = options.real(UM_OPT_SPHERE_RADIUS);
+    m.radius_m = radius_m;
     split_passages(m, std::move(gamma));
     m.spacing = std::move(h);
     const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
@@ -223,6 +252,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     refine::SurfaceOptions so;
     so.alpha = options.real(UM_OPT_REFINE_ALPHA);
     so.rho = options.real(UM_OPT_REFINE_RHO);
+    so.smallest = smallest_spacing_radians(*m.spacing, m.radius_m);
     if (arcs.size() > 0) so.gamma = &arcs, so.on_gamma = &m.on_segment, so.filter = bo.filter;
     // Boundary then surface refinement. The surface points change dual
     // edges near Gamma, so that some restricted edges come out too long

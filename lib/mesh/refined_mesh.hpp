@@ -89,5 +89,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
 
 // The spacing in radians on the unit sphere, checked (finite, > 0) where read.
 refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m);
+// Its lower bound over a cap (hfun::Spacing::smallest_in_cap), checked the same way.
+refine::SmallestSpacingRadians smallest_spacing_radians(const hfun::Spacing &h, double radius_m);
 
 }  // namespace um::mesh

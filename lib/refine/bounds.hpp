@@ -11,6 +11,9 @@ namespace um::refine {
 constexpr double kDefaultAlpha = 4.0 / 3.0;  // edges and sizes below alpha h
 constexpr double kDefaultBeta = 0.2;         // restricted edges within beta h of Gamma
 constexpr double kDefaultRho = 1.05;         // radius-edge ratio below rho
+// A grid spacing steeper than this (km per km) is meshed gradient-limited to
+// it: about the steepest grading the optimised meshes keep.
+constexpr double kDefaultSpacingGradient = 0.25;
 
 // The shortest edge, over h, a refinement may make with a new vertex:
 // `filter`, and for a vertex on an arc flagged in coast_arc (when given:

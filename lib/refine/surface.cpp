@@ -44,6 +44,16 @@ Vec3 towards(const Vec3 &m, const Vec3 &c, double d) {
     return geom::normalized(std::cos(d) * m + std::sin(d) * t);
 }
 
+// A triangle is sized by h at its circumcentre, unless its circumcircle holds
+// a spacing below that by more than kSteepGradient times the circle's radius:
+// a feature of the spacing narrower than the triangle, which sampling h at
+// points would miss (a fine spot between them). Smooth spacings never do
+// that (|grad h| up to about 0.17 km per km, the bound being taken over the
+// circle's lon/lat box, up to about 1.4 radii away). Such a triangle is sized
+// by the least value plus that allowance, so it shrinks until it resolves
+// the feature, where h at circumcentres takes over.
+constexpr double kSteepGradient = 0.25;
+
 // Whether any Gamma arc comes within (about) `reach` of p: a surface ball
 // holding p has its centre on Gamma within its radius, below ~h, so farther
 // candidates need no encroachment search.
@@ -239,9 +249,32 @@ private:
         if (!(ht > 0) || !std::isfinite(ht))
             fail(UM_ERR_NUMERICAL, "the spacing is ", ht, " (not a positive length) at a "
                  "triangle's circumcentre");
+        ht = std::min(ht, narrow_feature_size(t, centre, ht));
         bool too_big = std::sqrt(3.0) * r >= options_.alpha * ht;
         bool badly_shaped = r / e >= options_.rho;
         state_[t] = too_big || badly_shaped ? kBad : kGood;
+    }
+
+    // The size a spacing feature narrower than t asks of it (kSteepGradient)
+    // when that is below ht (h at its circumcentre), else infinity.
+    double narrow_feature_size(int32_t t, const Vec3 &centre, double ht) const {
+        constexpr double kNone = std::numeric_limits<double>::infinity();
+        if (!options_.smallest) return kNone;
+        double chord2 = 0;  // the farthest vertex: its circle holds t, weights or not
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 d = tri_.direction(tri_.vertex(t, k)) - centre;
+            chord2 = std::max(chord2, geom::dot(d, d));
+        }
+        const double cap = 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(chord2)));
+        // In the spacing's own units (the seed pass scales it).
+        const double h = ht / options_.smallest_scale, allowance = kSteepGradient * cap;
+        if (!(h > allowance)) return kNone;  // far too big already
+        const double size = options_.smallest_scale * (options_.smallest(centre, cap, h - allowance) + allowance);
+        return size < ht ? size : kNone;
+    }
+    double narrow_feature_size(int32_t t) const {
+        const Vec3 centre = tri_.orthocentre(t);
+        return narrow_feature_size(t, centre, h_(centre));
     }
 
     bool on_front(int32_t t) const {
@@ -337,8 +370,15 @@ private:
     }
 
     void refine(const Candidate &c) {
+        // A narrow feature caps the lengths the point is placed and filtered
+        // by, which h about it (much larger) would set.
+        const double feature = narrow_feature_size(c.t);
         double target = 0;
         Vec3 p = place(c.t, &target);
+        if (feature < target) {
+            target = feature;
+            p = shortest_edge_point(c.t, &target, feature);
+        }
         int32_t arc = -1;
         RestrictedEdge enc;
         const bool near = options_.gamma && near_gamma(*options_.gamma, p, kEncroachReach * target);
@@ -364,7 +404,7 @@ private:
         const double filter = options_.filter.on_arc(arc);
         int32_t v = tri::Triangulation::kNone;
         if (territory_) {
-            if (!insert_in_territory(c, p, filter, &v)) return;
+            if (!insert_in_territory(c, p, filter, feature, &v)) return;
         } else {
             v = insert_serially(p, c.t);
             if (!tri_.in_triangulation(v)) {
@@ -375,7 +415,7 @@ private:
         // A point this close to an existing vertex (one on Gamma, placed
         // where the front did not expect it) would over-refine: take it back,
         // and re-measure the re-triangulated hole (not queued again).
-        if (!territory_ && nearest_neighbour(tri_, v) < filter * h_(p)) {
+        if (!territory_ && nearest_neighbour(tri_, v) < filter * std::min(h_(p), feature)) {
             const std::vector<int32_t> link = tri_.link(v);
             tri_.remove(v);
             if (options_.free_vertex_slots) options_.free_vertex_slots->push_back(v);
@@ -408,8 +448,8 @@ private:
     // The territory's insertion, with the serial path's proximity rule tested
     // before it commits (the link of the new vertex holds its nearest
     // neighbour): false when the candidate is left, given up or deferred.
-    bool insert_in_territory(const Candidate &c, const Vec3 &p, double filter, int32_t *v) {
-        const double min_arc = filter * h_(p);
+    bool insert_in_territory(const Candidate &c, const Vec3 &p, double filter, double feature, int32_t *v) {
+        const double min_arc = filter * std::min(h_(p), feature);
         const double min_chord = min_arc < M_PI ? 2 * std::sin(0.5 * min_arc) : 2.0;
         switch (tri_.insert_in(*territory_, p, c.t, min_chord, v)) {
             case tri::Triangulation::TerritoryInsert::inserted:
@@ -470,7 +510,8 @@ private:
     // would miss them): on the bisector of the shortest edge towards the
     // circumcentre, at the least of the circumcentre, the off-centre of
     // radius-edge ratio rho and the frontal apex.
-    Vec3 shortest_edge_point(int32_t t, double *target) {
+    Vec3 shortest_edge_point(int32_t t, double *target,
+                             double feature = std::numeric_limits<double>::infinity()) {
         int k_short = 0;
         double e_short = 1e300;
         for (int k = 0; k < 3; ++k) {
@@ -483,7 +524,7 @@ private:
         Vec3 m = geom::normalized(a + b);
         Vec3 centre = tri_.orthocentre(t);
         double d_centre = geom::arc_length(m, centre);
-        *target = h_(m);
+        *target = std::min(h_(m), feature);
         double d = std::min({d_centre, shape_height(e_short), frontal_height(*target, e_short)});
         if (d <= 1e-3 * e_short) d = d_centre;
         return towards(m, centre, d);
@@ -712,6 +753,7 @@ SurfaceStats refine_by_territories(Context &ctx, tri::Triangulation &tri, const 
     SurfaceOptions seed_options = options;
     seed_options.rho = std::numeric_limits<double>::infinity();  // the size bound only
     const SpacingRadians seed_spacing = [&h](const Vec3 &p) { return kSeedSpacing * h(p); };
+    seed_options.smallest_scale = kSeedSpacing;
     SurfaceStats stats = SurfaceRefiner(ctx, tri, seed_spacing, seed_options, next_id, state).run(all, all);
 
     all = live_triangles(tri);

@@ -23,9 +23,21 @@
 
 namespace um::refine {
 
+// Target edge length in radians at a unit point (the spacing h / R).
+using SpacingRadians = std::function<double(const geom::Vec3 &)>;
+// A lower bound of the target edge length (radians) over the cap of arc
+// radius r about a unit point, which may stop tightening once it is at least
+// `enough` (hfun::Spacing::smallest_in_cap).
+using SmallestSpacingRadians = std::function<double(const geom::Vec3 &centre, double r, double enough)>;
+
 struct SurfaceOptions {
     double alpha = kDefaultAlpha;  // size bound: sqrt(3) r < alpha h
     double rho = kDefaultRho;      // shape bound: r / e_min < rho
+    // When given, a triangle whose circumcircle holds a spacing feature
+    // narrower than itself is sized by that feature (surface.cpp); else by
+    // h at its circumcentre only.
+    SmallestSpacingRadians smallest;
+    double smallest_scale = 1;  // the sizes asked for, over the spacing's
     // A candidate that would make an edge shorter than filter h is not
     // inserted. With Gamma, a candidate inside the surface ball of a
     // restricted edge (it would change Tri|Gamma) is replaced by that ball's
@@ -37,9 +49,6 @@ struct SurfaceOptions {
     // before it adds new slots (Triangulation::insert_into_removed).
     std::vector<int32_t> *free_vertex_slots = nullptr;
 };
-
-// Target edge length in radians at a unit point (the spacing h / R).
-using SpacingRadians = std::function<double(const geom::Vec3 &)>;
 
 struct SurfaceStats {
     int64_t inserted = 0;

@@ -146,6 +146,39 @@ class Build(unittest.TestCase):
             self.assertNotEqual(r.returncode, 0)
             self.assertIn("--passages " + passages + ": the feature of id 0 has a kind other than", r.stderr)
 
+    def test_a_fine_spot_in_a_spacing_file_is_meshed(self):
+        # 10 km within 100 km of (lon 30, lat 20), 480 km elsewhere: a
+        # regional 0.1-degree grid (its edge values beyond). About the disc's
+        # area over (sqrt(3) / 2) h^2 cells in it, with the default gradient
+        # limit and with a steeper one; as given (0), the refinement still
+        # finds it.
+        import netCDF4  # python3-netcdf4 (and numpy), installed by tools/setup.sh
+        import numpy as np
+        with tempfile.TemporaryDirectory() as out:
+            path = os.path.join(out, "spot.nc")
+            lon, lat = np.linspace(20, 40, 201), np.linspace(10, 30, 201)
+            x, y = np.meshgrid(np.radians(lon), np.radians(lat))
+            c = (np.radians(30), np.radians(20))
+            d = 6371.0 * np.arccos(np.clip(np.sin(y) * np.sin(c[1]) + np.cos(y) * np.cos(c[1]) * np.cos(x - c[0]), -1, 1))
+            with netCDF4.Dataset(path, "w", format="NETCDF3_CLASSIC") as f:
+                f.createDimension("lon", lon.size)
+                f.createDimension("lat", lat.size)
+                f.createVariable("lon", "f8", ("lon",))[:] = lon
+                f.createVariable("lat", "f8", ("lat",))[:] = lat
+                f.createVariable("cellWidth", "f8", ("lat", "lon"))[:] = np.where(d <= 100, 10.0, 480.0)
+            expected = np.pi * 100 ** 2 / (np.sqrt(3) / 2 * 10 ** 2)
+            for flags in ([], ["--spacing-gradient", "1"], ["--spacing-gradient", "0", "--no-optimise"]):
+                with self.subTest(flags=flags):
+                    mesh_dir = os.path.join(out, "mesh" + "".join(flags))
+                    r = run("build", "--spacing-file", path, *flags, "--threads", "2", "--out", mesh_dir)
+                    self.assertEqual(r.returncode, 0, r.stderr)
+                    with netCDF4.Dataset(os.path.join(mesh_dir, "mesh.nc")) as m:
+                        lon_c, lat_c = m["lonCell"][:], m["latCell"][:]
+                    arc = np.arccos(np.clip(np.sin(lat_c) * np.sin(c[1]) + np.cos(lat_c) * np.cos(c[1]) * np.cos(lon_c - c[0]), -1, 1))
+                    inside = int(np.count_nonzero(6371.0 * arc <= 100))
+                    self.assertGreater(inside, 0.75 * expected, flags)
+                    self.assertLess(inside, 1.3 * expected, flags)
+
     def test_version_flag_and_command(self):
         for args in (["--version"], ["version"]):
             r = run(*args)
@@ -295,6 +328,9 @@ class Errors(unittest.TestCase):
                               "--memory-cap", "lots")
             self.assert_fails(["build", "--spacing-km", "100", "--option", "refine_rho=0.5", "--out", out],
                               "refine_rho", "0.5")
+            for value in ("-1", "nan", "11"):
+                self.assert_fails(["build", "--spacing-km", "100", "--spacing-gradient", value, "--out", out],
+                                  "--spacing-gradient", value)
             self.assert_fails(["build", "--spacing-km", "100", "--geometry", "/no/such.geojson"], "no/such")
             bad = os.path.join(out, "bad.geojson")
             with open(bad, "w") as f:

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/options.hpp"
+#include "hfun/grid.hpp"
 #include "hfun/spacing.hpp"
 #include "io/geojson.hpp"
 #include "mesh/refined_mesh.hpp"
@@ -259,6 +260,67 @@ void relaxation_leaves_gamma_alone(void **) {
     assert_true(moved > 100);
 }
 
+// A grid spacing of `background` km with `inside` km at the nodes within
+// `radius_km` of (lon 30, lat 20) (the one nearest it when none): global
+// with `step` degrees, or regional (lon 20 to 40, lat 10 to 30).
+std::shared_ptr<const hfun::GridSpacing> spot_spacing(double background, double inside, double radius_km,
+                                                      double step, bool global) {
+    std::vector<double> lon, lat, cells;
+    const double lon0 = global ? -180 : 20, lat0 = global ? -90 : 10;
+    const int n_lon = static_cast<int>(std::lround((global ? 360 : 20) / step));
+    const int n_lat = static_cast<int>(std::lround((global ? 180 : 20) / step));
+    for (int i = 0; i <= n_lon; ++i) lon.push_back(lon0 + i * step);
+    for (int j = 0; j <= n_lat; ++j) lat.push_back(lat0 + j * step);
+    const Vec3 centre = geom::unit_from_lonlat_deg(30, 20);
+    for (double y : lat)
+        for (double x : lon) {
+            const double d = geom::arc_length(centre, geom::unit_from_lonlat_deg(x, y)) * hfun::kEarthRadiusKm;
+            cells.push_back(d <= std::max(radius_km, 1.0) ? inside : background);
+        }
+    return std::make_shared<hfun::GridSpacing>(lon, lat, cells);
+}
+
+// The vertices within radius_km of (lon 30, lat 20).
+int64_t vertices_near_the_spot(const mesh::RefinedMesh &m, double radius_km) {
+    const Vec3 centre = geom::unit_from_lonlat_deg(30, 20);
+    int64_t n = 0;
+    for (int32_t v = 0; v < m.tri.vertex_slots(); ++v)
+        if (m.tri.in_triangulation(v) &&
+            geom::arc_length(centre, m.tri.direction(v)) * hfun::kEarthRadiusKm <= radius_km)
+            ++n;
+    return n;
+}
+
+// A spacing feature narrower than the triangles around it (one fine node
+// among coarse ones, far from every point h is sampled at first): the
+// refinement finds it by the least spacing over each triangle, as given;
+// gradient-limited (the default), the optimisation keeps it.
+void a_fine_spot_narrower_than_the_mesh_is_meshed(void **) {
+    Context ctx;
+    const auto spike = spot_spacing(2000, 0.5, 0, 1.0, true);
+    Options as_given;
+    as_given.set_real(UM_OPT_SPACING_GRADIENT, 0.0);
+    const mesh::RefinedMesh refined = mesh::refine_mesh(ctx, spike, nullptr, as_given);
+    assert_true(refined.spacing.get() == spike.get());
+    assert_true(vertices_near_the_spot(refined, 1.5) >= 1);
+    Options options;
+    mesh::RefinedMesh m = mesh::refine_mesh(ctx, spike, nullptr, options);
+    assert_true(m.spacing.get() != spike.get());  // limited: 0.5 km + 0.25 d about the spot
+    mesh::optimise_mesh(ctx, m, options, nullptr);
+    assert_true(vertices_near_the_spot(m, 1.5) >= 1);
+    // A disc of 10 km spacing, 300 km across, in a 480 km background (a
+    // regional 0.1-degree grid, its edge values beyond): about its area over
+    // (sqrt(3) / 2) h^2 cells.
+    mesh::RefinedMesh disc = mesh::refine_mesh(ctx, spot_spacing(480, 10, 150, 0.1, false), nullptr, options);
+    mesh::optimise_mesh(ctx, disc, options, nullptr);
+    const std::string problem = tri::check_triangulation(disc.tri);
+    if (!problem.empty()) fail_msg("%s", problem.c_str());
+    const double expected = M_PI * 150 * 150 / (0.8660254 * 10 * 10);
+    const int64_t inside = vertices_near_the_spot(disc, 150);
+    print_message("disc: %lld generators inside, %.0f expected\n", static_cast<long long>(inside), expected);
+    assert_true(inside > 0.8 * expected && inside < 1.25 * expected);
+}
+
 }  // namespace
 
 int main() {
@@ -266,6 +328,7 @@ int main() {
         cmocka_unit_test(coast_global_l_follows_gamma_where_not_filtered),
         cmocka_unit_test(relaxation_leaves_gamma_alone),
         cmocka_unit_test(optimised_coastal_mesh_stays_regular),
+        cmocka_unit_test(a_fine_spot_narrower_than_the_mesh_is_meshed),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <initializer_list>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "geom/sphere.hpp"
 #include "hfun/feature_distance.hpp"
 #include "hfun/grid.hpp"
+#include "hfun/min_pyramid.hpp"
 #include "hfun/presets.hpp"
 #include "hfun/spacing.hpp"
 #include "io/spacing_file.hpp"
@@ -293,6 +295,128 @@ void qu_and_unknown_preset_names(void **) {
         expect_error(UM_ERR_INVALID_ARGUMENT, {"preset name", "QU<km>"},
                      [&] { hfun::make_preset(name); });
     }
+}
+
+// ------------------------------------------- least value over a cap
+
+void min_pyramid_matches_reading_every_value(void **) {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (const auto &[rows, cols] : {std::pair<int64_t, int64_t>{1, 1}, {2, 3}, {7, 5}, {33, 64}, {100, 37}}) {
+        std::vector<double> v(static_cast<size_t>(rows * cols));
+        for (double &x : v) x = u(rng);
+        const hfun::MinPyramid pyramid(v, rows, cols);
+        std::uniform_int_distribution<int64_t> r(0, rows - 1), c(0, cols - 1);
+        for (int trial = 0; trial < 2000; ++trial) {
+            int64_t r0 = r(rng), r1 = r(rng), c0 = c(rng), c1 = c(rng);
+            if (r0 > r1) std::swap(r0, r1);
+            if (c0 > c1) std::swap(c0, c1);
+            double least = 2;
+            for (int64_t i = r0; i <= r1; ++i)
+                for (int64_t j = c0; j <= c1; ++j) least = std::min(least, v[i * cols + j]);
+            assert_true(pyramid.min_over(v, r0, r1, c0, c1) == least);
+        }
+    }
+}
+
+// A point at arc distance d (radians) from c, towards bearing b.
+Vec3 offset(const Vec3 &c, double d, double b) {
+    Vec3 east = geom::cross({0, 0, 1}, c);
+    if (geom::norm(east) < 1e-12) east = {1, 0, 0};
+    east = geom::normalized(east);
+    const Vec3 north = geom::cross(c, east);
+    const Vec3 t = std::cos(b) * north + std::sin(b) * east;
+    return geom::normalized(std::cos(d) * c + std::sin(d) * t);
+}
+
+// No point of the cap (sampled) below the bound.
+void expect_bound_below_cap(const hfun::Spacing &h, const Vec3 &c, double radius, double bound) {
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int k = 0; k < 4000; ++k) {
+        const Vec3 p = offset(c, radius * std::sqrt(u(rng)), 2 * M_PI * u(rng));
+        if (h.km_at(p) < bound * (1 - 1e-12)) fail_msg("h = %.17g in the cap, below the bound %.17g", h.km_at(p), bound);
+    }
+}
+
+void grid_sees_a_spike_between_the_points_sampled(void **) {
+    // 1-degree nodes, 100 km everywhere but 1 km at lon 10, lat 0.
+    auto grid = grid_of(range(-180, 1, 361), range(-90, 1, 181),
+                        [](double lon, double lat) { return lon == 10 && lat == 0 ? 1.0 : 100.0; });
+    const double inf = std::numeric_limits<double>::infinity();
+    const Vec3 beside = geom::unit_from_lonlat_deg(10.6, 0.3);  // 0.67 degrees from the node
+    assert_true(grid->km_at(beside) > 50);
+    assert_true(grid->smallest_in_cap(beside, 0.7 * kDeg, inf) == 1.0);
+    // Beside it, the box (lat 0.25 to 1.25, lon 9.5 to 10.5) is least where
+    // its south side meets lon 10: 1 * 0.75 + 100 * 0.25.
+    const Vec3 north = geom::unit_from_lonlat_deg(10, 0.75);
+    const double least = grid->smallest_in_cap(north, 0.5 * kDeg, inf);
+    assert_close(least, 25.75, 1e-6);
+    expect_bound_below_cap(*grid, north, 0.5 * kDeg, least);
+    // Asked for no more than a bound below 1, the nodes of the cells touched do.
+    assert_true(grid->smallest_in_cap(north, 0.5 * kDeg, 0.5) == 1.0);
+    // Far from it: the background, however large the cap.
+    assert_true(grid->smallest_in_cap(geom::unit_from_lonlat_deg(-100, 40), 20 * kDeg, inf) == 100.0);
+    assert_true(grid->smallest_in_cap(geom::unit_from_lonlat_deg(-170, 10), 170 * kDeg, inf) == 1.0);
+}
+
+void grid_least_value_across_the_dateline_and_a_pole(void **) {
+    // Cell-centred and periodic; spikes next to the wrap and next to the pole.
+    auto grid = grid_of(range(-179.5, 1, 360), range(-89.5, 1, 180), [](double lon, double lat) {
+        if (lon == 179.5 && lat == 0.5) return 2.0;
+        if (lon == 40.5 && lat == 89.5) return 3.0;
+        return 50.0;
+    });
+    assert_true(grid->periodic());
+    const Vec3 west_of_wrap = geom::unit_from_lonlat_deg(-179.6, 0.5);
+    assert_true(grid->smallest_in_cap(west_of_wrap, 1.0 * kDeg, 1e9) == 2.0);
+    assert_true(grid->smallest_in_cap(west_of_wrap, 0.05 * kDeg, 1e9) > 2.0);  // the wrap cell, interpolated
+    expect_bound_below_cap(*grid, west_of_wrap, 0.05 * kDeg, grid->smallest_in_cap(west_of_wrap, 0.05 * kDeg, 1e9));
+    const Vec3 pole = geom::unit_from_lonlat_deg(-140, 89.8);  // the cap holds the pole
+    assert_true(grid->smallest_in_cap(pole, 0.5 * kDeg, 1e9) == 3.0);
+    // A regional grid takes its edge columns' values beyond it.
+    auto regional = grid_of(range(0, 1, 11), range(0, 1, 11), [](double lon, double) { return lon == 10 ? 5.0 : 9.0; });
+    assert_true(regional->smallest_in_cap(geom::unit_from_lonlat_deg(30, 5), 1.0 * kDeg, 1e9) == 5.0);
+}
+
+void least_value_is_below_every_value_in_the_cap(void **) {
+    std::mt19937_64 rng(17);
+    std::uniform_real_distribution<double> u(1, 300);
+    std::vector<double> lon, lat = {-88, -60, -31, -30.5, -2, 0, 1, 33, 70, 86};
+    for (int i = 0; i < 40; ++i) lon.push_back(-175 + 8.7 * i + (i % 4));
+    std::vector<double> cells(lon.size() * lat.size());
+    for (double &c : cells) c = u(rng);
+    const hfun::GridSpacing grid(lon, lat, cells);
+    const std::vector<Vec3> centres = random_points(300, 23);
+    for (size_t k = 0; k < centres.size(); ++k) {
+        const double radius = (0.2 + 0.1 * double(k % 40)) * kDeg;
+        const double least = grid.smallest_in_cap(centres[k], radius, 1e9);
+        expect_bound_below_cap(grid, centres[k], radius, least);
+        assert_true(least <= grid.km_at(centres[k]));
+        // Near the nodes' least: never below the least of the whole grid.
+        assert_true(least >= *std::min_element(cells.begin(), cells.end()));
+    }
+    // A distance spacing: its least over a cap is its value at the cap's
+    // nearest possible distance.
+    const SpacingPtr ramp = hfun::make_feature_distance({{geom::unit_from_lonlat_deg(0, 0), geom::unit_from_lonlat_deg(0, 10)}},
+                                                         hfun::DistanceRamp{2, 80, 10, 0.5});
+    for (size_t k = 0; k < 50; ++k) {
+        const double radius = 0.05 * double(k % 10 + 1);
+        const double least = ramp->smallest_in_cap(centres[k], radius, 1e9);
+        expect_bound_below_cap(*ramp, centres[k], radius, least);
+        assert_true(least <= ramp->km_at(centres[k]));
+    }
+}
+
+void grid_within_the_gradient_is_kept_as_it_is(void **) {
+    auto smooth = grid_of(range(-180, 5, 73), range(-90, 5, 37), [](double, double lat) { return 30 + 0.1 * lat; });
+    // 0.1 km per degree of latitude: about 1e-3 km per km.
+    assert_true(hfun::limit_gradient(*smooth, 0.01).get() == smooth.get());
+    const SpacingPtr both = hfun::make_minimum({smooth, hfun::make_clamp(smooth, 10, 25)});
+    assert_true(hfun::limit_gradient(*both, 0.01) != nullptr);  // a minimum of grids can be limited
+    expect_error(UM_ERR_INVALID_ARGUMENT, {"grid spacings only"}, [&] {
+        hfun::limit_gradient(*hfun::make_minimum({smooth, hfun::make_constant(20)}), 0.01);
+    });
 }
 
 // ---------------------------------------------------- gradient limiting
@@ -596,6 +720,11 @@ int main() {
         cmocka_unit_test(ec60to30_matches_mesh_definition_tools),
         cmocka_unit_test(rrs18to6_matches_mesh_definition_tools),
         cmocka_unit_test(qu_and_unknown_preset_names),
+        cmocka_unit_test(min_pyramid_matches_reading_every_value),
+        cmocka_unit_test(grid_sees_a_spike_between_the_points_sampled),
+        cmocka_unit_test(grid_least_value_across_the_dateline_and_a_pole),
+        cmocka_unit_test(least_value_is_below_every_value_in_the_cap),
+        cmocka_unit_test(grid_within_the_gradient_is_kept_as_it_is),
         cmocka_unit_test(gradient_limiting_bounds_neighbour_differences),
         cmocka_unit_test(gradient_limiting_needs_a_grid),
         cmocka_unit_test(feature_distance_follows_the_ramp),

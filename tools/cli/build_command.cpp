@@ -289,6 +289,8 @@ int run_build(const BuildArgs &a) {
         if (a.verbose) um_context_set_log(ctx, print_log, nullptr, UM_LOG_INFO);
         check(um_options_create(ctx, &opts), ctx, "options");
         if (!a.options.empty()) check(um_options_set_string(opts, a.options.c_str()), ctx, "--option");
+        if (a.spacing_gradient_given)  // the library names a value out of range (or NaN)
+            check(um_options_set_double(opts, UM_OPT_SPACING_GRADIENT, a.spacing_gradient), ctx, "--spacing-gradient");
         h = make_spacing(ctx, a);
         if (!a.geometry.empty() || !a.passages.empty()) {
             check(um_features_create(ctx, &f), ctx, "features");

@@ -14,6 +14,10 @@ struct BuildArgs {
     std::string default_kind;
     double spacing_km = std::nan("");   // one of these three (NaN: not given)
     std::string spacing_file, spacing_preset;
+    // The library's spacing_gradient option (km per km; 0: the spacing as
+    // given), when given (else the option's value stands).
+    double spacing_gradient = 0;
+    bool spacing_gradient_given = false;
     int threads = 0;
     bool no_optimise = false;
     std::string options;  // "name=value;..." for um_options_set_string

@@ -43,6 +43,9 @@ int main(int argc, char **argv) {
                                    "MPAS-tools spacing file: netCDF lon, lat, cellWidth(lat, lon) km");
     auto *preset = build->add_option("--spacing-preset", b.spacing_preset,
                                      "E3SM spacing: QU<km>, EC60to30, RRS18to6, ...");
+    build->add_option("--spacing-gradient", b.spacing_gradient,
+                      "mesh a grid spacing steeper than G km per km gradient-limited to G, so that "
+                      "a feature finer than its surroundings gets a transition (default 0.25; 0: as given)");
     km->excludes(file)->excludes(preset);
     file->excludes(preset);
     build->add_option("--threads", b.threads, "threads (0 = all cores)")->check(CLI::Range(0, 1024));
@@ -73,6 +76,7 @@ int main(int argc, char **argv) {
     if (quality->parsed()) return run_quality(quality_path, quality_json);
     if (version->parsed()) return print_version();
     if (build->parsed()) {
+        b.spacing_gradient_given = build->count("--spacing-gradient") > 0;
         if (!case_file.empty()) {
             GivenFlags given;
             given.geometry = build->count("--geometry") > 0;
