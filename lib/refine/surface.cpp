@@ -163,9 +163,10 @@ tri::Triangulation icosahedron(Context &ctx) {
 
 namespace {
 
-// Per triangle slot: bad or not, and whether an entry of it waits on the
-// front (a triangle joins once, however many good neighbours it gets).
-enum : uint8_t { kGood = 0, kBad = 1, kOnFront = 2 };
+// Per triangle slot: bad or not (and whether only for a spacing feature
+// narrower than itself), and whether an entry of it waits on the front (a
+// triangle joins once, however many good neighbours it gets).
+enum : uint8_t { kGood = 0, kBad = 1, kOnFront = 2, kNarrowFeature = 4 };
 
 // The surface pass's state. Each triangle slot caches whether its triangle is
 // bad, so a front test reads three bytes instead of re-measuring neighbours
@@ -249,10 +250,15 @@ private:
         if (!(ht > 0) || !std::isfinite(ht))
             fail(UM_ERR_NUMERICAL, "the spacing is ", ht, " (not a positive length) at a "
                  "triangle's circumcentre");
-        ht = std::min(ht, narrow_feature_size(t, centre, ht));
-        bool too_big = std::sqrt(3.0) * r >= options_.alpha * ht;
-        bool badly_shaped = r / e >= options_.rho;
-        state_[t] = too_big || badly_shaped ? kBad : kGood;
+        const bool too_big = std::sqrt(3.0) * r >= options_.alpha * ht;
+        const bool badly_shaped = r / e >= options_.rho;
+        if (too_big || badly_shaped) {
+            state_[t] = kBad;
+            return;
+        }
+        // (Asked only of triangles good by h at their circumcentre.)
+        const bool misses_a_feature = std::sqrt(3.0) * r >= options_.alpha * narrow_feature_size(t, centre, ht);
+        state_[t] = misses_a_feature ? kBad | kNarrowFeature : kGood;
     }
 
     // The size a spacing feature narrower than t asks of it (kSteepGradient)
@@ -372,7 +378,8 @@ private:
     void refine(const Candidate &c) {
         // A narrow feature caps the lengths the point is placed and filtered
         // by, which h about it (much larger) would set.
-        const double feature = narrow_feature_size(c.t);
+        const double feature = state_[c.t] & kNarrowFeature ? narrow_feature_size(c.t)
+                                                            : std::numeric_limits<double>::infinity();
         double target = 0;
         Vec3 p = place(c.t, &target);
         if (feature < target) {
