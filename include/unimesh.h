@@ -516,7 +516,11 @@ UM_API um_status um_spacing_create_grid(um_context *ctx, int64_t n_lon, const do
  * must be km for cellWidth and not radians for lon/lat; cells holding the fill
  * value are missing data. UM_ERR_IO when the file cannot be opened;
  * UM_ERR_FILE_FORMAT when it is not netCDF, is truncated, lacks a variable or
- * holds values a grid rejects (the message names the file and the variable). */
+ * holds values a grid rejects (the message names the file and the variable).
+ * Classic files are checked before netCDF-C opens them; a netCDF-4 file is
+ * read by libhdf5, which a damaged file can crash (no check exists for it):
+ * read netCDF-4 files you do not trust in a separate process first, as
+ * `unimesh build` does. */
 UM_API um_status um_spacing_create_from_file(um_context *ctx, const char *path, um_spacing **out);
 
 /* h from a user function (fn must not be NULL; user_data is passed back). */

@@ -337,6 +337,11 @@ class Errors(unittest.TestCase):
                 f.write('{"type": "FeatureCollection", "features": [')
             self.assert_fails(["build", "--spacing-km", "500", "--geometry", bad, "--out", out], "bad.geojson")
             self.assert_fails(["check", bad], "netCDF")
+            # A damaged netCDF-4 file that kills libhdf5: read in a trial
+            # process first, refused (or, where libhdf5 survives it, an error).
+            damaged = os.path.join(os.path.dirname(__file__), "..", "data", "netcdf4_damaged.nc")
+            self.assert_fails(["build", "--spacing-file", damaged, "--out", out], "--spacing-file", "netcdf4_damaged.nc")
+            self.assertEqual(run("build", "--spacing-file", damaged, "--out", out).returncode, 1)
 
     def test_bad_case_files(self):
         with tempfile.TemporaryDirectory() as folder:

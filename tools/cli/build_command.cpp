@@ -20,6 +20,7 @@
 
 #include "mpas_extras.hpp"
 #include "output_set.hpp"
+#include "spacing_probe.hpp"
 #include "unimesh.h"
 
 namespace {
@@ -282,6 +283,10 @@ int run_build(const BuildArgs &a) {
     int rc = 0;
     std::string stage;
     try {
+        if (!a.spacing_file.empty()) {  // before any thread of ours exists: the probe forks
+            const std::string refused = crash_reading_spacing_file(a.spacing_file, memory_cap_bytes(a.memory_cap));
+            if (!refused.empty()) throw Failure{"--spacing-file " + a.spacing_file + ": " + refused};
+        }
         if (um_context_create(&ctx) != UM_OK) throw Failure{"cannot create a context"};
         check(um_context_set_threads(ctx, a.threads), ctx, "--threads");
         check(um_context_set_memory_cap(ctx, memory_cap_bytes(a.memory_cap)), ctx, "--memory-cap " + a.memory_cap);

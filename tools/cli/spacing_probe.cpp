@@ -1,0 +1,55 @@
+#include "spacing_probe.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+#include "unimesh.h"
+
+namespace {
+
+// The HDF5 superblock's signature, at offset 0 or at 512, 1024, 2048, ...
+// (a user block before it): the HDF5 file format specification.
+bool is_hdf5_file(const std::string &path) {
+    static const char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+    std::ifstream f(path, std::ios::binary);
+    for (std::streamoff at = 0;; at = at == 0 ? 512 : 2 * at) {
+        char head[8];
+        f.seekg(at);
+        if (!f.read(head, sizeof head)) return false;
+        if (std::memcmp(head, kSignature, sizeof head) == 0) return true;
+    }
+}
+
+// The child: the read the build will make, then out without the parent's
+// exit handlers or buffered output.
+[[noreturn]] void read_in_child(const std::string &path, int64_t memory_cap_bytes) {
+    um_context *ctx = nullptr;
+    um_spacing *h = nullptr;
+    if (um_context_create(&ctx) == UM_OK && um_context_set_threads(ctx, 1) == UM_OK &&
+        um_context_set_memory_cap(ctx, memory_cap_bytes) == UM_OK)
+        um_spacing_create_from_file(ctx, path.c_str(), &h);
+    _exit(0);
+}
+
+}  // namespace
+
+std::string crash_reading_spacing_file(const std::string &path, int64_t memory_cap_bytes) {
+    if (!is_hdf5_file(path)) return "";
+    std::fflush(nullptr);
+    const pid_t child = fork();
+    if (child < 0) return "";  // no child to try it in: the build reads it as it is
+    if (child == 0) read_in_child(path, memory_cap_bytes);
+    int status = 0;
+    while (waitpid(child, &status, 0) < 0)
+        if (errno != EINTR) return "";
+    if (!WIFSIGNALED(status)) return "";
+    const int signal = WTERMSIG(status);
+    return "reading this netCDF-4 (HDF5) file killed the HDF5 library (signal " + std::to_string(signal) +
+           ", " + strsignal(signal) + ") in a trial process: the file is damaged";
+}
