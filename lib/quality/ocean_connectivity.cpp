@@ -107,7 +107,10 @@ void grow_regions(const tri::Triangulation &tri, const std::vector<uint8_t> &wet
     for (int32_t v = 0; v < static_cast<int32_t>(label.size()); ++v)
         if (label[v] >= 0) cost[v] = 0, queue.push({0, v});
     while (!queue.empty()) {
-        const auto [c, v] = queue.top();
+        // Not a structured binding: lambdas capture those from C++20 only
+        // (clang 14, which builds the fuzz targets, refuses it).
+        const int64_t c = queue.top().first;
+        const int32_t v = queue.top().second;
         queue.pop();
         if (c != cost[v]) continue;
         tri.for_each_neighbour(v, [&](int32_t w) {

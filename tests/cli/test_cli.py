@@ -342,6 +342,9 @@ class Errors(unittest.TestCase):
             damaged = os.path.join(os.path.dirname(__file__), "..", "data", "netcdf4_damaged.nc")
             self.assert_fails(["build", "--spacing-file", damaged, "--out", out], "--spacing-file", "netcdf4_damaged.nc")
             self.assertEqual(run("build", "--spacing-file", damaged, "--out", out).returncode, 1)
+            # One on which libhdf5 loops for ever: the trial read is stopped (20 s).
+            loops = os.path.join(os.path.dirname(__file__), "..", "data", "netcdf4_loops.nc")
+            self.assert_fails(["build", "--spacing-file", loops, "--out", out], "did not finish in 20 s")
 
     def test_bad_case_files(self):
         with tempfile.TemporaryDirectory() as folder:

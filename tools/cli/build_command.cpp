@@ -284,7 +284,8 @@ int run_build(const BuildArgs &a) {
     std::string stage;
     try {
         if (!a.spacing_file.empty()) {  // before any thread of ours exists: the probe forks
-            const std::string refused = crash_reading_spacing_file(a.spacing_file, memory_cap_bytes(a.memory_cap));
+            const std::string refused = crash_reading_spacing_file(a.spacing_file, memory_cap_bytes(a.memory_cap),
+                                                                   trial_read_seconds(a.spacing_file));
             if (!refused.empty()) throw Failure{"--spacing-file " + a.spacing_file + ": " + refused};
         }
         if (um_context_create(&ctx) != UM_OK) throw Failure{"cannot create a context"};

@@ -3,10 +3,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 #include "unimesh.h"
@@ -28,7 +30,8 @@ bool is_hdf5_file(const std::string &path) {
 
 // The child: the read the build will make, then out without the parent's
 // exit handlers or buffered output.
-[[noreturn]] void read_in_child(const std::string &path, int64_t memory_cap_bytes) {
+[[noreturn]] void read_in_child(const std::string &path, int64_t memory_cap_bytes, unsigned seconds) {
+    alarm(seconds);  // SIGALRM's default action ends the child
     um_context *ctx = nullptr;
     um_spacing *h = nullptr;
     if (um_context_create(&ctx) == UM_OK && um_context_set_threads(ctx, 1) == UM_OK &&
@@ -39,17 +42,27 @@ bool is_hdf5_file(const std::string &path) {
 
 }  // namespace
 
-std::string crash_reading_spacing_file(const std::string &path, int64_t memory_cap_bytes) {
+unsigned trial_read_seconds(const std::string &path) {
+    std::error_code error;
+    const std::uintmax_t bytes = std::filesystem::file_size(path, error);
+    return 20 + (error ? 0 : static_cast<unsigned>(std::min<std::uintmax_t>(bytes / (50u << 20), 100000)));
+}
+
+std::string crash_reading_spacing_file(const std::string &path, int64_t memory_cap_bytes, unsigned seconds) {
     if (!is_hdf5_file(path)) return "";
     std::fflush(nullptr);
     const pid_t child = fork();
     if (child < 0) return "";  // no child to try it in: the build reads it as it is
-    if (child == 0) read_in_child(path, memory_cap_bytes);
+    if (child == 0) read_in_child(path, memory_cap_bytes, seconds);
     int status = 0;
     while (waitpid(child, &status, 0) < 0)
         if (errno != EINTR) return "";
     if (!WIFSIGNALED(status)) return "";
     const int signal = WTERMSIG(status);
+    if (signal == SIGALRM)
+        return "reading this netCDF-4 (HDF5) file did not finish in " + std::to_string(seconds) +
+               " s in a trial process (the HDF5 library loops for ever on some damaged files): the file is "
+               "damaged, or too slow to read (a classic netCDF copy of it is read without this trial)";
     return "reading this netCDF-4 (HDF5) file killed the HDF5 library (signal " + std::to_string(signal) +
            ", " + strsignal(signal) + ") in a trial process: the file is damaged";
 }
