@@ -2,7 +2,7 @@
 # Builds the libFuzzer targets with clang (into build-fuzz/) and runs each
 # for SECONDS (default 60) on its seed corpus fuzz/corpus/<target>; new
 # interesting inputs go to build-fuzz/corpus/<target>, crashing inputs to
-# build-fuzz/findings/<target>/ (crash-*, timeout-*, oom-*); exit 1 if any.
+# build-fuzz/findings/<target>/ (crash-*, timeout-*, oom-*, leak-*); exit 1 if any.
 #   tools/fuzz.sh [SECONDS] [TARGET...]    targets: geojson spacing_file case_file capi mpas_file
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -36,6 +36,7 @@ cmake --build "$build" --parallel "$(nproc)" --target "${targets[@]/#/fuzz_}"
 # which netCDF reports as an error, and the reader must then refuse the file.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:allocator_may_return_null=1:max_allocation_size_mb=2048}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/fuzz/lsan.supp}
 status=0
 for t in "${targets[@]}"; do
   mkdir -p "$build/corpus/$t" "$build/findings/$t"
@@ -46,7 +47,7 @@ for t in "${targets[@]}"; do
   (cd "$build/findings/$t" && "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=3072 \
       "${limit[@]}" -print_final_stats=1 "$build/corpus/$t" "$root/fuzz/corpus/$t") 2>&1 |
     grep -E "^(stat::number_of_executed_units|stat::peak_rss_mb|==[0-9]+==ERROR|SUMMARY|Test unit written)" || true
-  for found in "$build/findings/$t"/crash-* "$build/findings/$t"/timeout-* "$build/findings/$t"/oom-*; do
+  for found in "$build/findings/$t"/{crash,timeout,oom,leak}-*; do
     [ -e "$found" ] && { echo "fuzz: $t found $found"; status=1; }
   done
 done
