@@ -1,7 +1,7 @@
 // libFuzzer target: the MPAS-tools spacing-file reader (netCDF) on arbitrary
 // bytes, written to a scratch file first (netCDF reads paths). Refusals are
 // um::Error; anything else is a bug. A netCDF-4 (HDF5) input goes first
-// through the command line's trial read (tools/cli/spacing_probe): libhdf5
+// through the command line's trial read (tools/cli/hdf5_trial): libhdf5
 // may crash on it, in the child, which the probe must turn into a refusal;
 // read here only when the child survived, as unimesh build does.
 #include <netcdf.h>
@@ -16,7 +16,7 @@
 #include "core/error.hpp"
 #include "io/spacing_file.hpp"
 #include "scratch_file.hpp"
-#include "spacing_probe.hpp"
+#include "hdf5_trial.hpp"
 
 // libhdf5 allocates its global state with the first netCDF-4 file a process
 // writes or reads, and keeps it: done here, before the fuzzer counts

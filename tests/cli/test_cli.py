@@ -308,6 +308,28 @@ class DamagedFiles(unittest.TestCase):
                         self.assertIn(word, r.stderr)
 
 
+    def test_netcdf4_mesh_files_are_judged_in_a_trial_process(self):
+        # check and quality read a netCDF-4 (HDF5) file in a child (a damaged
+        # one may kill libhdf5): a sound one still gets its verdict and report.
+        import netCDF4
+        with tempfile.TemporaryDirectory() as out:
+            r = run("build", "--spacing-km", "900", "--threads", "1", "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            copy = os.path.join(out, "mesh4.nc")
+            with netCDF4.Dataset(os.path.join(out, "mesh.nc")) as src, netCDF4.Dataset(copy, "w", format="NETCDF4") as dst:
+                dst.setncatts({a: src.getncattr(a) for a in src.ncattrs()})
+                for name, dim in src.dimensions.items():
+                    dst.createDimension(name, len(dim))
+                for name, var in src.variables.items():
+                    dst.createVariable(name, var.dtype, var.dimensions)[:] = var[:]
+            check = run("check", copy)
+            self.assertEqual(check.returncode, 0, check.stdout + check.stderr)
+            self.assertIn("PASS (0 failed)", check.stdout)
+            quality = run("quality", "--json", copy)
+            self.assertEqual(quality.returncode, 0, quality.stderr)
+            self.assertEqual(json.loads(quality.stdout)["file"], copy)
+
+
 class Errors(unittest.TestCase):
     def assert_fails(self, args, *words):
         r = run(*args)

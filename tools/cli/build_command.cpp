@@ -20,7 +20,7 @@
 
 #include "mpas_extras.hpp"
 #include "output_set.hpp"
-#include "spacing_probe.hpp"
+#include "hdf5_trial.hpp"
 #include "unimesh.h"
 
 namespace {

@@ -1,11 +1,13 @@
 // unimesh: the command-line tool. Uses only the public C API.
 #include <cstdio>
+#include <functional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "build_command.hpp"
 #include "case_file.hpp"
+#include "hdf5_trial.hpp"
 #include "mesh_file_commands.hpp"
 #include "unimesh.h"
 
@@ -14,6 +16,19 @@ namespace {
 int print_version() {
     std::printf("unimesh %s (library %s)\n", UM_VERSION_STRING, um_version_string());
     return 0;
+}
+
+// check and quality read a netCDF-4 (HDF5) file wholly in a trial process
+// (hdf5_trial.hpp): a damaged one may kill libhdf5. No time limit: a big
+// mesh takes long to check.
+int judge_mesh_file(const char *command, const std::string &path, const std::function<int()> &judge) {
+    if (!is_hdf5_file(path)) return judge();
+    std::string death;
+    const int code = run_in_trial_process(judge, 0, &death);
+    if (code >= 0) return code;
+    std::fprintf(stderr, "unimesh %s: %s: reading this netCDF-4 (HDF5) file %s: the file is damaged\n", command,
+                 path.c_str(), death.c_str());
+    return 1;
 }
 
 }  // namespace
@@ -72,8 +87,9 @@ int main(int argc, char **argv) {
                      build->parsed() ? "build " : "");
         return 2;
     }
-    if (check->parsed()) return run_check(check_path);
-    if (quality->parsed()) return run_quality(quality_path, quality_json);
+    if (check->parsed()) return judge_mesh_file("check", check_path, [&] { return run_check(check_path); });
+    if (quality->parsed())
+        return judge_mesh_file("quality", quality_path, [&] { return run_quality(quality_path, quality_json); });
     if (version->parsed()) return print_version();
     if (build->parsed()) {
         b.spacing_gradient_given = build->count("--spacing-gradient") > 0;
