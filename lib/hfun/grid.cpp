@@ -245,38 +245,27 @@ SpacingPtr GridSpacing::gradient_limited(double g, double radius_km) const {
     return limited;
 }
 
+// Node positions from per-row and per-column factors, as
+// unit_from_lonlat_deg makes them (the poles exact: cos 90 = 0).
+GridSpacing::NodePositions::NodePositions(const std::vector<double> &lon, const std::vector<double> &lat)
+    : cos_lat(lat.size()), sin_lat(lat.size()), cos_lon(lon.size()), sin_lon(lon.size()) {
+    for (size_t j = 0; j < lat.size(); ++j) geom::sincos_deg(lat[j], sin_lat[j], cos_lat[j]);
+    for (size_t i = 0; i < lon.size(); ++i) geom::sincos_deg(lon[i], sin_lon[i], cos_lon[i]);
+}
+
 bool GridSpacing::steeper_than(double g, double radius_km) const {
-    const int64_t nx = n_lon(), ny = n_lat();
-    std::vector<geom::Vec3> row(static_cast<size_t>(nx)), above(static_cast<size_t>(nx));
-    auto fill = [&](int64_t j, std::vector<geom::Vec3> &out) {
-        for (int64_t i = 0; i < nx; ++i) out[i] = geom::unit_from_lonlat_deg(lon_[i], lat_[j]);
-    };
-    // Each node against its east, north, north-east and north-west
-    // neighbours (across the wrap when periodic): every pair once.
-    auto steep = [&](int64_t j, int64_t i, const geom::Vec3 &p, int64_t jj, int64_t ii, const geom::Vec3 &q) {
-        const geom::Vec3 d = p - q;
-        return std::fabs(km_at_node(j, i) - km_at_node(jj, ii)) > g * radius_km * geom::norm(d);
-    };
-    fill(0, row);
-    for (int64_t j = 0; j < ny; ++j) {
-        if (j + 1 < ny) fill(j + 1, above);
-        for (int64_t i = 0; i < nx; ++i) {
-            const bool wraps = i + 1 == nx;
-            if (wraps && !periodic_) continue;
-            const int64_t e = wraps ? 0 : i + 1;
-            if (steep(j, i, row[i], j, e, row[e])) return true;
-        }
-        if (j + 1 == ny) break;
-        for (int64_t i = 0; i < nx; ++i) {
-            if (steep(j, i, row[i], j + 1, i, above[i])) return true;
-            for (int64_t di : {-1, 1}) {
-                int64_t ii = i + di;
-                if ((ii < 0 || ii >= nx) && !periodic_) continue;
-                ii = (ii + nx) % nx;
-                if (steep(j, i, row[i], j + 1, ii, above[ii])) return true;
-            }
-        }
-        row.swap(above);
+    const NodePositions node(lon_, lat_);
+    const int64_t nx = n_lon();
+    // Every pair once: from its node of smaller index.
+    for (int64_t k = 0; k < static_cast<int64_t>(cells_.size()); ++k) {
+        const int64_t j = k / nx, i = k % nx;
+        const geom::Vec3 p = node.at(j, i);
+        bool steep = false;
+        for_each_neighbour(j, i, [&](int64_t jj, int64_t ii) {
+            if (steep || jj * nx + ii < k) return;
+            steep = std::fabs(cells_[k] - km_at_node(jj, ii)) > g * radius_km * geom::norm(p - node.at(jj, ii));
+        });
+        if (steep) return true;
     }
     return false;
 }
@@ -288,15 +277,8 @@ bool GridSpacing::steeper_than(double g, double radius_km) const {
 // it leaves the queue, so one pass reaches the fixed point, and the order
 // (value, then index) makes the result the same on every run.
 void GridSpacing::limit_gradient_in_place(double g, double radius_km) {
-    const int64_t nx = n_lon(), ny = n_lat();
-    // Node positions from per-row and per-column factors, as
-    // unit_from_lonlat_deg makes them (the poles exact: cos 90 = 0).
-    std::vector<double> cos_lat(ny), sin_lat(ny), cos_lon(nx), sin_lon(nx);
-    for (int64_t j = 0; j < ny; ++j) geom::sincos_deg(lat_[j], sin_lat[j], cos_lat[j]);
-    for (int64_t i = 0; i < nx; ++i) geom::sincos_deg(lon_[i], sin_lon[i], cos_lon[i]);
-    auto node = [&](int64_t j, int64_t i) {
-        return geom::Vec3{cos_lat[j] * cos_lon[i], cos_lat[j] * sin_lon[i], sin_lat[j]};
-    };
+    const int64_t nx = n_lon();
+    const NodePositions node(lon_, lat_);
     const double per_radian = g * radius_km;
 
     using Item = std::pair<double, int64_t>;
@@ -309,22 +291,15 @@ void GridSpacing::limit_gradient_in_place(double g, double radius_km) {
         queue.pop();
         if (h > cells_[k]) continue;  // an older, larger entry of a node already lowered
         const int64_t j = k / nx, i = k % nx;
-        const geom::Vec3 p = node(j, i);
-        for (int64_t dj = -1; dj <= 1; ++dj) {
-            const int64_t jj = j + dj;
-            if (jj < 0 || jj >= ny) continue;
-            for (int64_t di = -1; di <= 1; ++di) {
-                int64_t ii = i + di;
-                if ((dj == 0 && di == 0) || ((ii < 0 || ii >= nx) && !periodic_)) continue;
-                ii = (ii + nx) % nx;
-                const double candidate = h + per_radian * geom::arc_length(p, node(jj, ii));
-                double &neighbour = cells_[jj * nx + ii];
-                if (candidate < neighbour) {
-                    neighbour = candidate;
-                    queue.push({candidate, jj * nx + ii});
-                }
+        const geom::Vec3 p = node.at(j, i);
+        for_each_neighbour(j, i, [&](int64_t jj, int64_t ii) {
+            const double candidate = h + per_radian * geom::arc_length(p, node.at(jj, ii));
+            double &neighbour = cells_[jj * nx + ii];
+            if (candidate < neighbour) {
+                neighbour = candidate;
+                queue.push({candidate, jj * nx + ii});
             }
-        }
+        });
     }
 }
 

@@ -95,6 +95,27 @@ private:
     // Replaces the cells with the largest values <= them whose differences
     // between grid neighbours obey |h_i - h_j| <= g * distance(i, j).
     void limit_gradient_in_place(double g, double radius_km);
+    // The unit vectors of the nodes, from per-row and per-column factors.
+    struct NodePositions {
+        NodePositions(const std::vector<double> &lon, const std::vector<double> &lat);
+        geom::Vec3 at(int64_t j, int64_t i) const {
+            return {cos_lat[j] * cos_lon[i], cos_lat[j] * sin_lon[i], sin_lat[j]};
+        }
+        std::vector<double> cos_lat, sin_lat, cos_lon, sin_lon;
+    };
+    // visit(jj, ii) for the 8 grid neighbours of node (j, i), across the
+    // longitude wrap when periodic.
+    template <class Visit>
+    void for_each_neighbour(int64_t j, int64_t i, Visit visit) const {
+        const int64_t nx = n_lon(), ny = n_lat();
+        for (int64_t jj = j - 1; jj <= j + 1; ++jj) {
+            if (jj < 0 || jj >= ny) continue;
+            for (int64_t ii = i - 1; ii <= i + 1; ++ii) {
+                if ((jj == j && ii == i) || ((ii < 0 || ii >= nx) && !periodic_)) continue;
+                visit(jj, (ii + nx) % nx);
+            }
+        }
+    }
     // Whether some grid neighbours differ by more than g times their chord
     // (below the arc: a grid that passes needs no limiting).
     bool steeper_than(double g, double radius_km) const;

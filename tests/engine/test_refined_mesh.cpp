@@ -321,6 +321,25 @@ void a_fine_spot_narrower_than_the_mesh_is_meshed(void **) {
     assert_true(inside > 0.8 * expected && inside < 1.25 * expected);
 }
 
+// The narrow-feature sizing and the gradient limit decide the same way for
+// any number of threads (a big enough first surface pass runs by territories).
+void a_fine_spot_is_meshed_the_same_on_one_and_two_threads(void **) {
+    const auto disc = spot_spacing(480, 10, 150, 0.1, false);
+    std::vector<std::vector<Vec3>> points;
+    for (int threads : {1, 2}) {
+        Context ctx;
+        ctx.set_threads(threads);
+        const mesh::RefinedMesh m = mesh::refine_mesh(ctx, disc, nullptr, Options{});
+        points.emplace_back();
+        for (int32_t v = 0; v < m.tri.vertex_slots(); ++v)
+            if (m.tri.in_triangulation(v)) points.back().push_back(m.tri.direction(v));
+    }
+    assert_int_equal(points[0].size(), points[1].size());
+    for (size_t k = 0; k < points[0].size(); ++k)
+        assert_true(points[0][k].x == points[1][k].x && points[0][k].y == points[1][k].y &&
+                    points[0][k].z == points[1][k].z);
+}
+
 }  // namespace
 
 int main() {
@@ -329,6 +348,7 @@ int main() {
         cmocka_unit_test(relaxation_leaves_gamma_alone),
         cmocka_unit_test(optimised_coastal_mesh_stays_regular),
         cmocka_unit_test(a_fine_spot_narrower_than_the_mesh_is_meshed),
+        cmocka_unit_test(a_fine_spot_is_meshed_the_same_on_one_and_two_threads),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
