@@ -1,0 +1,312 @@
+#include "refine/geodesic_lattice.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
+
+#include "core/growth.hpp"
+
+namespace um::refine {
+
+using geom::Vec3;
+
+namespace {
+
+// The relaxation, coarse to fine: frequencies up to kCoarsest are relaxed
+// from their placement in kCoarseSweeps sweeps (a few hundred are needed for
+// the strain to reach across a face there: Jacobi's rate goes with the
+// frequency squared); each finer one starts from the relaxed lattice of half
+// its frequency and takes kFineSweeps. At 120 km (frequency 64) this gives
+// the edges' spread of the least-squares optimum to 2e-5 (0.0409).
+constexpr int64_t kCoarsest = 8;
+constexpr int kCoarseSweeps = 1000;
+constexpr int kFineSweeps = 8;
+// Springs shorter than kShortest of the rest length are kStiffer times as
+// stiff (and rest a little longer, so that the stiff part pushes out from
+// kShortest): on their own the springs would squeeze the rings around each
+// pentagon (a disclination's strain grows with the log of the lattice's
+// size: its five spokes went from 0.81 to 0.77 of the mean edge between 240
+// and 60 km), and the model's time step goes by the shortest edge. With the
+// stiff part the shortest edge is 0.86, 0.85, 0.84 and 0.83 of the mean at
+// frequencies 64, 128, 256 and 512 (120 to 15 km); stiff below 0.85 it was
+// 0.81 at 128, and below 0.90 the curl's error gained half as much.
+constexpr double kShortest = 0.87;
+constexpr double kStiffer = 100;
+
+// The point a fraction t of the way from a to b along their great circle.
+Vec3 slerp(const Vec3 &a, const Vec3 &b, double t) {
+    const double angle = std::acos(std::max(-1.0, std::min(1.0, geom::dot(a, b))));
+    if (angle == 0) return a;
+    const double s = std::sin(angle);
+    return geom::normalized((std::sin((1 - t) * angle) / s) * a + (std::sin(t * angle) / s) * b);
+}
+
+std::array<Vec3, 12> icosahedron_corners() {
+    const double p = (1.0 + std::sqrt(5.0)) / 2.0;
+    const Vec3 v[12] = {{-1, p, 0}, {1, p, 0},  {-1, -p, 0}, {1, -p, 0}, {0, -1, p},  {0, 1, p},
+                        {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1},  {-p, 0, -1}, {-p, 0, 1}};
+    std::array<Vec3, 12> corners;
+    for (int i = 0; i < 12; ++i) corners[i] = geom::normalized(v[i]);
+    return corners;
+}
+
+// Two corners share an edge when they are nearest neighbours: the edge's
+// chord is 1.05 on the unit sphere, the next distance 1.70.
+bool adjacent(const Vec3 &a, const Vec3 &b) {
+    const Vec3 d = a - b;
+    return geom::dot(d, d) < 1.21;
+}
+
+// The point of face (a, b, c) with barycentric weights (i, j, k) / n, on the
+// row of points at weight i of a: from the point of edge ab to that of edge ac.
+Vec3 row_point(const Vec3 &a, const Vec3 &b, const Vec3 &c, int64_t i, int64_t k, int64_t n) {
+    const double towards = static_cast<double>(n - i) / static_cast<double>(n);
+    const Vec3 from = slerp(a, b, towards), to = slerp(a, c, towards);
+    return slerp(from, to, static_cast<double>(k) / static_cast<double>(n - i));
+}
+
+// Where each point of the frequency-n lattice sits in geodesic_lattice's
+// order: the 12 corners, the 30 edges' inner points (edge (a, b), a < b, in
+// the order of the corners' pairs, from a to b), the 20 faces' inner points
+// (face (a, b, c), a < b < c, rows of weight i = 1 .. n-2 of a, in each the
+// weight j = 1 .. n-1-i of b). A face's point (i, j) has weights i, j and
+// k = n - i - j of its corners a, b, c.
+class LatticeIndex {
+public:
+    explicit LatticeIndex(int64_t n) : n_(n) {
+        const std::array<Vec3, 12> corner = icosahedron_corners();
+        edge_of_.fill({});
+        for (auto &row : edge_of_) row.fill(-1);
+        for (int a = 0; a < 12; ++a)
+            for (int b = a + 1; b < 12; ++b)
+                if (adjacent(corner[a], corner[b])) {
+                    edge_of_[a][b] = static_cast<int>(edges_.size());
+                    edges_.push_back({a, b});
+                }
+        for (int a = 0; a < 12; ++a)
+            for (int b = a + 1; b < 12; ++b)
+                for (int c = b + 1; c < 12; ++c)
+                    if (edge_of_[a][b] >= 0 && edge_of_[b][c] >= 0 && edge_of_[a][c] >= 0) faces_.push_back({a, b, c});
+    }
+
+    int64_t frequency() const { return n_; }
+    int64_t size() const { return 10 * n_ * n_ + 2; }
+    int edge_count() const { return static_cast<int>(edges_.size()); }
+    int face_count() const { return static_cast<int>(faces_.size()); }
+    const std::array<int, 2> &edge(int e) const { return edges_[e]; }
+    const std::array<int, 3> &face(int f) const { return faces_[f]; }
+
+    // The point s of n along edge e (0 and n: its corners).
+    int64_t on_edge(int e, int64_t s) const {
+        if (s == 0) return edges_[e][0];
+        if (s == n_) return edges_[e][1];
+        return 12 + e * (n_ - 1) + (s - 1);
+    }
+
+    // The point (i, j) of face f.
+    int64_t at(int f, int64_t i, int64_t j) const {
+        const int64_t k = n_ - i - j;
+        const std::array<int, 3> &c = faces_[f];
+        if (i == n_) return c[0];
+        if (j == n_) return c[1];
+        if (k == n_) return c[2];
+        if (k == 0) return on_edge(edge_of_[c[0]][c[1]], j);
+        if (j == 0) return on_edge(edge_of_[c[0]][c[2]], k);
+        if (i == 0) return on_edge(edge_of_[c[1]][c[2]], k);
+        return inner_begin(f) + (i - 1) * (n_ - 1) - (i - 1) * i / 2 + (j - 1);
+    }
+
+    // A face's inner rows, numbered f * (n - 2) + (i - 1) for i = 1 .. n-2.
+    int64_t row_count() const { return n_ > 2 ? face_count() * (n_ - 2) : 0; }
+
+private:
+    int64_t inner_begin(int f) const { return 12 + edge_count() * (n_ - 1) + f * (n_ - 1) * (n_ - 2) / 2; }
+
+    int64_t n_;
+    std::array<std::array<int, 12>, 12> edge_of_{};
+    std::vector<std::array<int, 2>> edges_;
+    std::vector<std::array<int, 3>> faces_;
+};
+
+// The six neighbours of each edge point, in the order of the edge points
+// (a face's neighbours are found from its (i, j) on the fly).
+std::vector<std::array<int64_t, 6>> edge_point_neighbours(const LatticeIndex &index) {
+    const int64_t n = index.frequency();
+    std::vector<std::array<int64_t, 6>> out(static_cast<size_t>(index.edge_count() * std::max<int64_t>(n - 1, 0)));
+    std::vector<int> count(out.size(), 0);
+    static constexpr int kStep[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
+    for (int f = 0; f < index.face_count(); ++f)
+        for (int64_t i = 0; i <= n; ++i)
+            for (int64_t j = 0; i + j <= n; ++j) {
+                const int64_t p = index.at(f, i, j);
+                if (p < 12 || p >= 12 + static_cast<int64_t>(out.size())) continue;  // a corner or inside
+                const size_t slot = static_cast<size_t>(p - 12);
+                for (const auto &step : kStep) {
+                    const int64_t i2 = i + step[0], j2 = j + step[1];
+                    if (i2 < 0 || j2 < 0 || i2 + j2 > n) continue;
+                    const int64_t q = index.at(f, i2, j2);
+                    int64_t *begin = out[slot].data(), *end = begin + count[slot];
+                    if (std::find(begin, end, q) == end && count[slot] < 6) out[slot][count[slot]++] = q;
+                }
+            }
+    return out;
+}
+
+// One Jacobi sweep of the springs: each point but the corners goes to the
+// mean of where each neighbour's spring of length `rest` would put it (the
+// neighbour plus rest along the chord towards the point), weighted by the
+// springs' stiffness, back on the sphere. Returns the sum of the chords it measured (each edge twice), by
+// item in a fixed order so that the sum is the same for any thread count.
+double spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<std::array<int64_t, 6>> &edge_nbrs,
+                    const std::vector<Vec3> &from, std::vector<Vec3> &to, double rest) {
+    auto place = [&](int64_t p, const int64_t *nbrs, int count, double &chords) {
+        const Vec3 x = from[p];
+        Vec3 sum{};
+        for (int k = 0; k < count; ++k) {
+            const Vec3 &y = from[nbrs[k]];
+            const Vec3 d = x - y;
+            const double length = geom::norm(d);
+            chords += length;
+            if (!(length > 0)) continue;
+            if (length >= kShortest * rest) {
+                sum = sum + y + (rest / length) * d;
+            } else {
+                static constexpr double kStiffRest = (1 + kStiffer * kShortest) / (1 + kStiffer);
+                sum = sum + (1 + kStiffer) * (y + (kStiffRest * rest / length) * d);
+            }
+        }
+        to[p] = geom::normalized(sum);
+    };
+    const int64_t n = index.frequency();
+    const int64_t edge_items = index.edge_count(), items = edge_items + index.row_count();
+    std::vector<double> chords(static_cast<size_t>(items), 0.0);
+    ctx.parallel_for(items, 1, [&](int64_t b, int64_t e) {
+        for (int64_t item = b; item < e; ++item) {
+            double &sum = chords[item];
+            if (item < edge_items) {
+                for (int64_t s = 1; s < n; ++s) {
+                    const int64_t p = index.on_edge(static_cast<int>(item), s);
+                    place(p, edge_nbrs[static_cast<size_t>(p - 12)].data(), 6, sum);
+                }
+                continue;
+            }
+            const int f = static_cast<int>((item - edge_items) / (n - 2));
+            const int64_t i = (item - edge_items) % (n - 2) + 1;
+            // Rows i - 1, i, i + 1 of the face (j from 1): away from the
+            // face's sides the six neighbours are at fixed offsets.
+            const int64_t row = index.at(f, i, 1), below = row - (n - i), above = row + (n - 1 - i);
+            for (int64_t j = 1; i + j < n; ++j) {
+                const int64_t p = row + j - 1;
+                if (i >= 2 && j >= 2 && i + j <= n - 2) {
+                    const int64_t nbrs[6] = {above + j - 1, below + j - 1, p + 1, p - 1, above + j - 2, below + j};
+                    place(p, nbrs, 6, sum);
+                    continue;
+                }
+                const int64_t nbrs[6] = {index.at(f, i + 1, j), index.at(f, i - 1, j),     index.at(f, i, j + 1),
+                                         index.at(f, i, j - 1), index.at(f, i + 1, j - 1), index.at(f, i - 1, j + 1)};
+                place(p, nbrs, 6, sum);
+            }
+        }
+    });
+    double total = 0;
+    for (double c : chords) total += c;
+    for (int c = 0; c < 12; ++c) {  // the corners stay; their five chords count too
+        to[c] = from[c];
+        for (int e = 0; e < index.edge_count(); ++e)
+            if (index.edge(e)[0] == c || index.edge(e)[1] == c)
+                total += geom::norm(from[c] - from[index.on_edge(e, index.edge(e)[0] == c ? 1 : n - 1)]);
+    }
+    return total;
+}
+
+// `sweeps` spring sweeps of the lattice, the rest length the mean chord of
+// the sweep before (of the start for the first).
+void relax(Context &ctx, const LatticeIndex &index, std::vector<Vec3> &points, int sweeps) {
+    if (index.frequency() < 2) return;  // the icosahedron: corners only
+    const std::vector<std::array<int64_t, 6>> edge_nbrs = edge_point_neighbours(index);
+    const double chord_ends = 6.0 * static_cast<double>(index.size() - 12) + 5.0 * 12;  // each edge twice
+    std::vector<Vec3> next(points.size());
+    double rest = spring_sweep(ctx, index, edge_nbrs, points, next, 0) / chord_ends;  // measures only
+    for (int k = 0; k < sweeps; ++k) {
+        rest = spring_sweep(ctx, index, edge_nbrs, points, next, rest) / chord_ends;
+        points.swap(next);
+    }
+}
+
+// The frequency-n lattice placed in the relaxed coarser one: each point at
+// its barycentric place in the coarse triangle (or along the coarse edge)
+// that holds it, back on the sphere.
+std::vector<Vec3> interpolate(Context &ctx, const LatticeIndex &coarse, const std::vector<Vec3> &at,
+                              const LatticeIndex &fine) {
+    const int64_t m = coarse.frequency(), n = fine.frequency();
+    std::vector<Vec3> points(static_cast<size_t>(fine.size()));
+    for (int c = 0; c < 12; ++c) points[c] = at[c];
+    for (int e = 0; e < fine.edge_count(); ++e)
+        for (int64_t s = 1; s < n; ++s) {
+            const int64_t S = s * m / n;
+            const double w = static_cast<double>(s * m - S * n) / static_cast<double>(n);
+            const Vec3 &a = at[coarse.on_edge(e, S)];
+            points[fine.on_edge(e, s)] = w > 0 ? geom::normalized((1 - w) * a + w * at[coarse.on_edge(e, S + 1)]) : a;
+        }
+    const double scale = 1.0 / static_cast<double>(n);
+    ctx.parallel_for(fine.row_count(), 16, [&](int64_t b, int64_t e) {
+        for (int64_t row = b; row < e; ++row) {
+            const int f = static_cast<int>(row / (n - 2));
+            const int64_t i = row % (n - 2) + 1;
+            for (int64_t j = 1; i + j < n; ++j) {
+                const int64_t I = i * m / n, J = j * m / n;
+                const int64_t ri = i * m - I * n, rj = j * m - J * n;  // the fractions' numerators
+                const double fi = static_cast<double>(ri) * scale, fj = static_cast<double>(rj) * scale;
+                Vec3 p;
+                if (ri + rj <= n)
+                    p = (1 - fi - fj) * at[coarse.at(f, I, J)] + fi * at[coarse.at(f, I + 1, J)] +
+                        fj * at[coarse.at(f, I, J + 1)];
+                else
+                    p = (fi + fj - 1) * at[coarse.at(f, I + 1, J + 1)] + (1 - fj) * at[coarse.at(f, I + 1, J)] +
+                        (1 - fi) * at[coarse.at(f, I, J + 1)];
+                points[fine.at(f, i, j)] = geom::normalized(p);
+            }
+        }
+    });
+    return points;
+}
+
+}  // namespace
+
+std::vector<Vec3> geodesic_lattice(int64_t n) {
+    const LatticeIndex index(n);
+    const std::array<Vec3, 12> corner = icosahedron_corners();
+    std::vector<Vec3> points(corner.begin(), corner.end());
+    points.reserve(static_cast<size_t>(index.size()));
+    for (int e = 0; e < index.edge_count(); ++e)
+        for (int64_t s = 1; s < n; ++s)
+            points.push_back(slerp(corner[index.edge(e)[0]], corner[index.edge(e)[1]],
+                                   static_cast<double>(s) / static_cast<double>(n)));
+    for (int f = 0; f < index.face_count(); ++f) {
+        const Vec3 &A = corner[index.face(f)[0]], &B = corner[index.face(f)[1]], &C = corner[index.face(f)[2]];
+        for (int64_t i = 1; i < n; ++i)
+            for (int64_t j = 1; i + j < n; ++j) {
+                const int64_t k = n - i - j;
+                points.push_back(geom::normalized(row_point(A, B, C, i, k, n) + row_point(B, C, A, j, i, n) +
+                                                  row_point(C, A, B, k, j, n)));
+            }
+    }
+    return points;
+}
+
+std::vector<Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t n) {
+    if (n <= kCoarsest) {
+        std::vector<Vec3> points = geodesic_lattice(n);
+        relax(ctx, LatticeIndex(n), points, kCoarseSweeps);
+        return points;
+    }
+    const LatticeIndex coarse((n + 1) / 2), fine(n);
+    std::vector<Vec3> coarse_points = relaxed_geodesic_lattice(ctx, coarse.frequency());
+    std::vector<Vec3> points = interpolate(ctx, coarse, coarse_points, fine);
+    release(coarse_points);
+    relax(ctx, fine, points, kFineSweeps);
+    return points;
+}
+
+}  // namespace um::refine
