@@ -368,6 +368,18 @@ class Errors(unittest.TestCase):
             loops = os.path.join(os.path.dirname(__file__), "..", "data", "netcdf4_loops.nc")
             self.assert_fails(["build", "--spacing-file", loops, "--out", out], "did not finish in 20 s")
 
+    def test_trial_process_sees_its_child_when_sigchld_is_ignored(self):
+        # A parent that ignores SIGCHLD passes that on across exec; the child
+        # would then be reaped unseen. The trial still reports how it ended.
+        import signal
+        damaged = os.path.join(os.path.dirname(__file__), "..", "data", "netcdf4_damaged.nc")
+        with tempfile.TemporaryDirectory() as out:
+            r = subprocess.run([CLI, "build", "--spacing-file", damaged, "--out", out], capture_output=True,
+                               text=True, timeout=600,
+                               preexec_fn=lambda: signal.signal(signal.SIGCHLD, signal.SIG_IGN))
+            self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
+            self.assertIn("killed the HDF5 library", r.stderr)
+
     def test_bad_case_files(self):
         with tempfile.TemporaryDirectory() as folder:
             cases = {

@@ -26,19 +26,73 @@ bool is_hdf5_file(const std::string &path) {
     }
 }
 
+// The sanitizers' run-time, when this program is built with one (fuzzing,
+// tests): a child's death by libhdf5's fault is the expected outcome of a
+// trial, not a finding of the parent's run, so the child drops the death
+// callback through which a fuzzer records the input as crashing.
+extern "C" __attribute__((weak)) void __sanitizer_set_death_callback(void (*callback)(void));
+
+namespace {
+
+// In the child: the dispositions it needs whatever the parent installed (a
+// SIGALRM handler would keep it from being stopped; a fuzzer's or
+// sanitizer's crash handler would report its death as the parent's).
+void prepare_trial_child(unsigned seconds) {
+    if (__sanitizer_set_death_callback) __sanitizer_set_death_callback(nullptr);
+    for (int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGALRM}) std::signal(sig, SIG_DFL);
+    if (seconds > 0) alarm(seconds);  // SIGALRM's default action ends the child
+}
+
+// SIGCHLD ignored (inherited across exec from a parent that ignores it)
+// reaps children on their own, and waitpid could not tell how the trial
+// ended: the default disposition while a trial runs.
+class ChildrenWaitable {
+public:
+    ChildrenWaitable() {
+        struct sigaction now {};
+        sigaction(SIGCHLD, nullptr, &now);
+        restore_ = now.sa_handler == SIG_IGN;
+        if (restore_) {
+            saved_ = now;
+            struct sigaction dfl {};
+            dfl.sa_handler = SIG_DFL;
+            sigemptyset(&dfl.sa_mask);
+            sigaction(SIGCHLD, &dfl, nullptr);
+        }
+    }
+    ~ChildrenWaitable() {
+        if (restore_) sigaction(SIGCHLD, &saved_, nullptr);
+    }
+    ChildrenWaitable(const ChildrenWaitable &) = delete;
+    ChildrenWaitable &operator=(const ChildrenWaitable &) = delete;
+
+private:
+    bool restore_ = false;
+    struct sigaction saved_ {};
+};
+
+}  // namespace
+
 int run_in_trial_process(const std::function<int()> &fn, unsigned seconds, std::string *death) {
     std::fflush(nullptr);
+    const ChildrenWaitable waitable;
     const pid_t child = fork();
-    if (child < 0) return fn();  // no child to try it in: run it here
+    if (child < 0) {
+        *death = std::string("could not be tried in a child process (fork: ") + std::strerror(errno) + ")";
+        return kTrialNotRun;
+    }
     if (child == 0) {
-        if (seconds > 0) alarm(seconds);  // SIGALRM's default action ends the child
+        prepare_trial_child(seconds);
         const int code = fn();
         std::fflush(nullptr);
         _exit(code);  // without the parent's exit handlers
     }
     int status = 0;
-    while (waitpid(child, &status, 0) < 0)
-        if (errno != EINTR) return fn();
+    while (waitpid(child, &status, 0) < 0) {
+        if (errno == EINTR) continue;
+        *death = std::string("ended unseen in a trial process (waitpid: ") + std::strerror(errno) + ")";
+        return kTrialNotRun;
+    }
     if (WIFEXITED(status)) return WEXITSTATUS(status);
     const int signal = WTERMSIG(status);
     *death = signal == SIGALRM
@@ -46,7 +100,7 @@ int run_in_trial_process(const std::function<int()> &fn, unsigned seconds, std::
                        " s in a trial process (the HDF5 library loops for ever on some damaged files)"
                  : "killed the HDF5 library (signal " + std::to_string(signal) + ", " + strsignal(signal) +
                        ") in a trial process";
-    return -1;
+    return kTrialDied;
 }
 
 std::string crash_reading_spacing_file(const std::string &path, int64_t memory_cap_bytes, unsigned seconds) {
@@ -61,7 +115,9 @@ std::string crash_reading_spacing_file(const std::string &path, int64_t memory_c
         return 0;
     };
     std::string death;
-    if (run_in_trial_process(read, seconds, &death) >= 0) return "";
+    const int code = run_in_trial_process(read, seconds, &death);
+    if (code >= 0) return "";
+    if (code == kTrialNotRun) return "reading this netCDF-4 (HDF5) file: it " + death;
     return "reading this netCDF-4 (HDF5) file " + death + ": the file is damaged" +
            (death.find("did not finish") == 0 ? ", or too slow to read (a classic netCDF copy of it is read without this trial)" : "");
 }

@@ -14,7 +14,10 @@
 bool is_hdf5_file(const std::string &path);
 
 // fn run in a forked child (stdout flushed before and in it), stopped after
-// `seconds` (0: no limit): its exit code, or -1 with *death saying how it died.
+// `seconds` (0: no limit): its exit code; or kTrialDied with *death saying
+// how it died, or kTrialNotRun with *death saying why no trial could be
+// made (fn is then not run: a crash it risks stays out of this process).
+constexpr int kTrialDied = -1, kTrialNotRun = -2;
 int run_in_trial_process(const std::function<int()> &fn, unsigned seconds, std::string *death);
 
 // "" when path is no HDF5 file, or when a child read it without dying (the

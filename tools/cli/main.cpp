@@ -26,8 +26,12 @@ int judge_mesh_file(const char *command, const std::string &path, const std::fun
     std::string death;
     const int code = run_in_trial_process(judge, 0, &death);
     if (code >= 0) return code;
-    std::fprintf(stderr, "unimesh %s: %s: reading this netCDF-4 (HDF5) file %s: the file is damaged\n", command,
-                 path.c_str(), death.c_str());
+    if (code == kTrialNotRun)
+        std::fprintf(stderr, "unimesh %s: %s: reading this netCDF-4 (HDF5) file: it %s\n", command, path.c_str(),
+                     death.c_str());
+    else
+        std::fprintf(stderr, "unimesh %s: %s: reading this netCDF-4 (HDF5) file %s: the file is damaged\n", command,
+                     path.c_str(), death.c_str());
     return 1;
 }
 
