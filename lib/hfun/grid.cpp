@@ -287,7 +287,8 @@ void GridSpacing::limit_gradient_in_place(double g, double radius_km) {
     std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue(std::greater<Item>(),
                                                                            std::move(initial));
     while (!queue.empty()) {
-        const auto [h, k] = queue.top();
+        const double h = queue.top().first;  // (not a structured binding: the lambda below uses it)
+        const int64_t k = queue.top().second;
         queue.pop();
         if (h > cells_[k]) continue;  // an older, larger entry of a node already lowered
         const int64_t j = k / nx, i = k % nx;
