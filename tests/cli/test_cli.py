@@ -292,6 +292,16 @@ class DamagedFiles(unittest.TestCase):
                 with open(path, "wb") as f:
                     f.write(data[:int(len(data) * fraction)])
                 damaged[path] = "truncated"
+            # A header whose first dimension's name claims 1.8 GB (found by
+            # fuzzing check: netCDF-C would try to read it) and one whose
+            # variable count is far beyond the file.
+            name_length_at = 16  # magic, numrecs, NC_DIMENSION tag, ndims
+            for what, patch in (("name", (name_length_at, b"\x6c\x73\x00\x00")),
+                                ("count", (12, b"\x7f\xff\xff\xff"))):
+                path = os.path.join(out, f"header_{what}.nc")
+                with open(path, "wb") as f:
+                    f.write(data[:patch[0]] + patch[1] + data[patch[0] + 4:])
+                damaged[path] = "netCDF header is damaged"
             for var, index, value in (("cellsOnVertex", (0, 0), 0), ("nEdgesOnCell", (0,), 100),
                                       ("edgesOnEdge", (0, 0), 10 ** 6), ("cellsOnEdge", (3, 1), -7)):
                 path = os.path.join(out, f"{var}.nc")

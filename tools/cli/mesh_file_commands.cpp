@@ -87,9 +87,9 @@ std::string connectivity_problem(const MeshFile &m) {
 }
 
 bool read_mesh(const std::string &path, MeshFile &m) {
-    const std::string truncated = NcFile::truncation(path);
-    if (!truncated.empty()) {
-        std::fprintf(stderr, "unimesh: %s: %s\n", path.c_str(), truncated.c_str());
+    const std::string header = NcFile::header_problem(path);
+    if (!header.empty()) {
+        std::fprintf(stderr, "unimesh: %s: %s\n", path.c_str(), header.c_str());
         return false;
     }
     NcFile f(path);
