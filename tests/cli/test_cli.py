@@ -18,7 +18,8 @@ CLI = os.environ["UNIMESH_CLI"]
 DATA = os.environ["UNIMESH_DATA"]
 COAST = os.path.join(DATA, "coast_global_l.geojson")
 RIVERS = os.path.join(DATA, "rivers_global_l.geojson")
-FILES = ("mesh.nc", "graph.info", "mesh.vtu", "triangles.vtu", "mesh.msh", "quality.json")
+FILES = ("mesh.nc", "graph.info", "quality.json")  # and the pictures, unless too many cells
+EXTRA_FILES = ("mesh.vtu", "triangles.vtu", "mesh.msh")  # on --vtu, --jigsaw
 
 
 def run(*args):
@@ -30,9 +31,9 @@ class Build(unittest.TestCase):
         with tempfile.TemporaryDirectory() as out:
             # The frontal refinement (not the lattice), whose defects are re-seeded.
             r = run("build", "--geometry", COAST, "--geometry", RIVERS, "--spacing-km", "600",
-                    "--option", "refine_lattice=0", "--threads", "2", "--out", out)
+                    "--option", "refine_lattice=0", "--threads", "2", "--vtu", "--jigsaw", "--out", out)
             self.assertEqual(r.returncode, 0, r.stderr)
-            for name in FILES:
+            for name in FILES + EXTRA_FILES:
                 self.assertGreater(os.path.getsize(os.path.join(out, name)), 0, name)
             self.assertIn("optimised quality", r.stdout)
             self.assertIn("optimised operator diagnostics: centroid offset rms ", r.stdout)
@@ -184,6 +185,38 @@ class Build(unittest.TestCase):
             r = run(*args)
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertRegex(r.stdout, r"^unimesh \S+ \(library \S+\)$")
+
+    def test_vtu_and_jigsaw_files_on_request(self):
+        # By default the set is mesh.nc, graph.info, quality.json and the
+        # pictures; --vtu and --jigsaw (or the case file's keys) add the
+        # others, and a later run without them takes the earlier run's away
+        # (the folder holds one run's files).
+        with tempfile.TemporaryDirectory() as folder:
+            out = os.path.join(folder, "out")
+            r = run("build", "--spacing-km", "900", "--threads", "1", "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual([n for n in EXTRA_FILES if os.path.exists(os.path.join(out, n))], [])
+            case = os.path.join(folder, "case.toml")
+            with open(case, "w") as f:
+                f.write('spacing_km = 900\nthreads = 1\nvtu = true\njigsaw = true\nout = "out"\n')
+            r = run("build", "--case", case)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in EXTRA_FILES:
+                self.assertGreater(os.path.getsize(os.path.join(out, name)), 0, name)
+                self.assertIn(os.path.join(out, name), r.stdout)
+            r = run("build", "--spacing-km", "900", "--threads", "1", "--jigsaw", "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertTrue(os.path.exists(os.path.join(out, "mesh.msh")))
+            self.assertFalse(os.path.exists(os.path.join(out, "mesh.vtu")))
+            self.assertFalse(os.path.exists(os.path.join(out, "triangles.vtu")))
+            with open(os.path.join(out, "manifest.json")) as f:
+                self.assertEqual(sorted(e["name"] for e in json.load(f)["files"]),
+                                 sorted(FILES + ("mesh.msh", "quality.png", "mesh.png")))
+            with open(case, "w") as f:
+                f.write('spacing_km = 900\nvtu = "yes"\n')
+            r = run("build", "--case", case)
+            self.assertEqual(r.returncode, 1)
+            self.assertIn("'vtu' must be true or false", r.stderr)
 
     def test_case_file_and_flags_that_win(self):
         with tempfile.TemporaryDirectory() as folder:

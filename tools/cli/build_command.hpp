@@ -20,6 +20,10 @@ struct BuildArgs {
     bool spacing_gradient_given = false;
     int threads = 0;
     bool no_optimise = false;
+    // The outputs beyond the default set (mesh.nc, graph.info, quality.json,
+    // the pictures): ParaView's mesh.vtu and triangles.vtu, JIGSAW's
+    // mesh.msh. Large meshes spend minutes writing them.
+    bool vtu = false, jigsaw = false;
     std::string options;  // "name=value;..." for um_options_set_string
     std::string out_dir = "out";
     bool progress_bar = false;

@@ -48,13 +48,14 @@ std::string option_text(const toml::node &node, const std::string &key) {
 
 void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given, BuildArgs &a) {
     static const std::set<std::string> known = {"geometry", "passages", "kind", "spacing_km", "spacing_file",
-                                                "spacing_preset", "threads", "optimise", "out", "options"};
+                                                "spacing_preset", "threads", "optimise", "vtu", "jigsaw",
+                                                "out", "options"};
     for (const auto &[key, node] : t) {
         const std::string k(key.str());
         if (!known.count(k))
             throw CaseError{"unknown key '" + k + "'" + where(node) +
                             "; known: geometry, passages, kind, spacing_km, spacing_file, spacing_preset, threads, "
-                            "optimise, out, [options]"};
+                            "optimise, vtu, jigsaw, out, [options]"};
     }
     if (const toml::node *g = t.get("geometry"); g && !given.geometry) {
         const toml::array *list = g->as_array();
@@ -91,6 +92,15 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
         if (!v) throw CaseError{"'optimise' must be true or false" + where(*n)};
         a.no_optimise = !*v;
     }
+    auto flag = [&](const char *key, bool given_too, bool &value) {
+        const toml::node *n = t.get(key);
+        if (!n || given_too) return;
+        auto v = n->value<bool>();
+        if (!v) throw CaseError{std::string("'") + key + "' must be true or false" + where(*n)};
+        value = *v;
+    };
+    flag("vtu", given.vtu, a.vtu);
+    flag("jigsaw", given.jigsaw, a.jigsaw);
     if (const toml::node *n = t.get("out"); n && !given.out) a.out_dir = resolve(folder, string_value(*n, "out"));
     if (const toml::node *n = t.get("options")) {
         const toml::table *opts = n->as_table();

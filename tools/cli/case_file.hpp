@@ -21,7 +21,8 @@
 
 // Which flags the command line gave (those keep their values).
 struct GivenFlags {
-    bool geometry = false, passages = false, kind = false, spacing = false, threads = false, no_optimise = false, out = false;
+    bool geometry = false, passages = false, kind = false, spacing = false, threads = false, no_optimise = false, out = false,
+         vtu = false, jigsaw = false;
 };
 
 // Reads path into args; false with a one-line *error naming the file, the

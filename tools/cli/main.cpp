@@ -69,11 +69,13 @@ int main(int argc, char **argv) {
     file->excludes(preset);
     build->add_option("--threads", b.threads, "threads (0 = all cores)")->check(CLI::Range(0, 1024));
     build->add_flag("--no-optimise", b.no_optimise, "skip the primal-dual optimisation");
+    build->add_flag("--vtu", b.vtu, "also write mesh.vtu and triangles.vtu (ParaView)");
+    build->add_flag("--jigsaw", b.jigsaw, "also write mesh.msh (JIGSAW)");
     build->add_flag("--verbose", b.verbose, "print the library's progress messages (per optimisation iteration)");
     build->add_option("--option", b.options, "library options, \"name=value;...\" (e.g. refine_beta=0.1)");
     build->add_option("--memory-cap", b.memory_cap,
                       "memory cap: auto (the available memory, the default), 0 (none), or bytes with K, M, G, T");
-    build->add_option("--out", b.out_dir, "output directory (mesh.nc, graph.info, mesh.vtu, quality.json)");
+    build->add_option("--out", b.out_dir, "output directory (mesh.nc, graph.info, quality.json, quality.png, mesh.png, manifest.json)");
     auto *check = app.add_subcommand("check", "check an MPAS mesh file against the mesh contract");
     std::string check_path;
     check->add_option("MESH.nc", check_path, "MPAS mesh file")->required()->check(CLI::ExistingFile);
@@ -106,6 +108,8 @@ int main(int argc, char **argv) {
                                 build->count("--spacing-preset") > 0;
             given.threads = build->count("--threads") > 0;
             given.no_optimise = build->count("--no-optimise") > 0;
+            given.vtu = build->count("--vtu") > 0;
+            given.jigsaw = build->count("--jigsaw") > 0;
             given.out = build->count("--out") > 0;
             std::string error;
             if (!read_case_file(case_file, given, b, &error)) {
