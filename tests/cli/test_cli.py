@@ -351,6 +351,27 @@ class DamagedFiles(unittest.TestCase):
                         self.assertIn(word, r.stderr)
 
 
+    def test_a_file_declaring_more_than_the_memory_is_refused(self):
+        # A netCDF-4 file can declare ten billion cells in kilobytes (its
+        # chunks unwritten): refused from its dimensions, before any read.
+        import netCDF4
+        with tempfile.TemporaryDirectory() as out:
+            r = run("build", "--spacing-km", "900", "--threads", "1", "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            huge = os.path.join(out, "huge.nc")
+            sizes = {"nCells": 10 ** 10, "nEdges": 3 * 10 ** 10, "nVertices": 2 * 10 ** 10}
+            with netCDF4.Dataset(os.path.join(out, "mesh.nc")) as src, netCDF4.Dataset(huge, "w", format="NETCDF4") as dst:
+                dst.setncatts({a: src.getncattr(a) for a in src.ncattrs()})
+                for name, dim in src.dimensions.items():
+                    dst.createDimension(name, sizes.get(name, len(dim)))
+                for name, var in src.variables.items():
+                    dst.createVariable(name, var.dtype, var.dimensions)
+            for command in ("check", "quality"):
+                with self.subTest(command=command):
+                    r = run(command, huge)
+                    self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
+                    self.assertIn("more than the available memory", r.stderr)
+
     def test_netcdf4_mesh_files_are_judged_in_a_trial_process(self):
         # check and quality read a netCDF-4 (HDF5) file in a child (a damaged
         # one may kill libhdf5): a sound one still gets its verdict and report.

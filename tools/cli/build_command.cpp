@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "available_memory.hpp"
 #include "mpas_extras.hpp"
 #include "output_set.hpp"
 #include "hdf5_trial.hpp"
@@ -49,17 +50,6 @@ int32_t report_progress(void *user, const char *stage, double fraction) {
         std::fprintf(stderr, "%s\n", stage);
     }
     *last = stage;
-    return 0;
-}
-
-// The machine's available memory (MemAvailable), or 0 when unknown.
-int64_t available_memory() {
-    std::ifstream meminfo("/proc/meminfo");
-    std::string key;
-    int64_t kb = 0;
-    std::string unit;
-    while (meminfo >> key >> kb >> unit)
-        if (key == "MemAvailable:") return kb * 1024;
     return 0;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "available_memory.hpp"
 #include "json_text.hpp"
 #include "nc_read.hpp"
 
@@ -86,6 +87,21 @@ std::string connectivity_problem(const MeshFile &m) {
     return "";
 }
 
+// "" or why the arrays m's dimensions call for cannot be read: more bytes
+// than the machine has available. A netCDF-4 file can declare a billion
+// cells in a few kilobytes (its chunks unwritten); a classic file's header
+// is held to its size before this.
+std::string exceeds_memory(const MeshFile &m) {
+    const long double cells = m.n_cells, edges = m.n_edges, vertices = m.n_vertices;
+    const long double bytes = cells * (36 + 8.0L * m.max_edges) + edges * (60 + 12.0L * m.max_edges2) + vertices * 68;
+    const int64_t available = available_memory();
+    if (available <= 0 || bytes <= available) return "";
+    return "its arrays need about " + std::to_string(static_cast<long long>(bytes / (1 << 20))) + " MiB (nCells " +
+           std::to_string(m.n_cells) + ", nEdges " + std::to_string(m.n_edges) + ", nVertices " +
+           std::to_string(m.n_vertices) + "), more than the available memory (" +
+           std::to_string(available >> 20) + " MiB)";
+}
+
 bool read_mesh(const std::string &path, MeshFile &m) {
     const std::string header = NcFile::header_problem(path);
     if (!header.empty()) {
@@ -98,8 +114,15 @@ bool read_mesh(const std::string &path, MeshFile &m) {
         return false;
     }
     bool ok = f.dim("nCells", &m.n_cells) && f.dim("nEdges", &m.n_edges) && f.dim("nVertices", &m.n_vertices) &&
-              f.dim("maxEdges", &m.max_edges) && f.dim("maxEdges2", &m.max_edges2) &&
-              f.global("sphere_radius", &m.radius) && positions(f, "Cell", m.n_cells, m.cell) &&
+              f.dim("maxEdges", &m.max_edges) && f.dim("maxEdges2", &m.max_edges2);
+    if (ok) {
+        const std::string too_big = exceeds_memory(m);
+        if (!too_big.empty()) {
+            std::fprintf(stderr, "unimesh: %s: %s\n", path.c_str(), too_big.c_str());
+            return false;
+        }
+    }
+    ok = ok && f.global("sphere_radius", &m.radius) && positions(f, "Cell", m.n_cells, m.cell) &&
               positions(f, "Edge", m.n_edges, m.edge) && positions(f, "Vertex", m.n_vertices, m.vertex) &&
               f.var("nEdgesOnCell", m.n_edges_on_cell, m.n_cells) &&
               f.var("edgesOnCell", m.edges_on_cell, m.n_cells * m.max_edges) &&
