@@ -88,14 +88,11 @@ double lloyd_margin(const Ring &ring, const Generator &centre, double floor = -k
     return margin;
 }
 
-// Whether moving v from `from` to `to` keeps each spoke at least
-// kLloydShortest of its spacing (spacing[k], the chord of the spoke to ring
-// vertex k) or no shorter than it was.
-bool keeps_spokes(const Ring &ring, const Vec3 &from, const Vec3 &to, const double *spacing) {
-    for (int k = 0; k < ring.m; ++k) {
-        const double now = geom::norm(to - ring.at(k).x);
-        if (now < kLloydShortest * spacing[k] && now < geom::norm(from - ring.at(k).x)) return false;
-    }
+// Whether v at `to` keeps each spoke (the chord to ring vertex k) at least
+// least[k] long.
+bool keeps_spokes(const Ring &ring, const Vec3 &to, const double *least) {
+    for (int k = 0; k < ring.m; ++k)
+        if (geom::norm(to - ring.at(k).x) < least[k]) return false;
     return true;
 }
 
@@ -148,14 +145,18 @@ bool Centroidal::update_centroidal(const StarGraph &g, int32_t v) {
     const bool guarded = !s_.near_gamma.empty() && s_.near_gamma[v];
     int crossings = -1;
     const double slack = s_.floor_slack(v, ring, g.link(v));
-    double spoke_spacing[Ring::kMax];
-    for (int k = 0; k < ring.m; ++k)
-        spoke_spacing[k] = 0.5 * (static_cast<double>(s_.h_at[v]) + static_cast<double>(s_.h_at[g.link(v)[k]]));
+    // Each spoke's least length: kLloydShortest of its spacing, or what it
+    // is if already shorter.
+    double least_spoke[Ring::kMax];
+    for (int k = 0; k < ring.m; ++k) {
+        const double h = 0.5 * (static_cast<double>(s_.h_at[v]) + static_cast<double>(s_.h_at[g.link(v)[k]]));
+        least_spoke[k] = std::min(kLloydShortest * h, geom::norm(here.x - ring.at(k).x));
+    }
     double step = 1;
     for (int i = 0; i <= kCentroidalHalvings; ++i, step *= 0.5) {
         Generator moved = here;
         moved.x = geom::normalized((1 - step) * here.x + step * target);
-        if (lloyd_margin(ring, moved, floor) < floor || !keeps_spokes(ring, here.x, moved.x, spoke_spacing)) continue;
+        if (lloyd_margin(ring, moved, floor) < floor || !keeps_spokes(ring, moved.x, least_spoke)) continue;
         if (!star_is_valid(ring, moved) || !s_.move_keeps_floor(v, moved.x, slack, ring, g.link(v))) continue;
         if (guarded) {
             if (crossings < 0) crossings = s_.gamma_crossings(v, ring, g.link(v), here);

@@ -158,10 +158,12 @@ std::vector<std::array<int64_t, 6>> edge_point_neighbours(const LatticeIndex &in
 // One Jacobi sweep of the springs: each point but the corners goes to the
 // mean of where each neighbour's spring of length `rest` would put it (the
 // neighbour plus rest along the chord towards the point), weighted by the
-// springs' stiffness, back on the sphere. Returns the sum of the chords it measured (each edge twice), by
-// item in a fixed order so that the sum is the same for any thread count.
+// springs' stiffness, back on the sphere; with `rest` 0 it only measures.
+// Returns the sum of the chords it measured (each edge twice), by item in a
+// fixed order so that the sum is the same for any thread count.
 double spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<std::array<int64_t, 6>> &edge_nbrs,
                     const std::vector<Vec3> &from, std::vector<Vec3> &to, double rest) {
+    const bool measuring = !(rest > 0);
     auto place = [&](int64_t p, const int64_t *nbrs, int count, double &chords) {
         const Vec3 x = from[p];
         Vec3 sum{};
@@ -170,7 +172,7 @@ double spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<s
             const Vec3 d = x - y;
             const double length = geom::norm(d);
             chords += length;
-            if (!(length > 0)) continue;
+            if (measuring || !(length > 0)) continue;
             if (length >= kShortest * rest) {
                 sum = sum + y + (rest / length) * d;
             } else {
@@ -178,7 +180,7 @@ double spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<s
                 sum = sum + (1 + kStiffer) * (y + (kStiffRest * rest / length) * d);
             }
         }
-        to[p] = geom::normalized(sum);
+        if (!measuring) to[p] = geom::normalized(sum);
     };
     const int64_t n = index.frequency();
     const int64_t edge_items = index.edge_count(), items = edge_items + index.row_count();
@@ -229,7 +231,7 @@ void relax(Context &ctx, const LatticeIndex &index, std::vector<Vec3> &points, i
     const std::vector<std::array<int64_t, 6>> edge_nbrs = edge_point_neighbours(index);
     const double chord_ends = 6.0 * static_cast<double>(index.size() - 12) + 5.0 * 12;  // each edge twice
     std::vector<Vec3> next(points.size());
-    double rest = spring_sweep(ctx, index, edge_nbrs, points, next, 0) / chord_ends;  // measures only
+    double rest = spring_sweep(ctx, index, edge_nbrs, points, next, 0) / chord_ends;
     for (int k = 0; k < sweeps; ++k) {
         ctx.heartbeat(kStage, 0);
         rest = spring_sweep(ctx, index, edge_nbrs, points, next, rest) / chord_ends;

@@ -349,13 +349,14 @@ int run_build(const BuildArgs &a) {
                                   dir + "quality.png");
         (plotted ? written : not_written).push_back("quality.png");
         bool mapped = false;
-        if (cell_count(m) <= kMapCellLimit) {
+        const int64_t cells = cell_count(m);
+        if (cells <= kMapCellLimit) {
             std::vector<std::string> map_arguments{mesh_nc, out->staged("mesh.png")};
             map_arguments.insert(map_arguments.end(), a.geometry.begin(), a.geometry.end());
             mapped = plot("plot_mesh.py", map_arguments, dir + "mesh.png");
         } else {
             std::fprintf(stderr, "unimesh build: note: no %smesh.png: %lld cells, more than the map draws (%lld)\n",
-                         dir.c_str(), static_cast<long long>(cell_count(m)), static_cast<long long>(kMapCellLimit));
+                         dir.c_str(), static_cast<long long>(cells), static_cast<long long>(kMapCellLimit));
         }
         (mapped ? written : not_written).push_back("mesh.png");
         try {

@@ -87,11 +87,6 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
             throw CaseError{"'threads' must be an integer in [0, 1024]" + where(*n)};
         a.threads = static_cast<int>(v->get());
     }
-    if (const toml::node *n = t.get("optimise"); n && !given.no_optimise) {
-        auto v = n->value<bool>();
-        if (!v) throw CaseError{"'optimise' must be true or false" + where(*n)};
-        a.no_optimise = !*v;
-    }
     auto flag = [&](const char *key, bool given_too, bool &value) {
         const toml::node *n = t.get(key);
         if (!n || given_too) return;
@@ -99,6 +94,9 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
         if (!v) throw CaseError{std::string("'") + key + "' must be true or false" + where(*n)};
         value = *v;
     };
+    bool optimise = !a.no_optimise;
+    flag("optimise", given.no_optimise, optimise);
+    a.no_optimise = !optimise;
     flag("vtu", given.vtu, a.vtu);
     flag("jigsaw", given.jigsaw, a.jigsaw);
     if (const toml::node *n = t.get("out"); n && !given.out) a.out_dir = resolve(folder, string_value(*n, "out"));
