@@ -12,8 +12,8 @@
 #include "core/error.hpp"
 #include "dual/mpas_fields.hpp"
 #include "io/error_text.hpp"
+#include "io/nc_output.hpp"
 #include "io/netcdf_lock.hpp"
-#include "io/replacing_file.hpp"
 
 namespace um::io {
 
@@ -51,44 +51,6 @@ struct Hash {
 
 // ----------------------------------------------------------------- netCDF
 
-
-// A file being created under a temporary name (ReplacingFile): errors throw
-// UM_ERR_IO naming the final path; close() renames it into place, and
-// without that the destructor aborts it and removes the temporary file only.
-class NcOutput {
-public:
-    NcOutput(const std::string &path, int mode) : path_(path), file_(path, "MPAS mesh file") {
-        int status = nc_create(file_.temporary_path().c_str(), mode | NC_CLOBBER, &id_);
-        if (status != NC_NOERR) {
-            id_ = -1;
-            fail(UM_ERR_IO, "cannot create MPAS mesh file '", path, "': ", netcdf_status_text(status));
-        }
-    }
-    ~NcOutput() {
-        if (id_ >= 0) nc_abort(id_);
-    }
-    NcOutput(const NcOutput &) = delete;
-    NcOutput &operator=(const NcOutput &) = delete;
-
-    int id() const { return id_; }
-    void check(int status, const char *what, const char *name = "") const {
-        if (status != NC_NOERR)
-            fail(UM_ERR_IO, "cannot write MPAS mesh file '", path_, "': ", what, name, ": ",
-                 netcdf_status_text(status));
-    }
-    void close() {
-        int status = nc_close(id_);
-        id_ = -1;  // nc_close frees the id even when flushing fails
-        check(status, "closing the file");
-        file_.commit();
-    }
-
-private:
-    std::string path_;
-    ReplacingFile file_;
-    int id_ = -1;
-};
-
 size_t dim_length(const MpasMesh &m, MpasDim d) {
     return static_cast<size_t>(dual::mpas_dim_length(m, d));
 }
@@ -106,11 +68,6 @@ int format_for(const MpasMesh &m, const std::vector<MpasField> &fields, uint64_t
     return NC_64BIT_OFFSET;
 }
 
-void put_text(const NcOutput &nc, int var, const char *name, const std::string &value) {
-    nc.check(nc_put_att_text(nc.id(), var, name, value.size(), value.data()),
-             "writing attribute ", name);
-}
-
 void define(const NcOutput &nc, const MpasMesh &m, const std::vector<MpasField> &fields,
             std::vector<int> &var_ids) {
     int dim_ids[dual::kMpasDimCount];
@@ -126,23 +83,23 @@ void define(const NcOutput &nc, const MpasMesh &m, const std::vector<MpasField> 
         nc_type type = f.kind == MpasKind::real ? NC_DOUBLE : NC_INT;
         nc.check(nc_def_var(nc.id(), f.name, type, static_cast<int>(f.dims.size()), dims, &var),
                  "defining variable ", f.name);
-        put_text(nc, var, "long_name", f.long_name);
-        if (f.units) put_text(nc, var, "units", f.units);
+        nc.put_text(var, "long_name", f.long_name);
+        if (f.units) nc.put_text(var, "units", f.units);
         if (f.n_flags > 0) {
             nc.check(nc_put_att_int(nc.id(), var, "flag_values", NC_INT, f.n_flags, f.flag_values),
                      "writing attribute flag_values of ", f.name);
-            put_text(nc, var, "flag_meanings", f.flag_meanings);
+            nc.put_text(var, "flag_meanings", f.flag_meanings);
         }
         var_ids.push_back(var);
     }
-    put_text(nc, NC_GLOBAL, "on_a_sphere", "YES");
+    nc.put_text(NC_GLOBAL, "on_a_sphere", "YES");
     nc.check(nc_put_att_double(nc.id(), NC_GLOBAL, "sphere_radius", NC_DOUBLE, 1, &m.radius_m),
              "writing attribute sphere_radius");
-    put_text(nc, NC_GLOBAL, "is_periodic", "NO");
-    put_text(nc, NC_GLOBAL, "mesh_spec", "1.0");
-    put_text(nc, NC_GLOBAL, "Conventions", "MPAS");
-    put_text(nc, NC_GLOBAL, "source", "unimesh " UM_VERSION_STRING);
-    put_text(nc, NC_GLOBAL, "file_id", mpas_file_id(m));
+    nc.put_text(NC_GLOBAL, "is_periodic", "NO");
+    nc.put_text(NC_GLOBAL, "mesh_spec", "1.0");
+    nc.put_text(NC_GLOBAL, "Conventions", "MPAS");
+    nc.put_text(NC_GLOBAL, "source", "unimesh " UM_VERSION_STRING);
+    nc.put_text(NC_GLOBAL, "file_id", mpas_file_id(m));
 }
 
 // Writes a variable in blocks of rows, so that the 1-based copy of a large
@@ -201,7 +158,7 @@ void write_mpas_mesh(const MpasMesh &m, const std::string &path, uint64_t variab
                  " values instead of ", n);
     }
     NetcdfLock lock;
-    NcOutput nc(path, format_for(m, fields, variable_limit));
+    NcOutput nc(path, format_for(m, fields, variable_limit), "MPAS mesh file");
     int old_fill = 0;
     nc.check(nc_set_fill(nc.id(), NC_NOFILL, &old_fill), "setting no-fill mode");
     std::vector<int> var_ids;

@@ -12,7 +12,7 @@
 #include "core/error.hpp"
 #include "io/error_text.hpp"
 #include "io/input_file.hpp"
-#include "io/netcdf_header.hpp"
+#include "io/nc_input.hpp"
 #include "io/netcdf_lock.hpp"
 
 namespace um::io {
@@ -28,31 +28,6 @@ template <class... Parts>
     fail(UM_ERR_FILE_FORMAT, "spacing file '", path, "': ", parts...);
 }
 
-// An open file, closed on every way out. Lives inside a NetcdfLock.
-class NcFile {
-public:
-    explicit NcFile(const std::string &path) {
-        require_regular_input(path, "spacing file");
-        // netCDF-C trusts a classic header's counts and name lengths.
-        const std::string problem = classic_header_problem(path);
-        if (!problem.empty()) format_error(path, "its netCDF header is malformed: ", problem);
-        int status = nc_open(path.c_str(), NC_NOWRITE, &id_);
-        // netCDF returns errno values (> 0) for system errors and its own
-        // negative codes when the bytes are not a readable netCDF file.
-        if (status > 0) fail(UM_ERR_IO, "cannot open spacing file '", path, "': ", netcdf_status_text(status));
-        if (status != NC_NOERR)
-            format_error(path, "not a readable netCDF file (", netcdf_status_text(status),
-                         "): not netCDF, damaged or truncated");
-    }
-    ~NcFile() { nc_close(id_); }
-    NcFile(const NcFile &) = delete;
-    NcFile &operator=(const NcFile &) = delete;
-    int id() const { return id_; }
-
-private:
-    int id_ = -1;
-};
-
 struct Variable {
     const char *name = "";
     int id = -1;
@@ -63,7 +38,7 @@ struct Variable {
 
 bool numeric(nc_type t) { return t != NC_CHAR && t != NC_STRING && t >= NC_BYTE && t <= NC_UINT64; }
 
-Variable find_variable(const NcFile &file, const std::string &path, const char *name) {
+Variable find_variable(const NcInput &file, const std::string &path, const char *name) {
     Variable v;
     v.name = name;
     int status = nc_inq_varid(file.id(), name, &v.id);
@@ -108,7 +83,7 @@ void check_cell_shape(const Variable &cells, const Variable &lon, const Variable
 }
 
 // The text of a units attribute, lower case and trimmed; "" when absent.
-std::string units(const NcFile &file, const Variable &v) {
+std::string units(const NcInput &file, const Variable &v) {
     nc_type type = NC_NAT;
     size_t length = 0;
     if (nc_inq_att(file.id(), v.id, "units", &type, &length) != NC_NOERR) return "";
@@ -128,7 +103,7 @@ std::string units(const NcFile &file, const Variable &v) {
     return out;
 }
 
-void check_units(const NcFile &file, const Variable &v, const std::string &path) {
+void check_units(const NcInput &file, const Variable &v, const std::string &path) {
     const std::string u = units(file, v);
     if (u.empty()) return;
     if (std::strcmp(v.name, kFileNames.cells) == 0) {
@@ -140,7 +115,7 @@ void check_units(const NcFile &file, const Variable &v, const std::string &path)
         format_error(path, "variable '", v.name, "' has units '", u, "'; expected degrees");
 }
 
-std::vector<double> read_values(const NcFile &file, const Variable &v, size_t count,
+std::vector<double> read_values(const NcInput &file, const Variable &v, size_t count,
                                 const std::string &path) {
     std::vector<double> values(count);
     int status = nc_get_var_double(file.id(), v.id, values.data());
@@ -150,7 +125,7 @@ std::vector<double> read_values(const NcFile &file, const Variable &v, size_t co
 }
 
 // Unwritten cells read back as the fill value: missing data, not a width.
-void check_fill(const NcFile &file, const Variable &v, const std::vector<double> &cells,
+void check_fill(const NcInput &file, const Variable &v, const std::vector<double> &cells,
                 size_t n_lon, const std::string &path) {
     int no_fill = 0;
     double fill = 0;
@@ -170,99 +145,13 @@ void check_fill(const NcFile &file, const Variable &v, const std::vector<double>
                          fill, " (missing data)");
 }
 
-// Classic-format (CDF-1/2/5) header size, from the structure the format
-// specification gives; CDF-5 widens counts and lengths to 8 bytes.
-class ClassicHeaderSize {
-public:
-    ClassicHeaderSize(int ncid, int format) : id_(ncid), wide_(format == NC_FORMAT_CDF5 ? 8 : 4) {}
-    int64_t total() const {
-        int ndims = 0, nvars = 0, ngatts = 0;
-        if (nc_inq(id_, &ndims, &nvars, &ngatts, nullptr) != NC_NOERR) return 0;
-        int64_t size = 4 + wide_ + list(ndims, [&](int d) { return dimension(d); }) +
-                       attributes(NC_GLOBAL, ngatts);
-        return size + list(nvars, [&](int v) { return variable(v); });
-    }
-
-private:
-    static int64_t pad4(int64_t n) { return (n + 3) / 4 * 4; }
-    template <class Item>
-    int64_t list(int n, Item item) const {  // tag, count, items
-        int64_t size = 4 + wide_;
-        for (int k = 0; k < n; ++k) size += item(k);
-        return size;
-    }
-    int64_t name(const char *text) const { return wide_ + pad4(int64_t(std::strlen(text))); }
-    int64_t dimension(int d) const {
-        char text[NC_MAX_NAME + 1] = "";
-        nc_inq_dimname(id_, d, text);
-        return name(text) + wide_;
-    }
-    int64_t attributes(int var, int n) const {
-        return list(n, [&](int a) {
-            char text[NC_MAX_NAME + 1] = "";
-            nc_type type = NC_NAT;
-            size_t count = 0, type_size = 0;
-            nc_inq_attname(id_, var, a, text);
-            nc_inq_att(id_, var, text, &type, &count);
-            nc_inq_type(id_, type, nullptr, &type_size);
-            return name(text) + 4 + wide_ + pad4(int64_t(count * type_size));
-        });
-    }
-    int64_t variable(int v) const {
-        char text[NC_MAX_NAME + 1] = "";
-        int ndims = 0, natts = 0;
-        nc_inq_var(id_, v, text, nullptr, &ndims, nullptr, &natts);
-        return name(text) + wide_ + wide_ * ndims + attributes(v, natts) + 4 + wide_ +
-               (wide_ == 8 ? 8 : offset_size());
-    }
-    int64_t offset_size() const {  // "begin" is 8 bytes from CDF-2 on
-        int format = 0;
-        nc_inq_format(id_, &format);
-        return format == NC_FORMAT_CLASSIC ? 4 : 8;
-    }
-
-    int id_;
-    int64_t wide_;
-};
-
-// netCDF-C reads the missing tail of a truncated classic file as zeros without
-// an error, so the length is checked against its header plus its data.
-void check_classic_length(const NcFile &file, const std::string &path) {
-    int format = 0;
-    if (nc_inq_format(file.id(), &format) != NC_NOERR ||
-        (format != NC_FORMAT_CLASSIC && format != NC_FORMAT_64BIT_OFFSET && format != NC_FORMAT_CDF5))
-        return;
-    int nvars = 0;
-    nc_inq_nvars(file.id(), &nvars);
-    int64_t needed = ClassicHeaderSize(file.id(), format).total();
-    for (int v = 0; v < nvars; ++v) {
-        nc_type type = NC_NAT;
-        int ndims = 0, dims[NC_MAX_VAR_DIMS];
-        size_t type_size = 0, length = 0;
-        nc_inq_var(file.id(), v, nullptr, &type, &ndims, dims, nullptr);
-        nc_inq_type(file.id(), type, nullptr, &type_size);
-        int64_t bytes = int64_t(type_size);
-        for (int k = 0; k < ndims; ++k) {
-            nc_inq_dimlen(file.id(), dims[k], &length);
-            bytes *= int64_t(length);
-        }
-        needed += bytes;
-    }
-    std::error_code error;
-    const auto actual = std::filesystem::file_size(path, error);
-    if (!error && int64_t(actual) < needed)
-        format_error(path, "the file is truncated: it has ", int64_t(actual),
-                     " bytes, its header and data need at least ", needed);
-}
-
 struct Arrays {
     std::vector<double> lon, lat, cells;
 };
 
 Arrays read_arrays(const std::string &path, const Context &ctx) {
     NetcdfLock lock;  // before the file: the file closes first, then the lock opens
-    NcFile file(path);
-    check_classic_length(file, path);
+    NcInput file(path, "spacing file");
     Variable lon = find_variable(file, path, "lon"), lat = find_variable(file, path, "lat"),
              cells = find_variable(file, path, "cellWidth");
     check_axis_shape(lon, path);

@@ -6,33 +6,12 @@
 #include <queue>
 #include <tuple>
 
+#include "core/disjoint_sets.hpp"
 #include "geom/sphere.hpp"
 
 namespace um::quality {
 
 namespace {
-
-// Union-find with the lowest index as each set's root.
-class Sets {
-public:
-    explicit Sets(size_t n) : parent_(n) {
-        for (size_t i = 0; i < n; ++i) parent_[i] = static_cast<int32_t>(i);
-    }
-    int32_t root(int32_t v) {
-        while (parent_[v] != v) v = parent_[v] = parent_[parent_[v]];
-        return v;
-    }
-    // Whether a and b were apart (and are now joined).
-    bool join(int32_t a, int32_t b) {
-        a = root(a), b = root(b);
-        if (a == b) return false;
-        parent_[std::max(a, b)] = std::min(a, b);
-        return true;
-    }
-
-private:
-    std::vector<int32_t> parent_;
-};
 
 // Per vertex slot, the index of its ocean region (-1: not in the ocean
 // mesh); regions numbered by their lowest slot.
@@ -42,7 +21,7 @@ std::vector<int32_t> region_of_cells(const tri::Triangulation &tri, const std::v
     auto ocean = [&](int32_t v) {
         return static_cast<size_t>(v) < ocean_cell.size() && ocean_cell[v] != 0 && tri.in_triangulation(v);
     };
-    Sets cells(static_cast<size_t>(n));
+    DisjointSets cells(static_cast<size_t>(n));
     for (int32_t v = 0; v < n; ++v)
         if (ocean(v))
             tri.for_each_neighbour(v, [&](int32_t w) {
@@ -77,7 +56,7 @@ std::vector<int32_t> body_of_regions(const std::vector<int32_t> &region, int32_t
     std::sort(rings.begin(), rings.end());
     rings.erase(std::unique(rings.begin(), rings.end()), rings.end());
     // Nodes: the regions, then the rings.
-    Sets bodies(static_cast<size_t>(n_regions) + rings.size());
+    DisjointSets bodies(static_cast<size_t>(n_regions) + rings.size());
     for (const auto &[v, ring] : contacts) {
         if (static_cast<size_t>(v) >= region.size() || region[v] < 0) continue;
         const auto at = std::lower_bound(rings.begin(), rings.end(), ring) - rings.begin();
@@ -151,7 +130,7 @@ OceanConnectivity ocean_connectivity(const tri::Triangulation &tri, const std::v
         });
     }
     std::sort(meetings.begin(), meetings.end());
-    Sets joined(static_cast<size_t>(n_regions));
+    DisjointSets joined(static_cast<size_t>(n_regions));
     for (const auto &[c, v, w] : meetings) {
         if (!joined.join(label[v], label[w])) continue;
         OceanConnectivity::ClosedPassage p{0, 0, land_cells(c)};

@@ -1,0 +1,33 @@
+// A netCDF file being created under a temporary name (ReplacingFile):
+// errors throw UM_ERR_IO naming the final path and the kind of file; close()
+// renames it into place, and without that the destructor aborts it and
+// removes the temporary file only. Callers hold the NetcdfLock.
+#pragma once
+
+#include <string>
+
+#include "io/replacing_file.hpp"
+
+namespace um::io {
+
+class NcOutput {
+public:
+    // what: the kind of file, for errors ("MPAS mesh file"); mode: nc_create's.
+    NcOutput(const std::string &path, int mode, const char *what);
+    ~NcOutput();
+    NcOutput(const NcOutput &) = delete;
+    NcOutput &operator=(const NcOutput &) = delete;
+
+    int id() const { return id_; }
+    // Throws UM_ERR_IO unless status is NC_NOERR: "cannot write <what> '<path>': <doing><name>: <reason>".
+    void check(int status, const char *doing, const char *name = "") const;
+    void put_text(int var, const char *name, const std::string &value) const;
+    void close();
+
+private:
+    std::string path_, what_;
+    ReplacingFile file_;
+    int id_ = -1;
+};
+
+}  // namespace um::io
