@@ -799,6 +799,65 @@ UM_API um_status um_mesh_write_jigsaw(const um_mesh *m, const char *path);
 /* Frees the staggered mesh kept by the calls above (m stays valid). */
 UM_API um_status um_mesh_release_mpas(um_mesh *m);
 
+/* -------------------------------------------------------- component meshes */
+
+/* One unified mesh, every component's files. The cells of a mesh made with
+ * closed coastlines split into the ocean mesh (cellOceanMask = 1) and the
+ * land mesh (cellLandMask = 1: land and river cells); every cell is in
+ * exactly one. Each component is a valid MPAS mesh with a boundary, cut out
+ * the way MPAS-Tools' cell culler cuts: its cells, every edge and vertex of
+ * theirs, numbered 1.. in the base mesh's order; 0 in cellsOnCell,
+ * cellsOnEdge(2, e), cellsOnVertex and edgesOnVertex where the neighbour is
+ * in the other component; boundaryVertex = 1 at the vertices of the cut.
+ * cellsOnEdge(1, e) is always a cell of the component: an edge whose first
+ * cell is cut off is turned around with its vertices, angleEdge and river
+ * direction. Areas, lengths and kites are the base mesh's; weightsOnEdge
+ * keeps the TRSK stencil of the edge's cells in the component. Each
+ * component has baseCellId, baseEdgeId and baseVertexId (the base mesh's
+ * ids); the base gets oceanCellId, landCellId, oceanEdgeId, landEdgeId,
+ * oceanVertexId and landVertexId (0 where an element is not in that
+ * component; an edge or vertex of the cut is in both).
+ *
+ * River routing (in every MPAS mesh with rivers, and carried into the land
+ * mesh): per cell downstreamCell (the cell its river drains to, 0 none) and
+ * riverCellKind (0 no river, 1 routed, 2 outlet, 3 inland); the direction
+ * comes from the network's topology: river cells on the coast (beside an
+ * ocean cell) are outlets, every other river cell drains along the shortest
+ * path of river edges to the nearest outlet of its network. Networks that
+ * reach no coast (inland) and networks with cycles are reported.
+ *
+ * um_mesh_write_components writes into directory (which must exist):
+ *   mesh.nc                 the base MPAS mesh (as um_mesh_write_mpas) with
+ *                           the maps to the components;
+ *   ocean.nc, land.nc       the component MPAS meshes;
+ *   ocean.graph.info, land.graph.info   their METIS graphs (for gpmetis);
+ *   mesh.scrip.nc, ocean.scrip.nc, land.scrip.nc   SCRIP grids (grid_center_
+ *                           lat/lon, grid_corner_lat/lon in degrees from the
+ *                           cells' vertices, grid_area in radians^2,
+ *                           grid_imask, grid_dims), as CDO and
+ *                           ESMF_RegridWeightGen read them;
+ *   mesh.esmf.nc, ocean.esmf.nc, land.esmf.nc   ESMF unstructured meshes
+ *                           (nodeCoords, elementConn, numElementConn,
+ *                           centerCoords, elementArea, elementMask);
+ *   rivers.json             the river report (um_mesh_river_report_json).
+ * Each file is written under a temporary name and renamed when complete.
+ * um_mpas_file_write_components does the same from an MPAS mesh file (ours,
+ * with cellOceanMask and cellLandMask; the river routing is made again from
+ * its edgeFeatureKind); it reads netCDF-4 files in-process, with netCDF-C.
+ * Errors: UM_ERR_INVALID_ARGUMENT for a mesh without the cell masks or with
+ * an empty component; UM_ERR_IO naming the file or directory;
+ * UM_ERR_FILE_FORMAT naming what is wrong in mesh_path; UM_ERR_MEMORY_CAP. */
+UM_API um_status um_mesh_write_components(const um_mesh *m, const char *directory);
+UM_API um_status um_mpas_file_write_components(um_context *ctx, const char *mesh_path,
+                                               const char *directory);
+/* The river routing report as JSON: {"networks", "river_cells",
+ * "routed_cells", "outlets", "inland_cells", "inland_networks": [...],
+ * "networks_with_cycles": [...]}, each listed network as {"network",
+ * "cells", "cycles", "cell" (its lowest 1-based MPAS cell id), "lat", "lon"
+ * (degrees)}. Copied out as um_mesh_quality_json does. */
+UM_API um_status um_mesh_river_report_json(const um_mesh *m, char *buf, int64_t capacity,
+                                           int64_t *needed);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

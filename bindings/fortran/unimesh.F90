@@ -166,6 +166,7 @@ module unimesh
       um_mesh_get_vertex_sides, um_mesh_get_triangle_sides
   public :: um_mesh_quality_summary, um_mesh_quality_counts, um_mesh_quality_json
   public :: um_mesh_write_mpas, um_mesh_write_jigsaw, um_mesh_mpas_dimensions, um_mesh_get_mpas, um_mesh_release_mpas
+  public :: um_mesh_write_components, um_mpas_file_write_components, um_mesh_river_report_json
 
   ! An MPAS variable by its netCDF name into an allocatable array: rank 1
   ! for variables of one dimension (areaCell(nCells)), rank 2 in MPAS's own
@@ -193,6 +194,18 @@ module unimesh
   interface um_triangulation_counts
     module procedure triangulation_counts, triangulation_counts_int64
   end interface um_triangulation_counts
+
+  ! The C functions that copy out a mesh's JSON report (um_mesh_quality_json,
+  ! um_mesh_river_report_json), for the one routine that sizes and copies.
+  abstract interface
+    integer(c_int32_t) function mesh_json_fn(m, buf, capacity, needed) bind(c)
+      import :: c_int32_t, c_int64_t, c_ptr, c_char
+      type(c_ptr), value :: m
+      character(kind=c_char), intent(out), optional :: buf(*)
+      integer(c_int64_t), value :: capacity
+      integer(c_int64_t), intent(out), optional :: needed
+    end function mesh_json_fn
+  end interface
 
   ! C's strlen, to size the Fortran copy of a borrowed C string.
   interface
@@ -1406,6 +1419,18 @@ contains
     type(um_mesh_t), intent(in) :: mesh
     character(len=:), allocatable, intent(out) :: text
     integer, optional, intent(out) :: ierr
+    call mesh_json(mesh, c_um_mesh_quality_json, 'um_mesh_quality_json', text, ierr)
+  end subroutine um_mesh_quality_json
+
+  ! A JSON report sized, then copied: the sizing call (capacity 0) reports
+  ! the length needed; the error it records is ours, not the caller's, and
+  ! goes again.
+  subroutine mesh_json(mesh, fn, name, text, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    procedure(mesh_json_fn) :: fn
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable, intent(out) :: text
+    integer, optional, intent(out) :: ierr
     character(kind=c_char), allocatable :: buf(:)
     integer(c_int64_t) :: needed
     integer(c_int32_t) :: status, before
@@ -1413,17 +1438,15 @@ contains
     needed = 0
     before = UM_OK
     if (c_associated(mesh%ctx)) before = c_um_context_last_status(mesh%ctx)
-    ! The sizing call (capacity 0) reports the length needed; the error it
-    ! records is ours, not the caller's, and goes again.
-    status = c_um_mesh_quality_json(mesh%ptr, capacity=0_c_int64_t, needed=needed)
+    status = fn(mesh%ptr, capacity=0_c_int64_t, needed=needed)
     if (status == UM_ERR_BUFFER_TOO_SMALL) then
       if (before == UM_OK .and. c_associated(mesh%ctx)) status = c_um_context_clear_error(mesh%ctx)
       allocate (buf(needed))
-      status = c_um_mesh_quality_json(mesh%ptr, buf, needed, needed)
+      status = fn(mesh%ptr, buf, needed, needed)
       if (status == UM_OK) text = from_c_chars(buf, int(needed) - 1)
     end if
-    call finish(status, mesh%ctx, 'um_mesh_quality_json', ierr)
-  end subroutine um_mesh_quality_json
+    call finish(status, mesh%ctx, name, ierr)
+  end subroutine mesh_json
 
   !> Writes the MPAS mesh file (netCDF) of the mesh.
   subroutine um_mesh_write_mpas(mesh, path, ierr)
@@ -1432,6 +1455,33 @@ contains
     integer, optional, intent(out) :: ierr
     call finish(c_um_mesh_write_mpas(mesh%ptr, to_c(path)), mesh%ctx, 'um_mesh_write_mpas', ierr)
   end subroutine um_mesh_write_mpas
+
+  !> Writes the component meshes and coupler grids into an existing
+  !> directory: mesh.nc (with the maps), ocean.nc, land.nc, their graph.info
+  !> files, SCRIP and ESMF grids of all three, rivers.json.
+  subroutine um_mesh_write_components(mesh, directory, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=*), intent(in) :: directory
+    integer, optional, intent(out) :: ierr
+    call finish(c_um_mesh_write_components(mesh%ptr, to_c(directory)), mesh%ctx, 'um_mesh_write_components', ierr)
+  end subroutine um_mesh_write_components
+
+  !> The same from an MPAS mesh file with the ocean and land cell masks.
+  subroutine um_mpas_file_write_components(ctx, mesh_path, directory, ierr)
+    type(um_context_t), intent(in) :: ctx
+    character(len=*), intent(in) :: mesh_path, directory
+    integer, optional, intent(out) :: ierr
+    call finish(c_um_mpas_file_write_components(ctx%ptr, to_c(mesh_path), to_c(directory)), ctx%ptr, &
+                'um_mpas_file_write_components', ierr)
+  end subroutine um_mpas_file_write_components
+
+  !> The river routing report as JSON text (what rivers.json holds).
+  subroutine um_mesh_river_report_json(mesh, text, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=:), allocatable, intent(out) :: text
+    integer, optional, intent(out) :: ierr
+    call mesh_json(mesh, c_um_mesh_river_report_json, 'um_mesh_river_report_json', text, ierr)
+  end subroutine um_mesh_river_report_json
 
   !> Writes the triangulation in JIGSAW's .msh format.
   subroutine um_mesh_write_jigsaw(mesh, path, ierr)

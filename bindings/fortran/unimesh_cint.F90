@@ -735,6 +735,30 @@ module unimesh_cint
       import :: c_int32_t, c_ptr
       type(c_ptr), value :: m
     end function c_um_mesh_release_mpas
+
+    integer(c_int32_t) function c_um_mesh_write_components(m, directory) &
+        bind(c, name="um_mesh_write_components")
+      import :: c_int32_t, c_ptr, c_char
+      type(c_ptr), value :: m
+      character(kind=c_char), intent(in) :: directory(*)
+    end function c_um_mesh_write_components
+
+    integer(c_int32_t) function c_um_mpas_file_write_components(ctx, mesh_path, directory) &
+        bind(c, name="um_mpas_file_write_components")
+      import :: c_int32_t, c_ptr, c_char
+      type(c_ptr), value :: ctx
+      character(kind=c_char), intent(in) :: mesh_path(*)
+      character(kind=c_char), intent(in) :: directory(*)
+    end function c_um_mpas_file_write_components
+
+    integer(c_int32_t) function c_um_mesh_river_report_json(m, buf, capacity, needed) &
+        bind(c, name="um_mesh_river_report_json")
+      import :: c_int32_t, c_int64_t, c_ptr, c_char
+      type(c_ptr), value :: m
+      character(kind=c_char), intent(out), optional :: buf(*)
+      integer(c_int64_t), value :: capacity
+      integer(c_int64_t), intent(out), optional :: needed
+    end function c_um_mesh_river_report_json
   end interface
 
 end module unimesh_cint

@@ -24,11 +24,7 @@ um::Context *mesh_context(const um_mesh *m) {
     return um::capi::is_live(m, HandleKind::mesh) ? m->context.get() : nullptr;
 }
 
-const um::dual::MpasMesh &mpas_of(const um_mesh *m) {
-    if (!m->mpas)
-        m->mpas = std::make_unique<um::dual::MpasMesh>(um::dual::build_mpas_mesh(*m->context, m->mesh));
-    return *m->mpas;
-}
+const um::dual::MpasMesh &mpas_of(const um_mesh *m) { return m->staggered(); }
 
 // The variable called name, checked to be of the given type (0: any).
 um::dual::MpasField field_of(const um::dual::MpasMesh &mpas, const char *name, int32_t type) {

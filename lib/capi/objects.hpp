@@ -40,6 +40,10 @@ struct um_mesh {
     // The MPAS staggered mesh of `mesh`, built on the first copy-out and kept
     // until released or the mesh changes.
     mutable std::unique_ptr<um::dual::MpasMesh> mpas;
+    const um::dual::MpasMesh &staggered() const {
+        if (!mpas) mpas = std::make_unique<um::dual::MpasMesh>(um::dual::build_mpas_mesh(*context, mesh));
+        return *mpas;
+    }
     // Set while a call uses the mesh: a call on it from inside another's
     // callback (progress, log, a spacing callback) or from a second thread
     // gets UM_ERR_USAGE instead of a mesh that changes or vanishes under

@@ -1,5 +1,6 @@
 #include "dual/mpas_fields.hpp"
 
+#include "dual/river_routing.hpp"
 #include "unimesh.h"
 
 namespace um::dual {
@@ -34,6 +35,31 @@ constexpr const char *kSideMeanings = "ocean land coastal";
 constexpr int32_t kFeatureFlags[6] = {0, UM_FEATURE_COASTLINE, UM_FEATURE_LAKE, UM_FEATURE_RIVER,
                                       UM_FEATURE_WATERSHED, UM_FEATURE_OTHER};
 constexpr const char *kFeatureMeanings = "none coastline lake river watershed other";
+constexpr int32_t kRiverFlags[4] = {kNotRiver, kRouted, kOutlet, kInland};
+constexpr const char *kRiverMeanings = "none routed outlet inland";
+
+// The maps between a base mesh and its component meshes, where m has them.
+void add_component_maps(const MpasMesh &m, std::vector<MpasField> &f) {
+    const struct {
+        const char *name;
+        MpasDim dim;
+        const std::vector<int32_t> &map;
+        const char *long_name;
+    } maps[] = {
+        {"baseCellId", D::nCells, m.base_cell, "the cell of the base mesh this cell is"},
+        {"baseEdgeId", D::nEdges, m.base_edge, "the edge of the base mesh this edge is"},
+        {"baseVertexId", D::nVertices, m.base_vertex, "the vertex of the base mesh this vertex is"},
+        {"oceanCellId", D::nCells, m.ocean_cell, "the cell of the ocean mesh this cell is, 0 where none"},
+        {"oceanEdgeId", D::nEdges, m.ocean_edge, "the edge of the ocean mesh this edge is, 0 where none"},
+        {"oceanVertexId", D::nVertices, m.ocean_vertex, "the vertex of the ocean mesh this vertex is, 0 where none"},
+        {"landCellId", D::nCells, m.land_cell, "the cell of the land mesh this cell is, 0 where none"},
+        {"landEdgeId", D::nEdges, m.land_edge, "the edge of the land mesh this edge is, 0 where none"},
+        {"landVertexId", D::nVertices, m.land_vertex, "the vertex of the land mesh this vertex is, 0 where none"},
+    };
+    for (const auto &map : maps)
+        if (!map.map.empty())
+            f.push_back(MpasField{map.name, {map.dim}, MpasKind::index, nullptr, &map.map, map.long_name, nullptr});
+}
 
 }  // namespace
 
@@ -89,7 +115,7 @@ std::vector<MpasField> mpas_fields(const MpasMesh &m) {
         real("dvEdge", {D::nEdges}, m.dv_edge, "great-circle distance between the two vertices", "m"),
         real("angleEdge", {D::nEdges}, m.angle_edge, "angle of the edge normal counter-clockwise from east", "radians"),
         real("meshDensity", {D::nCells}, m.mesh_density, "mesh density (min cell width / cell width)^4", nullptr),
-        integer("boundaryVertex", {D::nVertices}, m.boundary_vertex, N, "1 where the vertex has fewer than vertexDegree cells"),
+        integer("boundaryVertex", {D::nVertices}, m.boundary_vertex, N, "1 where the vertex has fewer than vertexDegree cells (a cut mesh's boundary)"),
     };
     auto side = [&](const char *name, MpasDim dim, const std::vector<int32_t> &a, const char *long_name) {
         MpasField field = integer(name, {dim}, a, N, long_name);
@@ -118,9 +144,22 @@ std::vector<MpasField> mpas_fields(const MpasMesh &m) {
         f.push_back(integer("edgeFeatureId", {D::nEdges}, m.edge_feature_id, N,
                             "id of the feature part the edge's dual crosses, -1 where none"));
         f.push_back(integer("edgeRiverDownstream", {D::nEdges}, m.edge_river_downstream, N,
-                            "river edges: +1 when the river flows (in the order of its points) "
-                            "from cellsOnEdge(1) to cellsOnEdge(2), -1 the other way, 0 not a river"));
+                            "river edges: +1 when the routed river flows from cellsOnEdge(1) to "
+                            "cellsOnEdge(2) (towards its outlet on the coast, or into the sea), "
+                            "-1 the other way, 0 not a river edge or no flow decided (a network "
+                            "with no coast, an edge between cells as far from the outlet)"));
     }
+    if (!m.cell_downstream.empty()) {
+        f.push_back(integer("downstreamCell", {D::nCells}, m.cell_downstream, I,
+                            "the cell this cell's river drains to; 0 where none (outlets, "
+                            "networks with no coast, cells without rivers)"));
+        MpasField kind = integer("riverCellKind", {D::nCells}, m.cell_river_kind, N,
+                                 "river routing of the cell: none, drains to downstreamCell, "
+                                 "outlet on the coast, in a network that reaches no coast");
+        kind.flag_values = kRiverFlags, kind.n_flags = 4, kind.flag_meanings = kRiverMeanings;
+        f.push_back(kind);
+    }
+    add_component_maps(m, f);
     return f;
 }
 

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "dual/river_routing.hpp"
 #include "dual/spherical.hpp"
 #include "dual/stages.hpp"
 #include "mesh/refined_mesh.hpp"
@@ -351,12 +352,10 @@ void add_cell_masks(const mesh::RefinedMesh &refined, MpasMesh &m) {
     }
 }
 
-// Per MPAS edge, the feature of the restricted edge it is (if any) and, for
-// rivers, which way the river crosses the cell face.
+// Per MPAS edge, the feature of the restricted edge it is (if any).
 void add_edge_features(const mesh::RefinedMesh &refined, MpasMesh &m) {
     m.edge_feature_kind.assign(static_cast<size_t>(m.n_edges), 0);
     m.edge_feature_id.assign(static_cast<size_t>(m.n_edges), -1);
-    m.edge_river_downstream.assign(static_cast<size_t>(m.n_edges), 0);
     // Restricted edges by their two vertex slots, sorted for lookup.
     struct Key {
         uint64_t slots;
@@ -387,11 +386,6 @@ void add_edge_features(const mesh::RefinedMesh &refined, MpasMesh &m) {
         const features::Part &part = gamma.part(gamma.segment_part(segment));
         m.edge_feature_kind[e] = static_cast<int32_t>(part.kind);
         m.edge_feature_id[e] = part.id;
-        if (part.kind == features::Kind::river) {
-            const Vec3 flow = gamma.segment_b(segment) - gamma.segment_a(segment);
-            const Vec3 across = tri.direction(s2) - tri.direction(s1);
-            m.edge_river_downstream[e] = geom::dot(flow, across) >= 0 ? 1 : -1;
-        }
     }
 }
 
@@ -423,7 +417,10 @@ MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined) {
             m.vertex_side[v] = static_cast<int32_t>(refined.triangle_side[m.vertex_source_triangle[v]]);
     }
     if (!m.cell_side.empty()) add_cell_masks(refined, m);
-    if (refined.gamma) add_edge_features(refined, m);
+    if (refined.gamma) {
+        add_edge_features(refined, m);
+        route_rivers(m);
+    }
     return m;
 }
 

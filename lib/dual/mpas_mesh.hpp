@@ -70,7 +70,7 @@ struct MpasMesh {
     std::vector<double> x_vertex, y_vertex, z_vertex, lat_vertex, lon_vertex;
     std::vector<int32_t> cells_on_vertex, edges_on_vertex;
     std::vector<double> area_triangle, kite_areas_on_vertex;
-    std::vector<int32_t> boundary_vertex;  // all 0: the sphere has no boundary
+    std::vector<int32_t> boundary_vertex;  // 1 where a cell of the vertex is missing (a cut mesh)
 
     // Where each element came from: the mesh vertex (index into the vertex
     // numbering given) of each cell, the triangle of each MPAS vertex.
@@ -85,6 +85,17 @@ struct MpasMesh {
     std::vector<int32_t> cell_side, vertex_side;
     std::vector<int32_t> cell_ocean_mask, cell_land_mask;
     std::vector<int32_t> edge_feature_kind, edge_feature_id, edge_river_downstream;
+    // River routing (river_routing.hpp; empty without edge features): per
+    // cell the cell its river drains to (kNone: none) and its RiverCellKind.
+    std::vector<int32_t> cell_downstream, cell_river_kind;
+
+    // Component meshes (lib/components; empty otherwise). In a component:
+    // the base mesh's cell, edge and vertex of each element. In the base:
+    // each element's index in the ocean and the land component (kNone where
+    // it is not in that component; edges and vertices on the cut are in both).
+    std::vector<int32_t> base_cell, base_edge, base_vertex;
+    std::vector<int32_t> ocean_cell, ocean_edge, ocean_vertex;
+    std::vector<int32_t> land_cell, land_edge, land_vertex;
 
     int32_t max_edges2() const { return 2 * max_edges; }
 };

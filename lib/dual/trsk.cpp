@@ -10,7 +10,9 @@
 // c2. The formula needs only orthogonality, kites that add up to areaCell
 // and the orderings, so it holds for power cells with signed kites; it makes
 // W dc dv antisymmetric and the dual divergence of the reconstructed
-// tangential flux the kite average of the primal divergences.
+// tangential flux the kite average of the primal divergences. On a cut mesh
+// (lib/components) an edge of the boundary has only the stencil of its one
+// cell, c1, as on MPAS's culled meshes.
 #include "dual/stages.hpp"
 
 namespace um::dual {
@@ -46,6 +48,7 @@ void side_weights(MpasMesh &m, const std::vector<double> &fraction, int64_t e, i
                   int &slot) {
     const size_t w = static_cast<size_t>(m.max_edges), w2 = 2 * w;
     const int32_t cell = m.cells_on_edge[2 * e + side];
+    if (cell == kNone) return;  // cut off with its cell (a component mesh)
     const int d = m.n_edges_on_cell[cell];
     const int32_t *edges = &m.edges_on_cell[w * cell];
     int j0 = 0;

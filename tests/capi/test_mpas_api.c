@@ -26,10 +26,9 @@
 #include <netcdf.h>
 
 #include "context_fixture.h"
+#include "mpas_checker.h"
 #include "unimesh.h"
 
-static const char *const kPython = "/usr/bin/python3";
-static const char *const kChecker = UNIMESH_SHARED_DIR "/tools/mpas_check.py";
 
 static void output_path(char *buf, size_t size, const char *name) {
     snprintf(buf, size, "%s/%s", UNIMESH_TEST_OUTPUT_DIR, name);
@@ -48,29 +47,6 @@ static um_mesh *refine(um_context *ctx, double km, const char *geojson) {
     um_features_destroy(f);
     um_spacing_destroy(h);
     return m;
-}
-
-/* Runs the shared checker on path and echoes its lines; it must exit 0.
- * Without ../shared beside the project there is no checker (the project
- * builds and tests without it): skipped, and said so. Where the checker is
- * there, a Python without numpy and netCDF4 (which tools/setup.sh installs)
- * is a failure, not a silent pass. */
-static void run_checker(const char *path) {
-    if (access(kChecker, R_OK) != 0) {
-        printf("%s not found: checker skipped for %s\n", kChecker, path);
-        return;
-    }
-    if (access(kPython, X_OK) != 0 || system("/usr/bin/python3 -c 'import numpy, netCDF4' >/dev/null 2>&1") != 0)
-        fail_msg("%s is there but %s cannot import numpy and netCDF4 to run it", kChecker, kPython);
-    char command[4096];
-    snprintf(command, sizeof command, "%s %s %s 2>&1", kPython, kChecker, path);
-    FILE *out = popen(command, "r");
-    assert_non_null(out);
-    char line[1024];
-    while (fgets(line, sizeof line, out)) printf("  %s", line);
-    int status = pclose(out);
-    assert_true(WIFEXITED(status));
-    assert_int_equal(WEXITSTATUS(status), 0);
 }
 
 static size_t dim_length(int nc, const char *name) {

@@ -208,6 +208,8 @@ contains
     real(real64), allocatable :: plon(:), plat(:)
     integer(int64), allocatable :: first(:)
     integer, allocatable :: closed(:), kinds(:), ids(:)
+    character(len=:), allocatable :: rivers
+    logical :: written
 
     ! The callback spacing: its function and parameters must outlive the mesh.
     parameters = spacing_parameters(coarse_km, 0.0_real64)
@@ -278,6 +280,21 @@ contains
     call check(all(lat(pack([(i, i = 1, size(parts))], parts == 1)) > ring_lat - 1e-9_real64 &
         .and. lat(pack([(i, i = 1, size(parts))], parts == 1)) < ring_lat + arc_bulge), &
         'optimised: ring vertices still on the ring')
+
+    ! The ocean (south of the ring) and land (north) component meshes, from
+    ! the mesh and again from its mesh.nc.
+    call execute_command_line('mkdir -p fortran_components fortran_components_again')
+    call um_mesh_write_components(mesh, 'fortran_components', ierr)
+    call check(ierr == UM_OK, 'components written')
+    inquire (file='fortran_components/ocean.scrip.nc', exist=written)
+    call check(written, 'the ocean SCRIP grid written')
+    call um_mesh_river_report_json(mesh, rivers, ierr)
+    call check(ierr == UM_OK .and. index(rivers, '"networks": 0') > 0, 'no rivers: an empty river report')
+    call um_mpas_file_write_components(ctx, 'fortran_components/mesh.nc', 'fortran_components_again', ierr)
+    call check(ierr == UM_OK, 'components from mesh.nc')
+    call um_mpas_file_write_components(ctx, 'fortran_components/rivers.json', 'fortran_components_again', ierr)
+    call check(ierr == UM_ERR_FILE_FORMAT, 'a file that is no mesh is refused')
+    call um_context_clear_error(ctx)
     call um_mesh_destroy(mesh)
     call um_spacing_destroy(h)
   end subroutine test_mesh_with_ring

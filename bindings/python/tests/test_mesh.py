@@ -309,6 +309,28 @@ class MeshTests(unittest.TestCase):
             self.assertIn("noSuchVariable", str(caught.exception))
             mesh.release_mpas()
 
+    def test_components_and_river_report(self):
+        gamma = Features(self.ctx)
+        gamma.add(*ring(), closed=True, kind=FeatureKind.COASTLINE)
+        with Mesh.refine(self.ctx, Spacing.constant(self.ctx, 600.0), gamma) as mesh, \
+                tempfile.TemporaryDirectory() as tmp:
+            mesh.write_components(tmp)
+            names = ("mesh.nc", "ocean.nc", "land.nc", "ocean.graph.info", "land.graph.info",
+                     "mesh.scrip.nc", "ocean.scrip.nc", "land.scrip.nc", "mesh.esmf.nc",
+                     "ocean.esmf.nc", "land.esmf.nc", "rivers.json")
+            for name in names:
+                self.assertGreater(os.path.getsize(os.path.join(tmp, name)), 0, name)
+            report = json.loads(mesh.river_report_json())
+            self.assertEqual(report["river_cells"], 0)
+            again = os.path.join(tmp, "again")
+            os.mkdir(again)
+            self.ctx.write_components(os.path.join(tmp, "mesh.nc"), again)
+            for name in names:
+                self.assertEqual(Path(tmp, name).read_bytes(), Path(again, name).read_bytes(), name)
+            with self.assertRaises(UnimeshError) as caught:
+                mesh.write_components(os.path.join(tmp, "no", "such", "directory"))
+            self.assertEqual(caught.exception.status, Status.ERR_IO)
+
     def test_mesh_keeps_a_callback_spacing_alive(self):
         spacing = Spacing.callback(self.ctx, lambda lon, lat: COARSE_KM)
         mesh = Mesh.refine(self.ctx, spacing)

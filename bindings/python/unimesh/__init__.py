@@ -414,6 +414,12 @@ class Context(_Handle):
     def clear_error(self):
         self._check(C.um_context_clear_error(self._handle))
 
+    def write_components(self, mesh_path, directory):
+        """The component meshes and coupler grids of an MPAS mesh file with
+        the ocean and land cell masks, written into an existing directory
+        (see um_mpas_file_write_components and Mesh.write_components)."""
+        self._check(C.um_mpas_file_write_components(self._handle, os.fsencode(mesh_path), os.fsencode(directory)))
+
     def set_log(self, callback, min_level=LogLevel.WARNING):
         """callback(level: LogLevel, message: str) for messages at min_level
         or above, called on this thread; None removes it. An exception in the
@@ -996,15 +1002,22 @@ class Mesh(_Handle):
                                                   _arrays.capacity(out)))
         return out
 
-    def quality_json(self):
-        """The quality report (see um_mesh_quality_json) as JSON text."""
+    def _json(self, function):
         needed = c_int64(0)
-        status = C.um_mesh_quality_json(self._handle, None, 0, byref(needed))
+        status = function(self._handle, None, 0, byref(needed))
         if status != Status.ERR_BUFFER_TOO_SMALL:
             self._check(status)
         buffer = create_string_buffer(max(needed.value, 1))
-        self._check(C.um_mesh_quality_json(self._handle, buffer, len(buffer), byref(needed)))
+        self._check(function(self._handle, buffer, len(buffer), byref(needed)))
         return _text(buffer.value)
+
+    def quality_json(self):
+        """The quality report (see um_mesh_quality_json) as JSON text."""
+        return self._json(C.um_mesh_quality_json)
+
+    def river_report_json(self):
+        """The river routing report (see um_mesh_river_report_json) as JSON text."""
+        return self._json(C.um_mesh_river_report_json)
 
     def quality_summary(self, metric):
         """QualitySummary(min, p1, mean, max) of a metric: "area_length_ratio",
@@ -1026,6 +1039,13 @@ class Mesh(_Handle):
     def write_mpas(self, path):
         """Writes the MPAS mesh file (netCDF) of this mesh."""
         self._check(C.um_mesh_write_mpas(self._handle, os.fsencode(path)))
+
+    def write_components(self, directory):
+        """Writes the component meshes and coupler grids into an existing
+        directory (see um_mesh_write_components): mesh.nc with the maps,
+        ocean.nc, land.nc, their graph.info files, SCRIP and ESMF grids of all
+        three, rivers.json."""
+        self._check(C.um_mesh_write_components(self._handle, os.fsencode(directory)))
 
     def write_jigsaw(self, path):
         """Writes the triangulation in JIGSAW's .msh format (points, power

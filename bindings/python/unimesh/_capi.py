@@ -124,6 +124,10 @@ SIGNATURES = (
     ("um_mesh_copy_mpas_int", status_t, (handle_t, string_in_t, c_int32, _i32p, c_int64)),
     ("um_mesh_write_jigsaw", status_t, (handle_t, string_in_t)),
     ("um_mesh_release_mpas", status_t, (handle_t,)),
+    # Component meshes
+    ("um_mesh_write_components", status_t, (handle_t, string_in_t)),
+    ("um_mpas_file_write_components", status_t, (handle_t, string_in_t, string_in_t)),
+    ("um_mesh_river_report_json", status_t, (handle_t, buffer_out_t, c_int64, _i64p)),
 )
 
 # ----------------------------------------------------------- finding the library

@@ -1,0 +1,134 @@
+#include "components/components.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sys/stat.h>
+
+#include "components/cut_mesh.hpp"
+#include "core/error.hpp"
+#include "io/coupler_grids.hpp"
+#include "io/graph_info.hpp"
+#include "io/mpas_writer.hpp"
+#include "io/replacing_file.hpp"
+#include "unimesh.h"
+
+namespace um::components {
+
+using dual::kNone;
+using dual::MpasMesh;
+
+namespace {
+
+// to[base element] = its index in the component, kNone elsewhere.
+std::vector<int32_t> forward_map(const std::vector<int32_t> &base_of, int32_t base_count) {
+    std::vector<int32_t> to(static_cast<size_t>(base_count), kNone);
+    for (size_t i = 0; i < base_of.size(); ++i) to[base_of[i]] = static_cast<int32_t>(i);
+    return to;
+}
+
+MpasMesh component(Context &ctx, const MpasMesh &base, const std::vector<int32_t> &mask, const char *name) {
+    std::vector<uint8_t> keep(mask.begin(), mask.end());
+    int64_t cells = 0;
+    for (uint8_t k : keep) cells += k != 0;
+    if (cells == 0)
+        fail(UM_ERR_INVALID_ARGUMENT, "the ", name, " component has no cells: the mesh needs closed coastlines "
+             "with both ocean and land to be split");
+    return cut_mesh(ctx, base, keep);
+}
+
+void write_text(const std::string &path, const std::string &text) {
+    io::ReplacingFile file(path, "river report");
+    {
+        std::ofstream out(file.temporary_path(), std::ios::binary);
+        out << text;
+        out.flush();
+        if (!out) fail(UM_ERR_IO, "cannot write river report '", path, "'");
+    }
+    file.commit();
+}
+
+void append_notes(std::string &json, const char *key, const std::vector<dual::RiverNetworkNote> &notes,
+                  const MpasMesh &base) {
+    json += std::string(", \"") + key + "\": [";
+    char buffer[256];
+    for (size_t i = 0; i < notes.size(); ++i) {
+        const dual::RiverNetworkNote &n = notes[i];
+        std::snprintf(buffer, sizeof buffer,
+                      "%s{\"network\": %d, \"cells\": %d, \"cycles\": %d, \"cell\": %d, \"lat\": %.6f, \"lon\": %.6f}",
+                      i ? ", " : "", n.network + 1, n.cells, n.cycles, n.cell + 1, base.lat_cell[n.cell] * 180 / M_PI,
+                      base.lon_cell[n.cell] * 180 / M_PI);
+        json += buffer;
+    }
+    json += "]";
+}
+
+}  // namespace
+
+const char *const kComponentFiles[] = {"mesh.nc",        "ocean.nc",       "land.nc",       "ocean.graph.info",
+                                       "land.graph.info", "mesh.scrip.nc",  "ocean.scrip.nc", "land.scrip.nc",
+                                       "mesh.esmf.nc",    "ocean.esmf.nc",  "land.esmf.nc",  "rivers.json"};
+const int kComponentFileCount = sizeof kComponentFiles / sizeof kComponentFiles[0];
+
+ComponentMeshes split_components(Context &ctx, MpasMesh &base) {
+    if (base.cell_ocean_mask.empty() || base.cell_land_mask.empty())
+        fail(UM_ERR_INVALID_ARGUMENT, "the mesh has no ocean and land cell masks (cellOceanMask, cellLandMask): "
+             "it was made without closed coastlines");
+    ComponentMeshes parts{component(ctx, base, base.cell_ocean_mask, "ocean"),
+                          component(ctx, base, base.cell_land_mask, "land")};
+    base.ocean_cell = forward_map(parts.ocean.base_cell, base.n_cells);
+    base.ocean_edge = forward_map(parts.ocean.base_edge, base.n_edges);
+    base.ocean_vertex = forward_map(parts.ocean.base_vertex, base.n_vertices);
+    base.land_cell = forward_map(parts.land.base_cell, base.n_cells);
+    base.land_edge = forward_map(parts.land.base_edge, base.n_edges);
+    base.land_vertex = forward_map(parts.land.base_vertex, base.n_vertices);
+    return parts;
+}
+
+std::string river_report_json(const dual::RiverReport &report, const MpasMesh &base) {
+    char buffer[256];
+    std::snprintf(buffer, sizeof buffer,
+                  "{\"networks\": %d, \"river_cells\": %d, \"routed_cells\": %d, \"outlets\": %d, "
+                  "\"bridges\": %d, \"inland_cells\": ",
+                  report.networks, report.river_cells, report.routed_cells, report.outlets, report.bridges);
+    std::string json = buffer;
+    int64_t inland_cells = 0;
+    for (const auto &n : report.inland) inland_cells += n.cells;
+    json += std::to_string(inland_cells);
+    append_notes(json, "inland_networks", report.inland, base);
+    append_notes(json, "networks_with_cycles", report.with_cycles, base);
+    json += "}\n";
+    return json;
+}
+
+void require_directory(const std::string &directory) {
+    struct stat st {};
+    if (directory.empty() || ::stat(directory.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+        fail(UM_ERR_IO, "directory = '", directory, "' is not an existing directory");
+}
+
+dual::RiverReport write_component_files(Context &ctx, MpasMesh &base, const std::string &directory) {
+    require_directory(directory);
+    const std::string dir = directory + (directory.back() == '/' ? "" : "/");
+    const dual::RiverReport report = dual::route_rivers(base);
+    ComponentMeshes parts = split_components(ctx, base);
+    // The last point to cancel: from here the set is written through.
+    ctx.progress("component files", 0.0);
+    io::write_mpas_mesh(base, dir + "mesh.nc");
+    io::write_mpas_mesh(parts.ocean, dir + "ocean.nc");
+    io::write_mpas_mesh(parts.land, dir + "land.nc");
+    io::write_graph_info(parts.ocean, dir + "ocean.graph.info");
+    io::write_graph_info(parts.land, dir + "land.graph.info");
+    const struct {
+        const MpasMesh &mesh;
+        const char *name;
+    } grids[] = {{base, "mesh"}, {parts.ocean, "ocean"}, {parts.land, "land"}};
+    for (const auto &g : grids) {
+        io::write_scrip_grid(g.mesh, dir + g.name + ".scrip.nc");
+        io::write_esmf_mesh(g.mesh, dir + g.name + ".esmf.nc");
+    }
+    write_text(dir + "rivers.json", river_report_json(report, base));
+    return report;
+}
+
+}  // namespace um::components

@@ -1,0 +1,185 @@
+#include "dual/river_routing.hpp"
+
+#include <algorithm>
+#include <deque>
+
+#include "core/disjoint_sets.hpp"
+#include "unimesh.h"
+
+namespace um::dual {
+
+namespace {
+
+// The river graph over the cells, in compressed rows: the land cells across
+// each land-land river edge, in edge order.
+struct RiverGraph {
+    std::vector<int64_t> start;  // n_cells + 1
+    std::vector<int32_t> next;  // across river edges and bridges
+    std::vector<uint8_t> on_river;  // land cell with a river edge (to land or to ocean)
+
+    int32_t degree(int32_t c) const { return static_cast<int32_t>(start[c + 1] - start[c]); }
+};
+
+bool is_land(const MpasMesh &m, int32_t c) { return m.cell_land_mask.empty() || m.cell_land_mask[c] != 0; }
+
+bool is_river_edge(const MpasMesh &m, int64_t e) {
+    return m.edge_feature_kind[e] == UM_FEATURE_RIVER && m.cells_on_edge[2 * e] != kNone &&
+           m.cells_on_edge[2 * e + 1] != kNone;
+}
+
+// The land-land pairs of the graph, in edge order: every river edge, then
+// the bridges. A river seldom crosses every cell face it passes (the mesh
+// keeps one crossing per face, and conforms only approximately where the
+// river is finer than the cells), so its chain of river edges breaks
+// between neighbouring river cells; a bridge joins two neighbouring river
+// cells of different pieces, once per pair of pieces (a spanning forest:
+// bridges never make a cycle).
+std::vector<std::pair<int32_t, int32_t>> land_pairs(const MpasMesh &m, const std::vector<uint8_t> &on_river,
+                                                    int32_t *bridges) {
+    std::vector<std::pair<int32_t, int32_t>> pairs;
+    DisjointSets pieces(static_cast<size_t>(m.n_cells));
+    for (int64_t e = 0; e < m.n_edges; ++e) {
+        if (!is_river_edge(m, e)) continue;
+        const int32_t a = m.cells_on_edge[2 * e], b = m.cells_on_edge[2 * e + 1];
+        if (is_land(m, a) && is_land(m, b)) pairs.emplace_back(a, b), pieces.join(a, b);
+    }
+    *bridges = 0;
+    for (int64_t e = 0; e < m.n_edges; ++e) {
+        const int32_t a = m.cells_on_edge[2 * e], b = m.cells_on_edge[2 * e + 1];
+        if (b == kNone || !on_river[a] || !on_river[b] || is_river_edge(m, e)) continue;
+        if (pieces.join(a, b)) pairs.emplace_back(a, b), ++*bridges;
+    }
+    return pairs;
+}
+
+RiverGraph river_graph(const MpasMesh &m, int32_t *bridges) {
+    RiverGraph g;
+    g.start.assign(static_cast<size_t>(m.n_cells) + 1, 0);
+    g.on_river.assign(static_cast<size_t>(m.n_cells), 0);
+    for (int64_t e = 0; e < m.n_edges; ++e) {
+        if (!is_river_edge(m, e)) continue;
+        for (int k = 0; k < 2; ++k)
+            if (is_land(m, m.cells_on_edge[2 * e + k])) g.on_river[m.cells_on_edge[2 * e + k]] = 1;
+    }
+    const std::vector<std::pair<int32_t, int32_t>> pairs = land_pairs(m, g.on_river, bridges);
+    for (const auto &[a, b] : pairs) ++g.start[a + 1], ++g.start[b + 1];
+    for (size_t c = 0; c < static_cast<size_t>(m.n_cells); ++c) g.start[c + 1] += g.start[c];
+    g.next.resize(static_cast<size_t>(g.start.back()));
+    std::vector<int64_t> fill(g.start.begin(), g.start.end() - 1);
+    for (const auto &[a, b] : pairs) g.next[fill[a]++] = b, g.next[fill[b]++] = a;
+    return g;
+}
+
+// A land cell beside an ocean cell.
+bool on_coast(const MpasMesh &m, int32_t c) {
+    if (m.cell_land_mask.empty() || !is_land(m, c)) return false;
+    const size_t w = static_cast<size_t>(m.max_edges);
+    for (int32_t j = 0; j < m.n_edges_on_cell[c]; ++j) {
+        const int32_t other = m.cells_on_cell[w * c + j];
+        if (other != kNone && !is_land(m, other)) return true;
+    }
+    return false;
+}
+
+// Numbers the networks (connected parts of the graph) by their lowest cell
+// and notes each one's size and cycles.
+std::vector<int32_t> label_networks(const MpasMesh &m, const RiverGraph &g, std::vector<RiverNetworkNote> &notes) {
+    std::vector<int32_t> network(static_cast<size_t>(m.n_cells), -1);
+    std::vector<int32_t> stack;
+    for (int32_t c = 0; c < m.n_cells; ++c) {
+        if (!g.on_river[c] || network[c] >= 0) continue;
+        RiverNetworkNote note;
+        note.network = static_cast<int32_t>(notes.size());
+        note.cell = c;
+        int64_t ends = 0;  // edge ends: twice the edges
+        network[c] = note.network;
+        stack.assign(1, c);
+        while (!stack.empty()) {
+            const int32_t x = stack.back();
+            stack.pop_back();
+            ++note.cells;
+            ends += g.degree(x);
+            for (int64_t k = g.start[x]; k < g.start[x + 1]; ++k)
+                if (network[g.next[k]] < 0) network[g.next[k]] = note.network, stack.push_back(g.next[k]);
+        }
+        note.cycles = static_cast<int32_t>(ends / 2 - note.cells + 1);
+        notes.push_back(note);
+    }
+    return network;
+}
+
+}  // namespace
+
+RiverRouting river_routing(const MpasMesh &m) {
+    RiverRouting out;
+    RiverReport &report = out.report;
+    if (m.edge_feature_kind.empty()) return out;
+    const RiverGraph g = river_graph(m, &report.bridges);
+    std::vector<RiverNetworkNote> notes;
+    const std::vector<int32_t> network = label_networks(m, g, notes);
+    report.networks = static_cast<int32_t>(notes.size());
+
+    // Breadth-first from every outlet at once: each cell drains to the cell
+    // it was reached from, one step nearer the coast.
+    std::vector<int32_t> &downstream = out.cell_downstream, &kind = out.cell_river_kind;
+    downstream.assign(static_cast<size_t>(m.n_cells), kNone);
+    kind.assign(static_cast<size_t>(m.n_cells), kNotRiver);
+    std::vector<int32_t> distance(static_cast<size_t>(m.n_cells), -1);
+    std::deque<int32_t> queue;
+    std::vector<uint8_t> reaches_coast(notes.size(), 0);
+    for (int32_t c = 0; c < m.n_cells; ++c) {
+        if (!g.on_river[c]) continue;
+        ++report.river_cells;
+        if (!on_coast(m, c)) continue;
+        kind[c] = kOutlet, distance[c] = 0, queue.push_back(c);
+        reaches_coast[network[c]] = 1;
+        ++report.outlets;
+    }
+    while (!queue.empty()) {
+        const int32_t x = queue.front();
+        queue.pop_front();
+        for (int64_t k = g.start[x]; k < g.start[x + 1]; ++k) {
+            const int32_t y = g.next[k];
+            if (distance[y] >= 0) continue;
+            distance[y] = distance[x] + 1;
+            downstream[y] = x, kind[y] = kRouted;
+            ++report.routed_cells;
+            queue.push_back(y);
+        }
+    }
+    for (int32_t c = 0; c < m.n_cells; ++c)
+        if (g.on_river[c] && distance[c] < 0) kind[c] = kInland;
+    for (const RiverNetworkNote &note : notes) {
+        if (!reaches_coast[note.network]) report.inland.push_back(note);
+        if (note.cycles > 0) report.with_cycles.push_back(note);
+    }
+
+    // Each river edge's flow: down the routing, from the farther cell to the
+    // nearer one where the edge closes a cycle; into the sea from an outlet;
+    // none where the distances tie or no coast is reached.
+    out.edge_river_downstream.assign(static_cast<size_t>(m.n_edges), 0);
+    for (int64_t e = 0; e < m.n_edges; ++e) {
+        if (!is_river_edge(m, e)) continue;
+        const int32_t a = m.cells_on_edge[2 * e], b = m.cells_on_edge[2 * e + 1];
+        const bool land_a = is_land(m, a), land_b = is_land(m, b);
+        int32_t flow = 0;
+        if (land_a && land_b) {
+            if (distance[a] >= 0 && distance[b] >= 0 && distance[a] != distance[b])
+                flow = distance[a] > distance[b] ? 1 : -1;
+        } else if (land_a != land_b) {
+            flow = land_a ? 1 : -1;
+        }
+        out.edge_river_downstream[e] = flow;
+    }
+    return out;
+}
+
+RiverReport route_rivers(MpasMesh &m) {
+    RiverRouting routing = river_routing(m);
+    m.cell_downstream = std::move(routing.cell_downstream);
+    m.cell_river_kind = std::move(routing.cell_river_kind);
+    if (!m.edge_feature_kind.empty()) m.edge_river_downstream = std::move(routing.edge_river_downstream);
+    return routing.report;
+}
+
+}  // namespace um::dual
