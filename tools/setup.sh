@@ -16,6 +16,7 @@ packages=(
   libcmocka-dev libcli11-dev libtomlplusplus-dev
   python3 python3-numpy python3-netcdf4 python3-matplotlib python3-pip python3-setuptools python3-wheel
   libcgal-dev libqhull-dev libgmp-dev libmpfr-dev
+  cdo metis
 )
 
 missing=()

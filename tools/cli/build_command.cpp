@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "available_memory.hpp"
+#include "components_command.hpp"
 #include "mpas_extras.hpp"
 #include "output_set.hpp"
 #include "hdf5_trial.hpp"
@@ -260,19 +261,6 @@ void write_text(const std::string &path, const std::string &text) {
 }
 
 // mesh.nc's global attribute file_id (a hash of its content), or "".
-std::string file_id_of(const std::string &mesh_nc) {
-    int id = -1;
-    std::string value;
-    size_t length = 0;
-    if (nc_open(mesh_nc.c_str(), NC_NOWRITE, &id) != NC_NOERR) return value;
-    if (nc_inq_attlen(id, NC_GLOBAL, "file_id", &length) == NC_NOERR && length < 4096) {
-        value.resize(length);
-        if (nc_get_att_text(id, NC_GLOBAL, "file_id", value.data()) != NC_NOERR) value.clear();
-    }
-    nc_close(id);
-    return value;
-}
-
 }  // namespace
 
 int run_build(const BuildArgs &a) {
@@ -327,11 +315,19 @@ int run_build(const BuildArgs &a) {
 
         const std::string dir = a.out_dir + "/";
         const std::string mesh_nc = out->staged("mesh.nc");
-        check(um_mesh_write_mpas(m, mesh_nc.c_str()), ctx, "writing " + dir + "mesh.nc");
+        std::vector<std::string> written{"mesh.nc"}, not_written;
+        if (a.components) {
+            check(um_mesh_write_components(m, out->staging_directory().c_str()), ctx, "writing the components into " + dir);
+            print_river_summary(out->staged("rivers.json"));
+        } else {
+            check(um_mesh_write_mpas(m, mesh_nc.c_str()), ctx, "writing " + dir + "mesh.nc");
+        }
+        std::vector<std::string> &component_files = a.components ? written : not_written;
+        component_files.insert(component_files.end(), kComponentFiles.begin(), kComponentFiles.end());
         std::string extra_error;
         if (!write_graph_info(mesh_nc, out->staged("graph.info"), &extra_error))
             throw Failure{extra_error};
-        std::vector<std::string> written{"mesh.nc", "graph.info"}, not_written;
+        written.push_back("graph.info");
         if (a.vtu) {
             if (!write_cells_vtu(mesh_nc, out->staged("mesh.vtu"), &extra_error)) throw Failure{extra_error};
             if (!write_triangles_vtu(mesh_nc, out->staged("triangles.vtu"), &extra_error))
@@ -360,7 +356,7 @@ int run_build(const BuildArgs &a) {
         }
         (mapped ? written : not_written).push_back("mesh.png");
         try {
-            out->publish(written, not_written, file_id_of(mesh_nc));
+            out->publish(written, not_written, mesh_file_id(mesh_nc));
         } catch (const std::runtime_error &e) {
             throw Failure{e.what()};
         }

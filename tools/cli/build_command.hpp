@@ -24,6 +24,10 @@ struct BuildArgs {
     // the pictures): ParaView's mesh.vtu and triangles.vtu, JIGSAW's
     // mesh.msh. Large meshes spend minutes writing them.
     bool vtu = false, jigsaw = false;
+    // The component meshes and coupler grids (um_mesh_write_components):
+    // ocean.nc, land.nc, their graph.info files, SCRIP and ESMF grids of the
+    // base and both components, rivers.json; mesh.nc then has the maps.
+    bool components = false;
     std::string options;  // "name=value;..." for um_options_set_string
     std::string out_dir = "out";
     bool progress_bar = false;

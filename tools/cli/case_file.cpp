@@ -48,14 +48,14 @@ std::string option_text(const toml::node &node, const std::string &key) {
 
 void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given, BuildArgs &a) {
     static const std::set<std::string> known = {"geometry", "passages", "kind", "spacing_km", "spacing_file",
-                                                "spacing_preset", "threads", "optimise", "vtu", "jigsaw",
+                                                "spacing_preset", "threads", "optimise", "vtu", "jigsaw", "components",
                                                 "out", "options"};
     for (const auto &[key, node] : t) {
         const std::string k(key.str());
         if (!known.count(k))
             throw CaseError{"unknown key '" + k + "'" + where(node) +
                             "; known: geometry, passages, kind, spacing_km, spacing_file, spacing_preset, threads, "
-                            "optimise, vtu, jigsaw, out, [options]"};
+                            "optimise, vtu, jigsaw, components, out, [options]"};
     }
     if (const toml::node *g = t.get("geometry"); g && !given.geometry) {
         const toml::array *list = g->as_array();
@@ -99,6 +99,7 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
     a.no_optimise = !optimise;
     flag("vtu", given.vtu, a.vtu);
     flag("jigsaw", given.jigsaw, a.jigsaw);
+    flag("components", given.components, a.components);
     if (const toml::node *n = t.get("out"); n && !given.out) a.out_dir = resolve(folder, string_value(*n, "out"));
     if (const toml::node *n = t.get("options")) {
         const toml::table *opts = n->as_table();

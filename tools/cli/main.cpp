@@ -7,6 +7,7 @@
 
 #include "build_command.hpp"
 #include "case_file.hpp"
+#include "components_command.hpp"
 #include "hdf5_trial.hpp"
 #include "mesh_file_commands.hpp"
 #include "unimesh.h"
@@ -71,6 +72,10 @@ int main(int argc, char **argv) {
     build->add_flag("--no-optimise", b.no_optimise, "skip the primal-dual optimisation");
     build->add_flag("--vtu", b.vtu, "also write mesh.vtu and triangles.vtu (ParaView)");
     build->add_flag("--jigsaw", b.jigsaw, "also write mesh.msh (JIGSAW)");
+    build->add_flag("--components", b.components,
+                    "also write the component meshes and coupler grids: ocean.nc, land.nc, "
+                    "ocean.graph.info, land.graph.info, {mesh,ocean,land}.scrip.nc, "
+                    "{mesh,ocean,land}.esmf.nc, rivers.json");
     build->add_flag("--verbose", b.verbose, "print the library's progress messages (per optimisation iteration)");
     build->add_option("--option", b.options, "library options, \"name=value;...\" (e.g. refine_beta=0.1)");
     build->add_option("--memory-cap", b.memory_cap,
@@ -84,6 +89,14 @@ int main(int argc, char **argv) {
     bool quality_json = false;
     quality->add_option("MESH.nc", quality_path, "MPAS mesh file")->required()->check(CLI::ExistingFile);
     quality->add_flag("--json", quality_json, "one JSON object instead of the table");
+    auto *components = app.add_subcommand(
+        "components", "the component meshes and coupler grids of a unified MPAS mesh file: mesh.nc (with the maps), "
+                      "ocean.nc, land.nc, their graph.info files, SCRIP and ESMF grids, rivers.json");
+    std::string components_path, components_out;
+    components->add_option("MESH.nc", components_path, "MPAS mesh file with cellOceanMask and cellLandMask")
+        ->required()
+        ->check(CLI::ExistingFile);
+    components->add_option("--out", components_out, "output directory")->required();
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError &e) {
@@ -96,6 +109,7 @@ int main(int argc, char **argv) {
     if (check->parsed()) return judge_mesh_file("check", check_path, [&] { return run_check(check_path); });
     if (quality->parsed())
         return judge_mesh_file("quality", quality_path, [&] { return run_quality(quality_path, quality_json); });
+    if (components->parsed()) return run_components(components_path, components_out);
     if (version->parsed()) return print_version();
     if (build->parsed()) {
         b.spacing_gradient_given = build->count("--spacing-gradient") > 0;
@@ -110,6 +124,7 @@ int main(int argc, char **argv) {
             given.no_optimise = build->count("--no-optimise") > 0;
             given.vtu = build->count("--vtu") > 0;
             given.jigsaw = build->count("--jigsaw") > 0;
+            given.components = build->count("--components") > 0;
             given.out = build->count("--out") > 0;
             std::string error;
             if (!read_case_file(case_file, given, b, &error)) {

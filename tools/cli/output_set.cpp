@@ -1,5 +1,7 @@
 #include "output_set.hpp"
 
+#include <netcdf.h>
+
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
@@ -96,4 +98,17 @@ void OutputSet::publish(const std::vector<std::string> &names, const std::vector
         if (::rename(staged(name).c_str(), (dir_ + "/" + name).c_str()) != 0)
             throw failure("cannot move " + staged(name) + " to " + dir_ + "/" + name, errno);
     sync_directory(dir_);
+}
+
+std::string mesh_file_id(const std::string &mesh_nc) {
+    int id = -1;
+    std::string value;
+    size_t length = 0;
+    if (nc_open(mesh_nc.c_str(), NC_NOWRITE, &id) != NC_NOERR) return value;
+    if (nc_inq_attlen(id, NC_GLOBAL, "file_id", &length) == NC_NOERR && length < 4096) {
+        value.resize(length);
+        if (nc_get_att_text(id, NC_GLOBAL, "file_id", value.data()) != NC_NOERR) value.clear();
+    }
+    nc_close(id);
+    return value;
 }

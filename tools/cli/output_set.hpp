@@ -24,6 +24,7 @@ public:
 
     // Where the run writes `name` until it is published.
     std::string staged(const std::string &name) const;
+    const std::string &staging_directory() const { return staging_; }
     // Moves the staged files `names` into the output directory, removes the
     // earlier runs' files `not_written` (outputs this run did not make),
     // then writes manifest.json (the names, their sizes, `file_id`); throws
@@ -35,3 +36,7 @@ private:
     std::string dir_, staging_;
     int lock_fd_ = -1;
 };
+
+// The file_id attribute of an MPAS mesh file ("" when it has none), which
+// the manifest records.
+std::string mesh_file_id(const std::string &mesh_nc);
