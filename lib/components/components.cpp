@@ -1,12 +1,12 @@
 #include "components/components.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <sys/stat.h>
 
 #include "components/cut_mesh.hpp"
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "io/coupler_grids.hpp"
 #include "io/graph_info.hpp"
 #include "io/mpas_writer.hpp"
@@ -48,19 +48,17 @@ void write_text(const std::string &path, const std::string &text) {
     file.commit();
 }
 
-void append_notes(std::string &json, const char *key, const std::vector<dual::RiverNetworkNote> &notes,
-                  const MpasMesh &base) {
-    json += std::string(", \"") + key + "\": [";
-    char buffer[256];
+// The notes as a JSON list; numbers locale-independent (core/text.hpp).
+std::string notes_json(const std::vector<dual::RiverNetworkNote> &notes, const MpasMesh &base) {
+    std::string json = "[";
     for (size_t i = 0; i < notes.size(); ++i) {
         const dual::RiverNetworkNote &n = notes[i];
-        std::snprintf(buffer, sizeof buffer,
-                      "%s{\"network\": %d, \"cells\": %d, \"cycles\": %d, \"cell\": %d, \"lat\": %.6f, \"lon\": %.6f}",
-                      i ? ", " : "", n.network + 1, n.cells, n.cycles, n.cell + 1, base.lat_cell[n.cell] * 180 / M_PI,
-                      base.lon_cell[n.cell] * 180 / M_PI);
-        json += buffer;
+        json += concat(i ? ", " : "", "{\"network\": ", n.network + 1, ", \"cells\": ", n.cells,
+                       ", \"cycles\": ", n.cycles, ", \"cell\": ", n.cell + 1,
+                       ", \"lat\": ", base.lat_cell[n.cell] * 180 / M_PI, ", \"lon\": ",
+                       base.lon_cell[n.cell] * 180 / M_PI, "}");
     }
-    json += "]";
+    return json + "]";
 }
 
 }  // namespace
@@ -86,19 +84,13 @@ ComponentMeshes split_components(Context &ctx, MpasMesh &base) {
 }
 
 std::string river_report_json(const dual::RiverReport &report, const MpasMesh &base) {
-    char buffer[256];
-    std::snprintf(buffer, sizeof buffer,
-                  "{\"networks\": %d, \"river_cells\": %d, \"routed_cells\": %d, \"outlets\": %d, "
-                  "\"bridges\": %d, \"inland_cells\": ",
-                  report.networks, report.river_cells, report.routed_cells, report.outlets, report.bridges);
-    std::string json = buffer;
     int64_t inland_cells = 0;
     for (const auto &n : report.inland) inland_cells += n.cells;
-    json += std::to_string(inland_cells);
-    append_notes(json, "inland_networks", report.inland, base);
-    append_notes(json, "networks_with_cycles", report.with_cycles, base);
-    json += "}\n";
-    return json;
+    return concat("{\"networks\": ", report.networks, ", \"river_cells\": ", report.river_cells,
+                  ", \"routed_cells\": ", report.routed_cells, ", \"outlets\": ", report.outlets,
+                  ", \"bridges\": ", report.bridges, ", \"inland_cells\": ", inland_cells,
+                  ", \"inland_networks\": ", notes_json(report.inland, base),
+                  ", \"networks_with_cycles\": ", notes_json(report.with_cycles, base), "}\n");
 }
 
 void require_directory(const std::string &directory) {
