@@ -174,13 +174,21 @@ void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
 
 // The triangulation the refinement starts from: the icosahedron, with the
 // geodesic lattice of the spacing where the spacing is flat
-// (refine::background_lattice) unless the options say no.
+// (refine::background_lattice) unless the options say no. A spacing as
+// coarse as the gaps between the features (2500 km and more with the
+// world's coastlines) leaves the lattice too few points away from them to
+// surround the centre: then the icosahedron, which always does.
 tri::Triangulation starting_triangulation(Context &ctx, const refine::SpacingRadians &hr,
                                           const geom::ArcTree &arcs, bool lattice_allowed) {
     if (!lattice_allowed) return refine::icosahedron(ctx);
     const std::vector<geom::Vec3> points = refine::background_lattice(ctx, hr, arcs);
     tri::Triangulation tri;
-    tri.build(ctx, static_cast<int64_t>(points.size()), [&](int64_t i) { return points[i]; }, nullptr);
+    try {
+        tri.build(ctx, static_cast<int64_t>(points.size()), [&](int64_t i) { return points[i]; }, nullptr);
+    } catch (const Error &e) {
+        if (e.status() != UM_ERR_DEGENERATE_INPUT) throw;
+        return refine::icosahedron(ctx);
+    }
     return tri;
 }
 

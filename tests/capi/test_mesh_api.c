@@ -222,6 +222,32 @@ static void global_coastline(void **state) {
     um_features_destroy(f);
 }
 
+/* Spacings as coarse as the gaps between the world's coastlines (2500 km
+ * and more) leave the geodesic lattice too few points away from them: the
+ * refinement starts from the icosahedron instead, and the mesh is whole. */
+static void coastlines_at_continental_spacings(void **state) {
+    um_context *ctx = *state;
+    um_features *f = NULL;
+    assert_int_equal(um_features_create(ctx, &f), UM_OK);
+    assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_global_l.geojson", NULL, 0),
+                     UM_OK);
+    const double spacings_km[] = {2500.0, 4000.0, 8000.0};
+    for (int k = 0; k < 3; ++k) {
+        um_spacing *h = NULL;
+        um_mesh *m = NULL;
+        assert_int_equal(um_spacing_create_constant(ctx, spacings_km[k], &h), UM_OK);
+        assert_int_equal(um_mesh_refine(ctx, h, f, NULL, &m), UM_OK);
+        assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
+        int64_t nv = 0, nt = 0;
+        assert_int_equal(um_mesh_counts(m, &nv, &nt, NULL, NULL), UM_OK);
+        assert_true(nv >= 12);
+        assert_int_equal(nt, 2 * nv - 4);
+        um_mesh_destroy(m);
+        um_spacing_destroy(h);
+    }
+    um_features_destroy(f);
+}
+
 /* The Mid-Atlantic unified case of the refinement issue: the spacing file
  * (2 km at the coast), the full-resolution coastline and rivers (17 input
  * vertices per 2-km edge, metre-long segments, rivers crossing each other
@@ -476,6 +502,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(uniform_edges_within_the_band, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(same_mesh_for_any_thread_count, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(global_coastline, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(coastlines_at_continental_spacings, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(midatlantic_full_resolution, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(bad_input, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(spacing_callback_failure_names_the_point, setup_context,
