@@ -819,12 +819,15 @@ UM_API um_status um_mesh_release_mpas(um_mesh *m);
  * component; an edge or vertex of the cut is in both).
  *
  * River routing (in every MPAS mesh with rivers, and carried into the land
- * mesh): per cell downstreamCell (the cell its river drains to, 0 none) and
- * riverCellKind (0 no river, 1 routed, 2 outlet, 3 inland); the direction
- * comes from the network's topology: river cells on the coast (beside an
- * ocean cell) are outlets, every other river cell drains along the shortest
- * path of river edges to the nearest outlet of its network. Networks that
- * reach no coast (inland) and networks with cycles are reported.
+ * mesh): edgeOnRiver marks the edges a river's line crosses (the cells
+ * along each river segment, in order); per cell downstreamCell (the cell its
+ * river drains to, 0 none) and riverCellKind (0 no river, 1 routed, 2
+ * outlet, 3 inland). The direction comes from the network's topology: the
+ * cells from which a river crosses into an ocean cell are its outlets (for a
+ * network whose lines end short of the sea, its cells beside the ocean), and
+ * every other river cell drains along the shortest path of river edges to
+ * the nearest outlet of its network. Networks that reach no coast (inland)
+ * and networks with cycles are reported.
  *
  * um_mesh_write_components writes into directory (which must exist):
  *   mesh.nc                 the base MPAS mesh (as um_mesh_write_mpas) with
@@ -840,7 +843,9 @@ UM_API um_status um_mesh_release_mpas(um_mesh *m);
  *                           (nodeCoords, elementConn, numElementConn,
  *                           centerCoords, elementArea, elementMask);
  *   rivers.json             the river report (um_mesh_river_report_json).
- * Each file is written under a temporary name and renamed when complete.
+ * The files are written into a new directory inside directory and renamed
+ * into it together when all are complete: a failure leaves the set there
+ * before as it was.
  * um_mpas_file_write_components does the same from an MPAS mesh file (ours,
  * with cellOceanMask and cellLandMask; the river routing is made again from
  * its edgeFeatureKind); it reads netCDF-4 files in-process, with netCDF-C.
@@ -851,7 +856,8 @@ UM_API um_status um_mesh_write_components(const um_mesh *m, const char *director
 UM_API um_status um_mpas_file_write_components(um_context *ctx, const char *mesh_path,
                                                const char *directory);
 /* The river routing report as JSON: {"networks", "river_cells",
- * "routed_cells", "outlets", "inland_cells", "inland_networks": [...],
+ * "routed_cells", "outlets", "bridges" (gaps joined where the mesh has no
+ * edgeOnRiver), "inland_cells", "inland_networks": [...],
  * "networks_with_cycles": [...]}, each listed network as {"network",
  * "cells", "cycles", "cell" (its lowest 1-based MPAS cell id), "lat", "lon"
  * (degrees)}. Copied out as um_mesh_quality_json does. */

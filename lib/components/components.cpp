@@ -1,8 +1,14 @@
 #include "components/components.hpp"
 
-#include <cmath>
-#include <fstream>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
 
 #include "components/cut_mesh.hpp"
 #include "core/error.hpp"
@@ -63,11 +69,6 @@ std::string notes_json(const std::vector<dual::RiverNetworkNote> &notes, const M
 
 }  // namespace
 
-const char *const kComponentFiles[] = {"mesh.nc",        "ocean.nc",       "land.nc",       "ocean.graph.info",
-                                       "land.graph.info", "mesh.scrip.nc",  "ocean.scrip.nc", "land.scrip.nc",
-                                       "mesh.esmf.nc",    "ocean.esmf.nc",  "land.esmf.nc",  "rivers.json"};
-const int kComponentFileCount = sizeof kComponentFiles / sizeof kComponentFiles[0];
-
 ComponentMeshes split_components(Context &ctx, MpasMesh &base) {
     if (base.cell_ocean_mask.empty() || base.cell_land_mask.empty())
         fail(UM_ERR_INVALID_ARGUMENT, "the mesh has no ocean and land cell masks (cellOceanMask, cellLandMask): "
@@ -99,27 +100,66 @@ void require_directory(const std::string &directory) {
         fail(UM_ERR_IO, "directory = '", directory, "' is not an existing directory");
 }
 
+namespace {
+
+// The files of one call, written into a fresh directory inside the output
+// directory and renamed into it together at the end: a failure part-way
+// leaves the previous set as it was, not a mix of two sets.
+class StagedSet {
+public:
+    explicit StagedSet(const std::string &directory) : dir_(directory + (directory.back() == '/' ? "" : "/")) {
+        static std::atomic<uint64_t> serial{0};
+        stage_ = concat(dir_, ".unimesh-components-", static_cast<int64_t>(::getpid()), "-", serial++);
+        if (::mkdir(stage_.c_str(), 0777) != 0)
+            fail(UM_ERR_IO, "cannot write into directory '", directory, "': ", std::strerror(errno));
+    }
+    ~StagedSet() {
+        for (const std::string &name : names_) ::unlink(staged(name).c_str());
+        ::rmdir(stage_.c_str());
+    }
+    StagedSet(const StagedSet &) = delete;
+    StagedSet &operator=(const StagedSet &) = delete;
+
+    std::string add(const std::string &name) {
+        names_.push_back(name);
+        return staged(name);
+    }
+    void publish() {
+        for (const std::string &name : names_)
+            if (std::rename(staged(name).c_str(), (dir_ + name).c_str()) != 0)
+                fail(UM_ERR_IO, "cannot move '", name, "' into '", dir_, "': ", std::strerror(errno));
+    }
+
+private:
+    std::string staged(const std::string &name) const { return stage_ + "/" + name; }
+    std::string dir_, stage_;
+    std::vector<std::string> names_;
+};
+
+}  // namespace
+
 dual::RiverReport write_component_files(Context &ctx, MpasMesh &base, const std::string &directory) {
     require_directory(directory);
-    const std::string dir = directory + (directory.back() == '/' ? "" : "/");
     const dual::RiverReport report = dual::route_rivers(base);
     ComponentMeshes parts = split_components(ctx, base);
     // The last point to cancel: from here the set is written through.
     ctx.progress("component files", 0.0);
-    io::write_mpas_mesh(base, dir + "mesh.nc");
-    io::write_mpas_mesh(parts.ocean, dir + "ocean.nc");
-    io::write_mpas_mesh(parts.land, dir + "land.nc");
-    io::write_graph_info(parts.ocean, dir + "ocean.graph.info");
-    io::write_graph_info(parts.land, dir + "land.graph.info");
+    StagedSet set(directory);
+    io::write_mpas_mesh(base, set.add("mesh.nc"));
+    io::write_mpas_mesh(parts.ocean, set.add("ocean.nc"));
+    io::write_mpas_mesh(parts.land, set.add("land.nc"));
+    io::write_graph_info(parts.ocean, set.add("ocean.graph.info"));
+    io::write_graph_info(parts.land, set.add("land.graph.info"));
     const struct {
         const MpasMesh &mesh;
         const char *name;
     } grids[] = {{base, "mesh"}, {parts.ocean, "ocean"}, {parts.land, "land"}};
     for (const auto &g : grids) {
-        io::write_scrip_grid(g.mesh, dir + g.name + ".scrip.nc");
-        io::write_esmf_mesh(g.mesh, dir + g.name + ".esmf.nc");
+        io::write_scrip_grid(g.mesh, set.add(std::string(g.name) + ".scrip.nc"));
+        io::write_esmf_mesh(g.mesh, set.add(std::string(g.name) + ".esmf.nc"));
     }
-    write_text(dir + "rivers.json", river_report_json(report, base));
+    write_text(set.add("rivers.json"), river_report_json(report, base));
+    set.publish();
     return report;
 }
 

@@ -22,10 +22,6 @@ struct ComponentMeshes {
 // closed coastlines) or when a component would have no cells.
 ComponentMeshes split_components(Context &ctx, dual::MpasMesh &base);
 
-// The file names of the component set, as the command line promises them.
-extern const char *const kComponentFiles[];
-extern const int kComponentFileCount;
-
 // Throws UM_ERR_IO naming directory unless it is an existing directory.
 void require_directory(const std::string &directory);
 
@@ -33,9 +29,9 @@ void require_directory(const std::string &directory);
 // directory (which must exist): mesh.nc (the base with the forward maps),
 // ocean.nc, land.nc, ocean.graph.info, land.graph.info, mesh.scrip.nc,
 // ocean.scrip.nc, land.scrip.nc, mesh.esmf.nc, ocean.esmf.nc, land.esmf.nc
-// and rivers.json (river_report_json). Each file is written under a
-// temporary name and renamed when complete. Throws um::Error (UM_ERR_IO
-// naming the file).
+// and rivers.json (river_report_json). The files are written into a
+// directory of their own inside `directory` and renamed into it together
+// when all are complete. Throws um::Error (UM_ERR_IO naming the file).
 dual::RiverReport write_component_files(Context &ctx, dual::MpasMesh &base, const std::string &directory);
 
 // The river report as JSON: counts, and the networks that reach no coast or

@@ -114,7 +114,8 @@ void cut_edges(const MpasMesh &base, const Kept &k, MpasMesh &m) {
         *to = values(*from, r);
     for (auto [to, from] : {std::pair{&m.edge_feature_kind, &base.edge_feature_kind},
                             {&m.edge_feature_id, &base.edge_feature_id},
-                            {&m.edge_river_downstream, &base.edge_river_downstream}})
+                            {&m.edge_river_downstream, &base.edge_river_downstream},
+                            {&m.edge_on_river, &base.edge_on_river}})
         *to = values(*from, r);
     m.cells_on_edge = rows(base.cells_on_edge, r, 2, 2, kNone);
     m.vertices_on_edge = rows(base.vertices_on_edge, r, 2, 2, kNone);

@@ -149,6 +149,10 @@ std::vector<MpasField> mpas_fields(const MpasMesh &m) {
                             "-1 the other way, 0 not a river edge or no flow decided (a network "
                             "with no coast, an edge between cells as far from the outlet)"));
     }
+    if (!m.edge_on_river.empty())
+        f.push_back(integer("edgeOnRiver", {D::nEdges}, m.edge_on_river, N,
+                            "1 where a river's line passes from one cell of the edge into the other "
+                            "(the river network the routing follows)"));
     if (!m.cell_downstream.empty()) {
         f.push_back(integer("downstreamCell", {D::nCells}, m.cell_downstream, I,
                             "the cell this cell's river drains to; 0 where none (outlets, "

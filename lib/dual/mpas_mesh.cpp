@@ -10,6 +10,7 @@
 #include "dual/spherical.hpp"
 #include "dual/stages.hpp"
 #include "mesh/refined_mesh.hpp"
+#include "tri/cell_walk.hpp"
 #include "tri/spatial_order.hpp"
 
 namespace um::dual {
@@ -389,6 +390,42 @@ void add_edge_features(const mesh::RefinedMesh &refined, MpasMesh &m) {
     }
 }
 
+// Per MPAS edge, 1 where a river's line passes from one of its cells into
+// the other: the cells along each river segment, in order, each sharing an
+// edge with the one before (tri::cells_along_arc). This is the river
+// network as the input draws it, also where the mesh keeps no restricted
+// edge of the river (a face crossed by two features keeps one, and a river
+// finer than the cells is not followed).
+void add_river_crossings(Context &ctx, const mesh::RefinedMesh &refined, MpasMesh &m) {
+    const tri::Triangulation &tri = refined.tri;
+    const features::Network &gamma = *refined.gamma;
+    std::vector<int32_t> cell_of_slot(static_cast<size_t>(tri.vertex_slots()), kNone);
+    for (int32_t c = 0; c < m.n_cells; ++c) cell_of_slot[refined.slot_of_vertex[m.cell_source_vertex[c]]] = c;
+    std::vector<int64_t> river_segments;
+    for (int64_t s = 0; s < gamma.segment_count(); ++s)
+        if (gamma.segment_kind(s) == features::Kind::river) river_segments.push_back(s);
+    m.edge_on_river.assign(static_cast<size_t>(m.n_edges), 0);
+    if (river_segments.empty()) return;
+    const size_t w = static_cast<size_t>(m.max_edges);
+    // Each flag is only ever set to 1, so the chunks may run in any order.
+    std::vector<std::atomic<uint8_t>> on_river(static_cast<size_t>(m.n_edges));
+    ctx.parallel_for(static_cast<int64_t>(river_segments.size()), 256, [&](int64_t b, int64_t e) {
+        int32_t hint = -1;
+        for (int64_t i = b; i < e; ++i) {
+            const int64_t s = river_segments[i];
+            const std::vector<int32_t> slots = tri::cells_along_arc(tri, gamma.segment_a(s), gamma.segment_b(s), hint);
+            if (!slots.empty()) hint = slots.back();
+            for (size_t k = 1; k < slots.size(); ++k) {
+                const int32_t p = cell_of_slot[slots[k - 1]], q = cell_of_slot[slots[k]];
+                if (p == kNone || q == kNone) continue;
+                for (int32_t j = 0; j < m.n_edges_on_cell[p]; ++j)
+                    if (m.cells_on_cell[w * p + j] == q) on_river[m.edges_on_cell[w * p + j]].store(1, std::memory_order_relaxed);
+            }
+        }
+    });
+    for (size_t e = 0; e < on_river.size(); ++e) m.edge_on_river[e] = on_river[e].load(std::memory_order_relaxed);
+}
+
 }  // namespace
 
 MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined) {
@@ -419,6 +456,7 @@ MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined) {
     if (!m.cell_side.empty()) add_cell_masks(refined, m);
     if (refined.gamma) {
         add_edge_features(refined, m);
+        add_river_crossings(ctx, refined, m);
         route_rivers(m);
     }
     return m;

@@ -85,6 +85,10 @@ struct MpasMesh {
     std::vector<int32_t> cell_side, vertex_side;
     std::vector<int32_t> cell_ocean_mask, cell_land_mask;
     std::vector<int32_t> edge_feature_kind, edge_feature_id, edge_river_downstream;
+    // Per edge, 1 where a river's line passes from one of its cells into the
+    // other (empty: not known, e.g. a file without it; the routing then takes
+    // the edges whose dual crosses a river).
+    std::vector<int32_t> edge_on_river;
     // River routing (river_routing.hpp; empty without edge features): per
     // cell the cell its river drains to (kNone: none) and its RiverCellKind.
     std::vector<int32_t> cell_downstream, cell_river_kind;

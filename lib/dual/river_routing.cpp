@@ -22,19 +22,23 @@ struct RiverGraph {
 
 bool is_land(const MpasMesh &m, int32_t c) { return m.cell_land_mask.empty() || m.cell_land_mask[c] != 0; }
 
+// An edge of the river graph: one a river's line crosses (edge_on_river),
+// or, where the mesh does not know that, one whose dual crosses a river.
 bool is_river_edge(const MpasMesh &m, int64_t e) {
-    return m.edge_feature_kind[e] == UM_FEATURE_RIVER && m.cells_on_edge[2 * e] != kNone &&
-           m.cells_on_edge[2 * e + 1] != kNone;
+    const bool river = m.edge_on_river.empty() ? m.edge_feature_kind[e] == UM_FEATURE_RIVER : m.edge_on_river[e] != 0;
+    return river && m.cells_on_edge[2 * e] != kNone && m.cells_on_edge[2 * e + 1] != kNone;
 }
 
 // The land-land pairs of the graph, in edge order: every river edge, then
-// the bridges. A river seldom crosses every cell face it passes (the mesh
-// keeps one crossing per face, and conforms only approximately where the
-// river is finer than the cells), so its chain of river edges breaks
-// between neighbouring river cells; a bridge joins two neighbouring river
-// cells of different pieces, once per pair of pieces (a spanning forest:
+// the bridges. A river network's chain of cells breaks between neighbouring
+// river cells: the input's lines seldom share their end points (the shipped
+// GSHHG rivers: 5 of 2,565 ends), and where the mesh has no edgeOnRiver the
+// chain of restricted edges has gaps (one crossing kept per face, rivers
+// finer than the cells not followed). A bridge joins two neighbouring river
+// cells of different pieces, or two across one land cell between them
+// (which joins the river), once per pair of pieces (a spanning forest:
 // bridges never make a cycle).
-std::vector<std::pair<int32_t, int32_t>> land_pairs(const MpasMesh &m, const std::vector<uint8_t> &on_river,
+std::vector<std::pair<int32_t, int32_t>> land_pairs(const MpasMesh &m, std::vector<uint8_t> &on_river,
                                                     int32_t *bridges) {
     std::vector<std::pair<int32_t, int32_t>> pairs;
     DisjointSets pieces(static_cast<size_t>(m.n_cells));
@@ -48,6 +52,22 @@ std::vector<std::pair<int32_t, int32_t>> land_pairs(const MpasMesh &m, const std
         const int32_t a = m.cells_on_edge[2 * e], b = m.cells_on_edge[2 * e + 1];
         if (b == kNone || !on_river[a] || !on_river[b] || is_river_edge(m, e)) continue;
         if (pieces.join(a, b)) pairs.emplace_back(a, b), ++*bridges;
+    }
+    // Gaps of one land cell: the cell between joins the river.
+    const size_t w = static_cast<size_t>(m.max_edges);
+    for (int32_t x = 0; x < m.n_cells; ++x) {
+        if (on_river[x] || !is_land(m, x)) continue;
+        int32_t first = kNone;
+        for (int32_t j = 0; j < m.n_edges_on_cell[x]; ++j) {
+            const int32_t a = m.cells_on_cell[w * x + j];
+            if (a == kNone || !on_river[a]) continue;
+            if (first == kNone) {
+                first = a;
+            } else if (pieces.join(first, a)) {
+                if (!on_river[x]) on_river[x] = 1, pairs.emplace_back(first, x), pieces.join(first, x);
+                pairs.emplace_back(x, a), ++*bridges;
+            }
+        }
     }
     return pairs;
 }
@@ -108,12 +128,32 @@ std::vector<int32_t> label_networks(const MpasMesh &m, const RiverGraph &g, std:
     return network;
 }
 
+// Per cell: 1 where a river crosses from this land cell into an ocean cell
+// (a mouth), 2 in a network that has a mouth elsewhere, 0 otherwise. A
+// network with mouths drains to them alone: a river that runs along the
+// coast or through an estuary touches other coastal cells on its way, and
+// those are not where it leaves the land. A network without a mouth (its
+// line ends short of the sea) drains to its cells on the coast.
+std::vector<uint8_t> river_mouths(const MpasMesh &m, const std::vector<int32_t> &network, size_t networks) {
+    std::vector<uint8_t> mouth(static_cast<size_t>(m.n_cells), 0), has_mouth(networks, 0);
+    for (int64_t e = 0; e < m.n_edges; ++e) {
+        if (!is_river_edge(m, e)) continue;
+        const int32_t a = m.cells_on_edge[2 * e], b = m.cells_on_edge[2 * e + 1];
+        if (is_land(m, a) == is_land(m, b)) continue;
+        const int32_t land = is_land(m, a) ? a : b;
+        mouth[land] = 1, has_mouth[network[land]] = 1;
+    }
+    for (int32_t c = 0; c < m.n_cells; ++c)
+        if (mouth[c] == 0 && network[c] >= 0 && has_mouth[network[c]]) mouth[c] = 2;
+    return mouth;
+}
+
 }  // namespace
 
 RiverRouting river_routing(const MpasMesh &m) {
     RiverRouting out;
     RiverReport &report = out.report;
-    if (m.edge_feature_kind.empty()) return out;
+    if (m.edge_feature_kind.empty() && m.edge_on_river.empty()) return out;
     const RiverGraph g = river_graph(m, &report.bridges);
     std::vector<RiverNetworkNote> notes;
     const std::vector<int32_t> network = label_networks(m, g, notes);
@@ -127,10 +167,11 @@ RiverRouting river_routing(const MpasMesh &m) {
     std::vector<int32_t> distance(static_cast<size_t>(m.n_cells), -1);
     std::deque<int32_t> queue;
     std::vector<uint8_t> reaches_coast(notes.size(), 0);
+    const std::vector<uint8_t> mouth = river_mouths(m, network, notes.size());
     for (int32_t c = 0; c < m.n_cells; ++c) {
         if (!g.on_river[c]) continue;
         ++report.river_cells;
-        if (!on_coast(m, c)) continue;
+        if (!(mouth[c] == 1 || (mouth[c] == 0 && on_coast(m, c)))) continue;
         kind[c] = kOutlet, distance[c] = 0, queue.push_back(c);
         reaches_coast[network[c]] = 1;
         ++report.outlets;
@@ -178,7 +219,8 @@ RiverReport route_rivers(MpasMesh &m) {
     RiverRouting routing = river_routing(m);
     m.cell_downstream = std::move(routing.cell_downstream);
     m.cell_river_kind = std::move(routing.cell_river_kind);
-    if (!m.edge_feature_kind.empty()) m.edge_river_downstream = std::move(routing.edge_river_downstream);
+    if (!m.edge_feature_kind.empty() || !m.edge_on_river.empty())
+        m.edge_river_downstream = std::move(routing.edge_river_downstream);
     return routing.report;
 }
 

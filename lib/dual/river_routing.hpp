@@ -1,13 +1,17 @@
 // River routing on the cells of an MPAS mesh, the way a routing model
 // (MOSART-style) needs it: each land cell on a river has one downstream cell.
 //
-// The river graph joins the two land cells of every river edge (an MPAS edge
-// whose dual crosses a river: edgeFeatureKind == river), and bridges the gaps
-// between neighbouring river cells where the chain of river edges breaks (a
-// spanning forest of the pieces: no bridge closes a cycle). The direction comes
-// from the graph's topology, not from the order of the points in the input:
-// a river cell on the coast (a land cell beside an ocean cell) is an outlet,
-// and every other cell drains along the shortest path of river edges to the
+// The river graph joins the two land cells of every edge a river's line
+// crosses (edgeOnRiver: the cells along each river segment, in order, from
+// the input lines; where a mesh does not carry that, a file without it, the
+// edges whose dual crosses a river, edgeFeatureKind == river), and bridges
+// the gaps of up to one land cell where those chains break (a spanning
+// forest of the pieces: no bridge closes a cycle). The direction
+// comes from the graph's topology, not from the order of the points in the
+// input:
+// a river cell from which the river crosses into an ocean cell is an outlet
+// (a network whose lines end short of the sea has its river cells on the
+// coast, beside an ocean cell, as outlets instead), and every other cell drains along the shortest path of river edges to the
 // nearest outlet of its network (a breadth-first search from all outlets at
 // once, in cell order, so the result does not depend on threads or input
 // order). What the graph cannot route is reported, not hidden: networks with

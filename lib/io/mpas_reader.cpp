@@ -1,5 +1,7 @@
 #include "io/mpas_reader.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <netcdf.h>
@@ -50,6 +52,9 @@ void read_dimensions(const NcInput &file, const std::string &path, MpasMesh &m) 
     if (cells < 1 || edges < 3 || vertices < 1 || max_edges < 3 || max_edges > 64)
         format_error(path, "nCells ", cells, ", nEdges ", edges, ", nVertices ", vertices, ", maxEdges ",
                      max_edges, ": not the dimensions of a mesh");
+    if (edges > max_edges * cells || vertices > max_edges * cells)
+        format_error(path, "nEdges ", edges, " or nVertices ", vertices, " exceeds maxEdges * nCells = ",
+                     max_edges * cells, ": not the dimensions of a mesh");
     if (max_edges2 != 2 * max_edges || degree != 3)
         format_error(path, "maxEdges2 ", max_edges2, " and vertexDegree ", degree,
                      ": expected 2 * maxEdges and 3 (a mesh of power cells)");
@@ -61,7 +66,7 @@ void read_dimensions(const NcInput &file, const std::string &path, MpasMesh &m) 
     if (nc_inq_att(file.id(), NC_GLOBAL, "sphere_radius", &type, &count) != NC_NOERR || count != 1 ||
         type == NC_CHAR || type == NC_STRING || nc_get_att_double(file.id(), NC_GLOBAL, "sphere_radius", &radius) != NC_NOERR ||
         !(radius > 0) || radius > 1e12)
-        format_error(path, "no sphere_radius attribute holding a radius > 0");
+        format_error(path, "sphere_radius is missing or not a radius in (0, 1e12] m (read: ", radius, ")");
     m.radius_m = radius;
 }
 
@@ -92,7 +97,7 @@ void size_arrays(const NcInput &file, MpasMesh &m) {
                 {"cellOceanMask", m.cell_ocean_mask, c}, {"cellLandMask", m.cell_land_mask, c},
                 {"edgeFeatureKind", m.edge_feature_kind, e}, {"edgeFeatureId", m.edge_feature_id, e},
                 {"edgeRiverDownstream", m.edge_river_downstream, e}, {"downstreamCell", m.cell_downstream, c},
-                {"riverCellKind", m.cell_river_kind, c}};
+                {"riverCellKind", m.cell_river_kind, c}, {"edgeOnRiver", m.edge_on_river, e}};
     for (const auto &tag : tags)
         if (has_variable(file, tag.name)) tag.array.resize(tag.n);
     // The tags come in their groups or not at all.
@@ -100,6 +105,7 @@ void size_arrays(const NcInput &file, MpasMesh &m) {
     if (m.edge_feature_kind.empty() || m.edge_feature_id.empty() || m.edge_river_downstream.empty())
         m.edge_feature_kind.clear(), m.edge_feature_id.clear(), m.edge_river_downstream.clear();
     if (m.cell_downstream.empty() != m.cell_river_kind.empty()) m.cell_downstream.clear(), m.cell_river_kind.clear();
+    if (m.edge_feature_kind.empty()) m.edge_on_river.clear();
 }
 
 void read_field(const NcInput &file, const std::string &path, const MpasField &f) {
@@ -121,8 +127,10 @@ void read_field(const NcInput &file, const std::string &path, const MpasField &f
     } else {
         std::vector<int32_t> &ints = const_cast<std::vector<int32_t> &>(*f.ints);
         status = nc_get_var_int(file.id(), var, ints.data());
+        // 1-based, 0 padding -> 0-based, kNone; a negative index (a fill
+        // value) becomes one the range checks refuse.
         if (f.kind == MpasKind::index)
-            for (int32_t &i : ints) i -= 1;  // 1-based, 0 padding -> 0-based, kNone
+            for (int32_t &i : ints) i = i >= 0 ? i - 1 : std::numeric_limits<int32_t>::min();
     }
     if (status != NC_NOERR) format_error(path, "cannot read variable ", f.name, ": ", netcdf_status_text(status));
 }
@@ -130,8 +138,12 @@ void read_field(const NcInput &file, const std::string &path, const MpasField &f
 // Every index in range; padding beyond a row's count set to kNone. 0 (a
 // missing element) is allowed where a cut mesh has one.
 void check_connectivity(const std::string &path, MpasMesh &m) {
-    auto bad = [&](const char *name, int64_t row, int32_t value) {
-        format_error(path, name, "(", row + 1, ") holds ", int64_t(value) + 1, ", not an index in range");
+    // value: 0-based as read less 1; INT32_MIN stands for a negative value in the file.
+    auto bad = [&](const char *name, int64_t row, int64_t column, int32_t value) {
+        if (value == std::numeric_limits<int32_t>::min())
+            format_error(path, name, "(", row + 1, ", ", column + 1, ") is negative, not an index");
+        format_error(path, name, "(", row + 1, ", ", column + 1, ") = ", int64_t(value) + 1,
+                     " is not an index in range");
     };
     auto in = [](int32_t i, int32_t n, bool missing_allowed) { return (i >= 0 && i < n) || (missing_allowed && i == kNone); };
     const int64_t w = m.max_edges;
@@ -144,33 +156,82 @@ void check_connectivity(const std::string &path, MpasMesh &m) {
                 m.edges_on_cell[at] = m.vertices_on_cell[at] = m.cells_on_cell[at] = kNone;
                 continue;
             }
-            if (!in(m.edges_on_cell[at], m.n_edges, false)) bad("edgesOnCell", c, m.edges_on_cell[at]);
-            if (!in(m.vertices_on_cell[at], m.n_vertices, false)) bad("verticesOnCell", c, m.vertices_on_cell[at]);
-            if (!in(m.cells_on_cell[at], m.n_cells, true)) bad("cellsOnCell", c, m.cells_on_cell[at]);
+            if (!in(m.edges_on_cell[at], m.n_edges, false)) bad("edgesOnCell", c, j, m.edges_on_cell[at]);
+            if (!in(m.vertices_on_cell[at], m.n_vertices, false)) bad("verticesOnCell", c, j, m.vertices_on_cell[at]);
+            if (!in(m.cells_on_cell[at], m.n_cells, true)) bad("cellsOnCell", c, j, m.cells_on_cell[at]);
         }
     }
     for (int64_t e = 0; e < m.n_edges; ++e) {
-        if (!in(m.cells_on_edge[2 * e], m.n_cells, false) || !in(m.cells_on_edge[2 * e + 1], m.n_cells, true))
-            bad("cellsOnEdge", e, m.cells_on_edge[2 * e]);
+        if (!in(m.cells_on_edge[2 * e], m.n_cells, false)) bad("cellsOnEdge", e, 0, m.cells_on_edge[2 * e]);
+        if (!in(m.cells_on_edge[2 * e + 1], m.n_cells, true)) bad("cellsOnEdge", e, 1, m.cells_on_edge[2 * e + 1]);
         for (int k = 0; k < 2; ++k)
-            if (!in(m.vertices_on_edge[2 * e + k], m.n_vertices, false)) bad("verticesOnEdge", e, m.vertices_on_edge[2 * e + k]);
+            if (!in(m.vertices_on_edge[2 * e + k], m.n_vertices, false))
+                bad("verticesOnEdge", e, k, m.vertices_on_edge[2 * e + k]);
         const int32_t n = m.n_edges_on_edge[e];
         if (n < 0 || n > 2 * m.max_edges) format_error(path, "nEdgesOnEdge(", e + 1, ") = ", n, " is out of range");
         for (int64_t j = 0; j < 2 * w; ++j) {
             int32_t &f = m.edges_on_edge[2 * w * e + j];
             if (j >= n) f = kNone;
-            else if (!in(f, m.n_edges, false)) bad("edgesOnEdge", e, f);
+            else if (!in(f, m.n_edges, false)) bad("edgesOnEdge", e, j, f);
         }
     }
     for (int64_t v = 0; v < 3 * int64_t(m.n_vertices); ++v) {
-        if (!in(m.cells_on_vertex[v], m.n_cells, true)) bad("cellsOnVertex", v / 3, m.cells_on_vertex[v]);
-        if (!in(m.edges_on_vertex[v], m.n_edges, true)) bad("edgesOnVertex", v / 3, m.edges_on_vertex[v]);
+        if (!in(m.cells_on_vertex[v], m.n_cells, true)) bad("cellsOnVertex", v / 3, v % 3, m.cells_on_vertex[v]);
+        if (!in(m.edges_on_vertex[v], m.n_edges, true)) bad("edgesOnVertex", v / 3, v % 3, m.edges_on_vertex[v]);
     }
     for (size_t c = 0; c < m.cell_downstream.size(); ++c)
-        if (!in(m.cell_downstream[c], m.n_cells, true)) bad("downstreamCell", int64_t(c), m.cell_downstream[c]);
+        if (!in(m.cell_downstream[c], m.n_cells, true)) bad("downstreamCell", int64_t(c), 0, m.cell_downstream[c]);
     for (size_t c = 0; c < m.cell_ocean_mask.size(); ++c)
         if ((m.cell_ocean_mask[c] != 0 && m.cell_ocean_mask[c] != 1) || m.cell_land_mask[c] != 1 - m.cell_ocean_mask[c])
             format_error(path, "cellOceanMask(", c + 1, ") and cellLandMask are not 0 and 1, or 1 and 0");
+}
+
+// The lists agree with each other: each edge and vertex a cell lists has
+// that cell among its own, and an edge's vertices are corners of its first
+// cell. (A cut would otherwise keep an edge none of whose cells it keeps.)
+void check_cross_references(const std::string &path, const MpasMesh &m) {
+    const int64_t w = m.max_edges;
+    auto lists = [](const int32_t *row, int n, int32_t x) { return std::find(row, row + n, x) != row + n; };
+    for (int64_t c = 0; c < m.n_cells; ++c)
+        for (int64_t j = 0; j < m.n_edges_on_cell[c]; ++j) {
+            const int32_t e = m.edges_on_cell[c * w + j], v = m.vertices_on_cell[c * w + j];
+            if (!lists(&m.cells_on_edge[2 * int64_t(e)], 2, int32_t(c)))
+                format_error(path, "edgesOnCell(", c + 1, ", ", j + 1, ") = ", int64_t(e) + 1,
+                             ", but cellsOnEdge of that edge does not hold cell ", c + 1);
+            if (!lists(&m.cells_on_vertex[3 * int64_t(v)], 3, int32_t(c)))
+                format_error(path, "verticesOnCell(", c + 1, ", ", j + 1, ") = ", int64_t(v) + 1,
+                             ", but cellsOnVertex of that vertex does not hold cell ", c + 1);
+        }
+    for (int64_t e = 0; e < m.n_edges; ++e) {
+        const int32_t c = m.cells_on_edge[2 * e];
+        for (int k = 0; k < 2; ++k)
+            if (!lists(&m.vertices_on_cell[c * w], m.n_edges_on_cell[c], m.vertices_on_edge[2 * e + k]))
+                format_error(path, "verticesOnEdge(", e + 1, ", ", k + 1, ") is not a vertex of cellsOnEdge(", e + 1,
+                             ", 1) = ", int64_t(c) + 1);
+    }
+}
+
+// Positions finite, lengths and areas finite and > 0, kites finite: the
+// component files (weights, grids, the river report) are computed from them.
+void check_values(const std::string &path, const MpasMesh &m) {
+    const struct {
+        const char *name;
+        const std::vector<double> &values;
+        bool positive;
+    } arrays[] = {{"xCell", m.x_cell, false},        {"yCell", m.y_cell, false},
+                  {"zCell", m.z_cell, false},        {"latCell", m.lat_cell, false},
+                  {"lonCell", m.lon_cell, false},    {"xVertex", m.x_vertex, false},
+                  {"yVertex", m.y_vertex, false},    {"zVertex", m.z_vertex, false},
+                  {"latVertex", m.lat_vertex, false}, {"lonVertex", m.lon_vertex, false},
+                  {"areaCell", m.area_cell, true},   {"areaTriangle", m.area_triangle, false},
+                  {"kiteAreasOnVertex", m.kite_areas_on_vertex, false},
+                  {"dcEdge", m.dc_edge, true},       {"dvEdge", m.dv_edge, false},
+                  {"angleEdge", m.angle_edge, false}};
+    for (const auto &a : arrays)
+        for (size_t i = 0; i < a.values.size(); ++i)
+            if (!std::isfinite(a.values[i]) || (a.positive && !(a.values[i] > 0)))
+                format_error(path, a.name, " value ", i + 1, " is ", a.values[i],
+                             a.positive ? ": expected a finite value > 0" : ": expected a finite value");
 }
 
 }  // namespace
@@ -180,13 +241,17 @@ MpasMesh read_mpas_mesh(Context &ctx, const std::string &path) {
     NcInput file(path, kWhat);
     MpasMesh m;
     read_dimensions(file, path, m);
-    // About 1.1 kB a cell for the mesh itself, and the same again for the
-    // component meshes made from it.
-    ctx.check_memory(2200 * static_cast<int64_t>(m.n_cells), "the MPAS mesh read from the file");
+    // The arrays the dimensions call for, twice: the mesh and its components.
+    const int64_t w = m.max_edges;
+    const int64_t bytes = int64_t(m.n_cells) * (64 + 12 * w) + int64_t(m.n_edges) * (84 + 24 * w) +
+                          int64_t(m.n_vertices) * (96);
+    ctx.check_memory(2 * bytes, "the MPAS mesh read from the file and its components");
     size_arrays(file, m);
     for (const MpasField &f : dual::mpas_fields(m))
         if (f.kind != MpasKind::id) read_field(file, path, f);
     check_connectivity(path, m);
+    check_cross_references(path, m);
+    check_values(path, m);
     return m;
 }
 

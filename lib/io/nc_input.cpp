@@ -1,7 +1,9 @@
 #include "io/nc_input.hpp"
 
 #include <cstring>
+#include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <system_error>
 
 #include <netcdf.h>
@@ -114,12 +116,14 @@ void NcInput::check_classic_length(const std::string &path, const char *what) co
         size_t type_size = 0, length = 0;
         nc_inq_var(id_, v, nullptr, &type, &ndims, dims, nullptr);
         nc_inq_type(id_, type, nullptr, &type_size);
+        // Saturating: a hostile header's dimensions may multiply past int64.
+        constexpr int64_t kHuge = std::numeric_limits<int64_t>::max() / 2;
         int64_t bytes = int64_t(type_size);
         for (int k = 0; k < ndims; ++k) {
             nc_inq_dimlen(id_, dims[k], &length);
-            bytes *= int64_t(length);
+            if (__builtin_mul_overflow(bytes, int64_t(length), &bytes) || bytes > kHuge) bytes = kHuge;
         }
-        needed += bytes;
+        needed = std::min(kHuge, needed + bytes);
     }
     std::error_code error;
     const auto actual = std::filesystem::file_size(path, error);

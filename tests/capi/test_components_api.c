@@ -336,6 +336,23 @@ static void same_file(const char *dir_a, const char *dir_b, const char *name) {
     free(a), free(b);
 }
 
+static void copy_file(const char *from, const char *to) {
+    size_t n = 0;
+    FILE *in = fopen(from, "rb");
+    assert_non_null(in);
+    fseek(in, 0, SEEK_END);
+    n = (size_t)ftell(in);
+    fseek(in, 0, SEEK_SET);
+    char *bytes = malloc(n);
+    assert_int_equal(fread(bytes, 1, n, in), n);
+    fclose(in);
+    FILE *out = fopen(to, "wb");
+    assert_non_null(out);
+    assert_int_equal(fwrite(bytes, 1, n, out), n);
+    fclose(out);
+    free(bytes);
+}
+
 static const char *const kFiles[] = {"mesh.nc",        "ocean.nc",      "land.nc",       "ocean.graph.info",
                                      "land.graph.info", "mesh.scrip.nc", "ocean.scrip.nc", "land.scrip.nc",
                                      "mesh.esmf.nc",    "ocean.esmf.nc", "land.esmf.nc",  "rivers.json"};
@@ -396,7 +413,45 @@ static void bad_input_is_refused(void **state) {
     assert_non_null(strstr(um_context_last_error(ctx), "garbage.nc"));
     um_context_clear_error(ctx);
     assert_int_equal(um_mpas_file_write_components(ctx, missing, dir), UM_ERR_IO);
+    um_context_clear_error(ctx);
     assert_int_equal(um_mpas_file_write_components(NULL, garbage, dir), UM_ERR_NULL_ARGUMENT);
+    /* A mesh file whose lists disagree, or with a NaN area: refused, naming
+     * the variable; the cut would otherwise keep an edge without its cells. */
+    char good_dir[4096], good[4096];
+    output_dir(good_dir, sizeof good_dir, "components_damaged");
+    um_mesh *unified = unified_mesh(ctx, 900.0);
+    assert_int_equal(um_mesh_write_components(unified, good_dir), UM_OK);
+    um_mesh_destroy(unified);
+    snprintf(good, sizeof good, "%s/mesh.nc", good_dir);
+    const struct {
+        const char *variable, *expected;
+    } damages[] = {{"cellsOnEdge", "cellsOnEdge"}, {"areaCell", "areaCell"}};
+    for (int k = 0; k < 2; ++k) {
+        char damaged[4096];
+        snprintf(damaged, sizeof damaged, "%s/damaged_%d.nc", good_dir, k);
+        copy_file(good, damaged);
+        int nc = -1, var = -1;
+        assert_int_equal(nc_open(damaged, NC_WRITE, &nc), NC_NOERR);
+        assert_int_equal(nc_inq_varid(nc, damages[k].variable, &var), NC_NOERR);
+        const size_t at[2] = {0, 0};
+        if (k == 0) {
+            int cells[2] = {0, 0};
+            const size_t count[2] = {1, 2};
+            assert_int_equal(nc_get_vara_int(nc, var, at, count, cells), NC_NOERR);
+            cells[0] = cells[0] == 1 ? 2 : 1; /* another cell, which does not list this edge */
+            cells[1] = cells[0] + 1;
+            assert_int_equal(nc_put_vara_int(nc, var, at, count, cells), NC_NOERR);
+        } else {
+            const double nan_value = NAN;
+            assert_int_equal(nc_put_var1_double(nc, var, at, &nan_value), NC_NOERR);
+        }
+        assert_int_equal(nc_close(nc), NC_NOERR);
+        assert_int_equal(um_mpas_file_write_components(ctx, damaged, dir), UM_ERR_FILE_FORMAT);
+        printf("damaged %s: %s\n", damages[k].variable, um_context_last_error(ctx));
+        assert_non_null(strstr(um_context_last_error(ctx), damages[k].expected));
+        um_context_clear_error(ctx);
+    }
+
     /* Nothing was written. */
     char path[4096];
     snprintf(path, sizeof path, "%s/ocean.nc", dir);
