@@ -140,6 +140,25 @@ class Components(unittest.TestCase):
                 self.assertTrue(filecmp.cmp(self.path(name), os.path.join(again, name), shallow=False), name)
 
 
+    def test_components_command_keeps_only_the_files_of_its_mesh(self):
+        with tempfile.TemporaryDirectory() as work:
+            own, other = os.path.join(work, "own"), os.path.join(work, "other")
+            for out in (own, other):
+                r = run("build", "--geometry", COAST, "--spacing-km", "900", "--out", out)
+                self.assertEqual(r.returncode, 0, r.stderr)
+            # Into the folder of the mesh it reads: the build's files stay.
+            r = run("components", os.path.join(own, "mesh.nc"), "--out", own)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in ("graph.info", "quality.json", "ocean.nc"):
+                self.assertTrue(os.path.exists(os.path.join(own, name)), name)
+            # Another mesh replaces the folder's mesh.nc: its graph.info and report go.
+            r = run("components", self.path("mesh.nc"), "--out", other)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in ("graph.info", "quality.json"):
+                self.assertFalse(os.path.exists(os.path.join(other, name)), name)
+            self.assertTrue(filecmp.cmp(self.path("ocean.nc"), os.path.join(other, "ocean.nc"), shallow=False))
+
+
 class Refused(unittest.TestCase):
     def test_a_mesh_without_coastlines_has_no_components(self):
         with tempfile.TemporaryDirectory() as out:

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -41,6 +42,18 @@ int write_components(const std::string &mesh_path, const std::string &staging) {
         return 1;
     }
     return 0;
+}
+
+// A build's other outputs in out_dir describe the mesh.nc there: they stay
+// when that is the mesh the components are made from, and go (stale) when
+// the new mesh.nc replaces a different mesh.
+std::vector<std::string> stale_build_files(const std::string &mesh_path, const std::string &out_dir) {
+    const std::string old_mesh = out_dir + "/mesh.nc";
+    std::error_code error;
+    if (!std::filesystem::exists(old_mesh, error)) return {};
+    if (std::filesystem::equivalent(mesh_path, old_mesh, error) || mesh_file_id(mesh_path) == mesh_file_id(old_mesh))
+        return {};
+    return {"graph.info", "quality.json", "quality.png", "mesh.png", "mesh.vtu", "triangles.vtu", "mesh.msh"};
 }
 
 }  // namespace
@@ -88,7 +101,7 @@ int run_components(const std::string &mesh_path, const std::string &out_dir) {
     std::vector<std::string> written{"mesh.nc"};
     written.insert(written.end(), kComponentFiles.begin(), kComponentFiles.end());
     try {
-        out->publish(written, {}, mesh_file_id(out->staged("mesh.nc")));
+        out->publish(written, stale_build_files(mesh_path, out_dir), mesh_file_id(out->staged("mesh.nc")));
     } catch (const std::runtime_error &e) {
         std::fprintf(stderr, "unimesh components: %s\n", e.what());
         return 1;

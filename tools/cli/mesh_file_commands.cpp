@@ -307,9 +307,9 @@ int run_quality(const std::string &path, bool json) {
     size_t obtuse = 0, not_well_centred = 0;
     // Each MPAS vertex is a triangle of three cells; its edges are the MPAS
     // edges between them, whose xEdge is the edge orthocentre.
-    std::vector<std::vector<int32_t>> edges_of_vertex(m.n_vertices);
+    std::vector<std::vector<int64_t>> edges_of_vertex(m.n_vertices);
     for (size_t e = 0; e < m.n_edges; ++e)
-        for (int k = 0; k < 2; ++k) edges_of_vertex[m.vertices_on_edge[2 * e + k] - 1].push_back(int32_t(e));
+        for (int k = 0; k < 2; ++k) edges_of_vertex[m.vertices_on_edge[2 * e + k] - 1].push_back(int64_t(e));
     for (size_t v = 0; v < m.n_vertices; ++v) {
         // A triangle the cut of a component mesh split (a cell of it elsewhere) is not measured.
         if (m.cells_on_vertex[3 * v] == 0 || m.cells_on_vertex[3 * v + 1] == 0 || m.cells_on_vertex[3 * v + 2] == 0)
@@ -328,7 +328,8 @@ int run_quality(const std::string &path, bool json) {
         const V3 centroid = unit(x[0] + x[1] + x[2]);
         const double df = arc(m.vertex[v], centroid), lmean = lsum / 3;
         double edge_term = 0;
-        for (int32_t e : edges_of_vertex[v]) {
+        for (int64_t e : edges_of_vertex[v]) {
+            if (m.cells_on_edge[2 * size_t(e) + 1] == 0) continue;  // a cut edge of a damaged file: no second cell
             const V3 c1 = m.cell[m.cells_on_edge[2 * e] - 1], c2 = m.cell[m.cells_on_edge[2 * e + 1] - 1];
             const double le = arc(c1, c2), de = arc(m.edge[e], unit(c1 + c2));
             edge_term += 1 - (de / le) * (de / le);
