@@ -154,7 +154,7 @@ UM_API um_status um_mesh_copy_triangles(const um_mesh *m, int32_t base, int32_t 
     check_capacity(capacity, 3 * int64_t(tri.triangle_count()), "the triangles");
     require_pointer(out, "out");
     for (int32_t f = 0; f < tri.triangle_count(); ++f)
-        for (int k = 0; k < 3; ++k) out[3 * f + k] = m->mesh.vertex_of_slot[tri.vertex(f, k)] + base;
+        for (int k = 0; k < 3; ++k) out[3 * int64_t(f) + k] = m->mesh.vertex_of_slot[tri.vertex(f, k)] + base;
     return UM_OK;
     UM_API_END(state_or_null(m))
 }

@@ -16,9 +16,10 @@ void write_degrees(Context &ctx, const tri::Triangulation &tri, int32_t *out) {
 
 StarGraph::StarGraph(Context &ctx, const tri::Triangulation &tri) {
     const int32_t n = tri.vertex_slots();
+    std::vector<int32_t> degree(static_cast<size_t>(n));
+    write_degrees(ctx, tri, degree.data());
     offset_.assign(static_cast<size_t>(n) + 1, 0);
-    write_degrees(ctx, tri, offset_.data() + 1);  // then their running sum
-    for (int32_t v = 0; v < n; ++v) offset_[v + 1] += offset_[v];
+    for (int32_t v = 0; v < n; ++v) offset_[v + 1] = offset_[v] + degree[v];
     link_.assign(static_cast<size_t>(offset_[n]), -1);
     // Walk each star once, counter-clockwise (what Triangulation::star gives).
     ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {

@@ -31,7 +31,7 @@ public:
     StarGraph(Context &ctx, const tri::Triangulation &tri);
 
     int32_t vertex_slots() const { return static_cast<int32_t>(offset_.size()) - 1; }
-    int32_t degree(int32_t v) const { return offset_[v + 1] - offset_[v]; }
+    int32_t degree(int32_t v) const { return static_cast<int32_t>(offset_[v + 1] - offset_[v]); }
     const int32_t *link(int32_t v) const { return link_.data() + offset_[v]; }
 
     // Greedy colouring in slot order: each vertex takes the smallest colour
@@ -42,7 +42,7 @@ public:
 private:
     void colour();
 
-    std::vector<int32_t> offset_;  // vertex_slots + 1
+    std::vector<int64_t> offset_;  // vertex_slots + 1; 64-bit: 3 x triangles passes 2^31 at 358 M vertices
     std::vector<int32_t> link_;
     std::vector<std::vector<int32_t>> colours_;
 };

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tri/spatial_order.hpp"
+
 namespace um::refine {
 
 using geom::Vec3;
@@ -50,7 +52,9 @@ bool flat_around(const SpacingRadians &h, const Vec3 &p, double h0) {
 
 std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, const geom::ArcTree &gamma) {
     const double h0 = coarsest_spacing(ctx, h);
-    const int64_t n = lattice_frequency(h0, int64_t{1} << 31);
+    // No larger lattice than one triangulation build takes (above that, 1.48
+    // km uniform and finer, the refinement starts from the icosahedron).
+    const int64_t n = lattice_frequency(h0, int64_t{1} << tri::kBrioIndexBits);
     std::vector<Vec3> points = relaxed_geodesic_lattice(ctx, std::max<int64_t>(n, 1));
     std::vector<uint8_t> keep(points.size(), 0);
     ctx.parallel_for_with_heartbeat(kStage, static_cast<int64_t>(points.size()), 16, [&](int64_t b, int64_t e) {
