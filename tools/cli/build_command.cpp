@@ -316,11 +316,20 @@ int run_build(const BuildArgs &a) {
         const std::string dir = a.out_dir + "/";
         const std::string mesh_nc = out->staged("mesh.nc");
         std::vector<std::string> written{"mesh.nc"}, not_written;
+        // Seconds each output took, printed with the mesh's own timings.
+        std::vector<std::pair<std::string, double>> took;
+        auto lap = [&, last = std::chrono::steady_clock::now()](const std::string &what) mutable {
+            const auto now = std::chrono::steady_clock::now();
+            took.emplace_back(what, std::chrono::duration<double>(now - last).count());
+            last = now;
+        };
         if (a.components) {
             check(um_mesh_write_components(m, out->staging_directory().c_str()), ctx, "writing the components into " + dir);
             print_river_summary(out->staged("rivers.json"));
+            lap("MPAS mesh and components");
         } else {
             check(um_mesh_write_mpas(m, mesh_nc.c_str()), ctx, "writing " + dir + "mesh.nc");
+            lap("MPAS mesh");
         }
         std::vector<std::string> &component_files = a.components ? written : not_written;
         component_files.insert(component_files.end(), kComponentFiles.begin(), kComponentFiles.end());
@@ -328,19 +337,23 @@ int run_build(const BuildArgs &a) {
         if (!write_graph_info(mesh_nc, out->staged("graph.info"), &extra_error))
             throw Failure{extra_error};
         written.push_back("graph.info");
+        lap("graph.info");
         if (a.vtu) {
             if (!write_cells_vtu(mesh_nc, out->staged("mesh.vtu"), &extra_error)) throw Failure{extra_error};
             if (!write_triangles_vtu(mesh_nc, out->staged("triangles.vtu"), &extra_error))
                 throw Failure{extra_error};
+            lap("VTU");
         }
         std::vector<std::string> &vtu_files = a.vtu ? written : not_written;
         vtu_files.insert(vtu_files.end(), {"mesh.vtu", "triangles.vtu"});
         if (a.jigsaw)
             check(um_mesh_write_jigsaw(m, out->staged("mesh.msh").c_str()), ctx, "writing " + dir + "mesh.msh");
+        if (a.jigsaw) lap("mesh.msh");
         (a.jigsaw ? written : not_written).push_back("mesh.msh");
         const std::string quality = quality_json(ctx, m);
         write_text(out->staged("quality.json"), quality);
         written.push_back("quality.json");
+        lap("quality.json");
         const bool plotted = plot("plot_quality.py", {out->staged("quality.json"), out->staged("quality.png")},
                                   dir + "quality.png");
         (plotted ? written : not_written).push_back("quality.png");
@@ -355,6 +368,7 @@ int run_build(const BuildArgs &a) {
                          dir.c_str(), static_cast<long long>(cells), static_cast<long long>(kMapCellLimit));
         }
         (mapped ? written : not_written).push_back("mesh.png");
+        lap("pictures");
         try {
             out->publish(written, not_written, mesh_file_id(mesh_nc));
         } catch (const std::runtime_error &e) {
@@ -368,6 +382,13 @@ int run_build(const BuildArgs &a) {
                     (long long)nv, (long long)nt, (long long)nr, (long long)nf, refine_s,
                     a.no_optimise ? 0.0 : optimise_s);
         print_quality(a.no_optimise ? "refined" : "optimised", ctx, m);
+        std::string times;
+        for (const auto &[what, seconds] : took) {
+            char text[96];
+            std::snprintf(text, sizeof text, "%s%s %.2f s", times.empty() ? "" : ", ", what.c_str(), seconds);
+            times += text;
+        }
+        std::printf("outputs: %s\n", times.c_str());
         std::string files;
         for (const std::string &name : written) files += dir + name + ", ";
         std::printf("wrote %s%smanifest.json\n", files.c_str(), dir.c_str());
