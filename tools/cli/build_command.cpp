@@ -14,6 +14,7 @@
 #include <string>
 
 #include <memory>
+#include <optional>
 #include <netcdf.h>
 #include <stdexcept>
 #include <vector>
@@ -228,28 +229,40 @@ std::string plot_script(const std::string &name) {
 
 // Runs `script` with `arguments`; false (after a warning naming `shown`) if
 // it fails.
-bool plot(const std::string &script, const std::vector<std::string> &arguments, const std::string &shown) {
-    const std::string script_path = plot_script(script);
-    const char *python = access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
-    std::vector<char *> argv{const_cast<char *>(python), const_cast<char *>(script_path.c_str())};
+const char *plot_python() { return access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3"; }
+
+// A plot script running beside the build (pid < 0: it could not start).
+struct Plot {
+    pid_t pid = -1;
+    std::string script_path, shown;
+};
+
+Plot start_plot(const std::string &script, const std::vector<std::string> &arguments, const std::string &shown) {
+    Plot p{-1, plot_script(script), shown};
+    std::vector<char *> argv{const_cast<char *>(plot_python()), const_cast<char *>(p.script_path.c_str())};
     for (const std::string &a : arguments) argv.push_back(const_cast<char *>(a.c_str()));
     argv.push_back(nullptr);
-    pid_t pid = fork();
-    if (pid == 0) {
-        execvp(python, argv.data());
+    p.pid = fork();
+    if (p.pid == 0) {
+        execvp(plot_python(), argv.data());
         _exit(127);
     }
+    return p;
+}
+
+// Whether the picture was drawn; a warning on stderr when not.
+bool finish_plot(const Plot &p) {
     int status = -1;
-    if (pid > 0) waitpid(pid, &status, 0);
-    if (pid > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
+    if (p.pid > 0) waitpid(p.pid, &status, 0);
+    if (p.pid > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
     // The script says why on stderr; the hint only where it applies (status
     // 3: a package missing; 127: no Python).
-    const int code = pid > 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    const int code = p.pid > 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     const char *hint = code == 3 ? "; are python3-matplotlib, python3-numpy and python3-netcdf4 installed?"
                        : code == 127 ? "; is python3 installed?"
                                      : "";
-    std::fprintf(stderr, "unimesh build: warning: no %s (%s %s failed%s)\n", shown.c_str(), python,
-                 script_path.c_str(), hint);
+    std::fprintf(stderr, "unimesh build: warning: no %s (%s %s failed%s)\n", p.shown.c_str(), plot_python(),
+                 p.script_path.c_str(), hint);
     return false;
 }
 
@@ -260,7 +273,19 @@ void write_text(const std::string &path, const std::string &text) {
     if (!f) throw Failure{"cannot write " + path};
 }
 
-// mesh.nc's global attribute file_id (a hash of its content), or "".
+// The map of the cells (none above kMapCellLimit cells, with a note).
+std::optional<Plot> start_map(const BuildArgs &a, const std::string &mesh_nc, const std::string &png,
+                              const std::string &shown, int64_t cells) {
+    if (cells > kMapCellLimit) {
+        std::fprintf(stderr, "unimesh build: note: no %s: %lld cells, more than the map draws (%lld)\n",
+                     shown.c_str(), static_cast<long long>(cells), static_cast<long long>(kMapCellLimit));
+        return std::nullopt;
+    }
+    std::vector<std::string> arguments{mesh_nc, png};
+    arguments.insert(arguments.end(), a.geometry.begin(), a.geometry.end());
+    return start_plot("plot_mesh.py", arguments, shown);
+}
+
 }  // namespace
 
 int run_build(const BuildArgs &a) {
@@ -354,20 +379,12 @@ int run_build(const BuildArgs &a) {
         write_text(out->staged("quality.json"), quality);
         written.push_back("quality.json");
         lap("quality.json");
-        const bool plotted = plot("plot_quality.py", {out->staged("quality.json"), out->staged("quality.png")},
-                                  dir + "quality.png");
-        (plotted ? written : not_written).push_back("quality.png");
-        bool mapped = false;
-        const int64_t cells = cell_count(m);
-        if (cells <= kMapCellLimit) {
-            std::vector<std::string> map_arguments{mesh_nc, out->staged("mesh.png")};
-            map_arguments.insert(map_arguments.end(), a.geometry.begin(), a.geometry.end());
-            mapped = plot("plot_mesh.py", map_arguments, dir + "mesh.png");
-        } else {
-            std::fprintf(stderr, "unimesh build: note: no %smesh.png: %lld cells, more than the map draws (%lld)\n",
-                         dir.c_str(), static_cast<long long>(cells), static_cast<long long>(kMapCellLimit));
-        }
-        (mapped ? written : not_written).push_back("mesh.png");
+        // The two pictures are drawn at once, in their own processes.
+        const Plot histograms = start_plot("plot_quality.py", {out->staged("quality.json"), out->staged("quality.png")},
+                                           dir + "quality.png");
+        const std::optional<Plot> map = start_map(a, mesh_nc, out->staged("mesh.png"), dir + "mesh.png", cell_count(m));
+        (finish_plot(histograms) ? written : not_written).push_back("quality.png");
+        (map && finish_plot(*map) ? written : not_written).push_back("mesh.png");
         lap("pictures");
         try {
             out->publish(written, not_written, mesh_file_id(mesh_nc));
