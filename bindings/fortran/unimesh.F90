@@ -160,7 +160,7 @@ module unimesh
       um_features_read_geojson, um_features_counts, um_features_get_points, um_features_get_parts
   public :: um_spacing_create_constant, um_spacing_create_grid, um_spacing_create_preset, &
       um_spacing_create_from_file, um_spacing_create_callback, um_spacing_destroy, &
-      um_spacing_limit_gradient, um_spacing_clamp, um_spacing_evaluate
+      um_spacing_limit_gradient, um_spacing_clamp, um_spacing_evaluate, um_spacing_estimate
   public :: um_mesh_refine, um_mesh_optimise, um_mesh_destroy, um_mesh_counts, um_mesh_get_vertices, &
       um_mesh_get_triangles, um_mesh_get_vertex_parts, um_mesh_get_restricted_edges, &
       um_mesh_get_vertex_sides, um_mesh_get_triangle_sides
@@ -1117,6 +1117,19 @@ contains
     call finish(c_um_spacing_evaluate(spacing%ptr, size(lon_deg, kind=c_int64_t), lon_deg, &
         lat_deg, km), spacing%ctx, routine, ierr)
   end subroutine um_spacing_evaluate
+
+  !> What a mesh of this spacing is expected to need: cells, and the peak
+  !> bytes of refining and optimising it and of its MPAS mesh.
+  subroutine um_spacing_estimate(spacing, cells, refine_bytes, mpas_bytes, ierr)
+    type(um_spacing_t), intent(in) :: spacing
+    integer(int64), optional, intent(out) :: cells, refine_bytes, mpas_bytes
+    integer, optional, intent(out) :: ierr
+    integer(c_int64_t) :: c, r, m
+    call finish(c_um_spacing_estimate(spacing%ptr, c, r, m), spacing%ctx, 'um_spacing_estimate', ierr)
+    if (present(cells)) cells = c
+    if (present(refine_bytes)) refine_bytes = r
+    if (present(mpas_bytes)) mpas_bytes = m
+  end subroutine um_spacing_estimate
 
   ! ====================================================================== mesh
   ! Getters allocate their results to the exact size (left unallocated on

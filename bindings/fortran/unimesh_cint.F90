@@ -567,6 +567,13 @@ module unimesh_cint
       real(c_double), intent(out), optional :: km_out(*)
     end function c_um_spacing_evaluate
 
+    integer(c_int32_t) function c_um_spacing_estimate(s, cells, refine_bytes, mpas_bytes) &
+        bind(c, name="um_spacing_estimate")
+      import :: c_int32_t, c_int64_t, c_ptr
+      type(c_ptr), value :: s
+      integer(c_int64_t), intent(out), optional :: cells, refine_bytes, mpas_bytes
+    end function c_um_spacing_estimate
+
     ! ------------------------------------------------------------------- mesh
     ! features and options: pass c_null_ptr for none.
     integer(c_int32_t) function c_um_mesh_refine(ctx, spacing, features, options, out) &

@@ -8,6 +8,7 @@
 
 #include "capi/api.hpp"
 #include "capi/objects.hpp"
+#include "mesh/refined_mesh.hpp"
 #include "hfun/grid.hpp"
 #include "hfun/presets.hpp"
 #include "hfun/spacing.hpp"
@@ -157,6 +158,18 @@ UM_API um_status um_spacing_evaluate(const um_spacing *s, int64_t n, const doubl
     um::hfun::evaluate(
         *s->context, *s->spacing, n,
         [&](int64_t i) { return um::hfun::Where::from_lonlat(lon_deg[i], lat_deg[i]); }, km_out);
+    return UM_OK;
+    UM_API_END(state_or_null(s))
+}
+
+UM_API um_status um_spacing_estimate(const um_spacing *s, int64_t *cells, int64_t *refine_bytes,
+                                     int64_t *mpas_bytes) {
+    UM_API_BEGIN
+    require_handle(s, HandleKind::spacing, "s");
+    const um::mesh::MeshEstimate e = um::mesh::estimate_mesh(*s->context, *s->spacing);
+    if (cells) *cells = e.cells;
+    if (refine_bytes) *refine_bytes = e.refine_bytes;
+    if (mpas_bytes) *mpas_bytes = e.mpas_bytes;
     return UM_OK;
     UM_API_END(state_or_null(s))
 }

@@ -18,10 +18,6 @@ namespace um::dual {
 namespace {
 
 constexpr int64_t kMaxIndex = std::numeric_limits<int32_t>::max();
-// Bytes per cell of the finished mesh and the temporaries of its
-// construction (3 edges and 2 vertices per cell; maxEdges about 8), for the
-// memory-cap check.
-constexpr int64_t kBytesPerCell = 1600;
 
 // The MPAS numbering of the elements and the maps to and from the
 // triangulation.
@@ -112,7 +108,7 @@ void check_input(Context &ctx, const tri::Triangulation &tri, const MpasMeshInpu
     if (int64_t(tri.triangle_count()) * 3 / 2 > kMaxIndex)
         fail(UM_ERR_LIMIT, "MPAS mesh: ", tri.triangle_count(),
              " triangles give more edges than int32 indices can address");
-    ctx.check_memory(kBytesPerCell * static_cast<int64_t>(n_vertices), "the MPAS mesh");
+    ctx.check_memory(kMpasBytesPerCell * static_cast<int64_t>(n_vertices), "the MPAS mesh");
 }
 
 void number_cells(Context &ctx, const tri::Triangulation &tri, const std::vector<int32_t> &slots,

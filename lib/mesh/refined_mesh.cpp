@@ -5,6 +5,7 @@
 
 #include "core/earth.hpp"
 #include "core/error.hpp"
+#include "dual/mpas_mesh.hpp"
 #include "core/text.hpp"
 #include "refine/boundary.hpp"
 #include "refine/lattice.hpp"
@@ -225,6 +226,15 @@ int64_t estimated_cells(Context &ctx, const hfun::Spacing &h) {
     double total = 0;
     for (double b : band) total += b;
     return static_cast<int64_t>(std::min(total, 1e15));
+}
+
+MeshEstimate estimate_mesh(Context &ctx, const hfun::Spacing &h) {
+    MeshEstimate e;
+    e.cells = estimated_cells(ctx, h);
+    const int64_t cells = std::min<int64_t>(e.cells, int64_t(1) << 50);  // the products below fit int64
+    e.refine_bytes = cells * std::max(kRefineBytesPerCell, kOptimiseBytesPerCell);
+    e.mpas_bytes = cells * dual::kMpasBytesPerCell;
+    return e;
 }
 
 RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,

@@ -87,6 +87,15 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
 void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
                    const quality::Report *refined_quality = nullptr);
 
+// What a mesh of spacing h on the Earth is expected to need, for refusing a
+// size up front: its cells (the sphere's area over the cells' area at h) and
+// the peak bytes of refining and optimising it, and of its MPAS mesh (built
+// whole in memory by the writer and the copy-out).
+struct MeshEstimate {
+    int64_t cells = 0, refine_bytes = 0, mpas_bytes = 0;
+};
+MeshEstimate estimate_mesh(Context &ctx, const hfun::Spacing &h);
+
 // The spacing in radians on the unit sphere, checked (finite, > 0) where read.
 refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m);
 // Its lower bound over a cap (hfun::Spacing::smallest_in_cap), checked the same way.

@@ -185,6 +185,28 @@ static void constant_spacing(void **state) {
     EXPECT_CREATE_ERROR(ctx, s, um_spacing_create_constant(NULL, 30, &s), UM_ERR_NULL_ARGUMENT, NULL, NULL);
 }
 
+/* The up-front estimate: a uniform 120 km mesh has 40,962 cells (the
+ * lattice); the memory the cap judges scales with them. */
+static void estimate(void **state) {
+    um_context *ctx = ctx_of(state);
+    um_spacing *s = NULL;
+    assert_int_equal(um_spacing_create_constant(ctx, 120, &s), UM_OK);
+    int64_t cells = 0, refine_bytes = 0, mpas_bytes = 0;
+    assert_int_equal(um_spacing_estimate(s, &cells, &refine_bytes, &mpas_bytes), UM_OK);
+    assert_true(cells > 39000 && cells < 43000);
+    assert_true(refine_bytes >= 200 * cells && refine_bytes < mpas_bytes);
+    assert_true(mpas_bytes >= 1000 * cells);
+    assert_int_equal(um_spacing_estimate(s, NULL, NULL, NULL), UM_OK);
+    um_spacing *fine = NULL;
+    int64_t fine_cells = 0;
+    assert_int_equal(um_spacing_create_constant(ctx, 60, &fine), UM_OK);
+    assert_int_equal(um_spacing_estimate(fine, &fine_cells, NULL, NULL), UM_OK);
+    assert_true(fine_cells > 3.9 * cells && fine_cells < 4.1 * cells);
+    um_spacing_destroy(fine);
+    um_spacing_destroy(s);
+    EXPECT_ERROR(ctx, um_spacing_estimate(NULL, &cells, NULL, NULL), UM_ERR_NULL_ARGUMENT, NULL, NULL);
+}
+
 static void grid_spacing(void **state) {
     um_context *ctx = ctx_of(state);
     double cells[12];
@@ -535,6 +557,7 @@ static void null_destroyed_and_foreign_handles(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(constant_spacing),
+        cmocka_unit_test(estimate),
         cmocka_unit_test(grid_spacing),
         cmocka_unit_test(grid_bad_input),
         cmocka_unit_test(spacing_files),

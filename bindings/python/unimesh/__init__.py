@@ -35,7 +35,7 @@ __all__ = [
     "VERSION_MAJOR", "VERSION_MINOR", "VERSION_PATCH", "VERSION_NUMBER", "VERSION_STRING",
     "Status", "Option", "OptionType", "FeatureKind", "Side", "LogLevel", "ErrorMode", "OptionInfo", "UnimeshError",
     "Context", "Options", "Triangulation", "TriangulationCounts", "Features", "FeaturesCounts",
-    "FeatureParts", "Spacing", "Mesh", "MeshCounts", "QualitySummary", "QualityCounts", "MpasType", "MpasDimensions",
+    "FeatureParts", "Spacing", "Mesh", "MeshCounts", "QualitySummary", "QualityCounts", "MeshEstimate", "MpasType", "MpasDimensions",
     "version", "version_number",
     "version_string", "status_string", "status_class", "option_info", "option_name",
     "option_key", "library_path", "missing_functions",
@@ -155,6 +155,7 @@ FeatureParts = namedtuple("FeatureParts", "offsets closed kind part_id")
 MeshCounts = namedtuple("MeshCounts", "n_vertices n_triangles n_restricted_edges n_filtered")
 QualitySummary = namedtuple("QualitySummary", "min p1 mean max")
 QualityCounts = namedtuple("QualityCounts", "obtuse not_well_centred")
+MeshEstimate = namedtuple("MeshEstimate", "cells refine_bytes mpas_bytes")
 MpasDimensions = namedtuple("MpasDimensions", "n_cells n_edges n_vertices max_edges")
 
 
@@ -881,6 +882,13 @@ class Spacing(_Handle):
         """h = min(max(h, km_min), km_max)."""
         self._check(C.um_spacing_clamp(self._handle, float(km_min), float(km_max)))
         return self
+
+    def estimate(self):
+        """MeshEstimate(cells, refine_bytes, mpas_bytes): what a mesh of this
+        spacing is expected to need (see um_spacing_estimate)."""
+        values = c_int64(0), c_int64(0), c_int64(0)
+        self._check(C.um_spacing_estimate(self._handle, *(byref(v) for v in values)))
+        return MeshEstimate(*(v.value for v in values))
 
     def evaluate(self, lon_deg, lat_deg, out=None):
         """h in km at the points: a float64 array of the inputs' shape."""

@@ -102,6 +102,7 @@ SIGNATURES = (
     ("um_spacing_limit_gradient", status_t, (handle_t, c_double)),
     ("um_spacing_clamp", status_t, (handle_t, c_double, c_double)),
     ("um_spacing_evaluate", status_t, (handle_t, c_int64, _f64p, _f64p, _f64p)),
+    ("um_spacing_estimate", status_t, (handle_t, _i64p, _i64p, _i64p)),
     # mesh
     ("um_mesh_refine", status_t, (handle_t, handle_t, handle_t, handle_t, handle_out_t)),
     ("um_mesh_optimise", status_t, (handle_t, handle_t)),
