@@ -397,25 +397,32 @@ void add_river_crossings(Context &ctx, const mesh::RefinedMesh &refined, MpasMes
     const features::Network &gamma = *refined.gamma;
     std::vector<int32_t> cell_of_slot(static_cast<size_t>(tri.vertex_slots()), kNone);
     for (int32_t c = 0; c < m.n_cells; ++c) cell_of_slot[refined.slot_of_vertex[m.cell_source_vertex[c]]] = c;
-    std::vector<int64_t> river_segments;
-    for (int64_t s = 0; s < gamma.segment_count(); ++s)
-        if (gamma.segment_kind(s) == features::Kind::river) river_segments.push_back(s);
+    std::vector<int64_t> river_parts;
+    for (int64_t p = 0; p < gamma.part_count(); ++p)
+        if (gamma.part(p).kind == features::Kind::river) river_parts.push_back(p);
     m.edge_on_river.assign(static_cast<size_t>(m.n_edges), 0);
-    if (river_segments.empty()) return;
+    if (river_parts.empty()) return;
     const size_t w = static_cast<size_t>(m.max_edges);
-    // Each flag is only ever set to 1, so the chunks may run in any order.
+    // Each flag is only ever set to 1, so the parts may run in any order.
+    // A walk starts where the part's previous segment ended (its first from
+    // a fixed vertex): on a tie between two cells the answer depends on the
+    // start, which therefore must not depend on how the parts are shared out.
     std::vector<std::atomic<uint8_t>> on_river(static_cast<size_t>(m.n_edges));
-    ctx.parallel_for(static_cast<int64_t>(river_segments.size()), 256, [&](int64_t b, int64_t e) {
-        int32_t hint = -1;
+    ctx.parallel_for(static_cast<int64_t>(river_parts.size()), 4, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
-            const int64_t s = river_segments[i];
-            const std::vector<int32_t> slots = tri::cells_along_arc(tri, gamma.segment_a(s), gamma.segment_b(s), hint);
-            if (!slots.empty()) hint = slots.back();
-            for (size_t k = 1; k < slots.size(); ++k) {
-                const int32_t p = cell_of_slot[slots[k - 1]], q = cell_of_slot[slots[k]];
-                if (p == kNone || q == kNone) continue;
-                for (int32_t j = 0; j < m.n_edges_on_cell[p]; ++j)
-                    if (m.cells_on_cell[w * p + j] == q) on_river[m.edges_on_cell[w * p + j]].store(1, std::memory_order_relaxed);
+            const features::Part &part = gamma.part(river_parts[i]);
+            int32_t hint = -1;
+            for (int64_t s = part.first_segment; s < part.first_segment + part.n_segments; ++s) {
+                const std::vector<int32_t> slots =
+                    tri::cells_along_arc(tri, gamma.segment_a(s), gamma.segment_b(s), hint);
+                if (!slots.empty()) hint = slots.back();
+                for (size_t k = 1; k < slots.size(); ++k) {
+                    const int32_t p = cell_of_slot[slots[k - 1]], q = cell_of_slot[slots[k]];
+                    if (p == kNone || q == kNone) continue;
+                    for (int32_t j = 0; j < m.n_edges_on_cell[p]; ++j)
+                        if (m.cells_on_cell[w * p + j] == q)
+                            on_river[m.edges_on_cell[w * p + j]].store(1, std::memory_order_relaxed);
+                }
             }
         }
     });
