@@ -79,8 +79,7 @@ void cut_cells(const MpasMesh &base, const Kept &k, MpasMesh &m) {
     for (auto [to, from] :
          {std::pair{&m.n_edges_on_cell, &base.n_edges_on_cell}, {&m.cell_side, &base.cell_side},
           {&m.cell_ocean_mask, &base.cell_ocean_mask}, {&m.cell_land_mask, &base.cell_land_mask},
-          {&m.cell_downstream, &base.cell_downstream}, {&m.cell_river_kind, &base.cell_river_kind},
-          {&m.cell_source_vertex, &base.cell_source_vertex}})
+          {&m.cell_downstream, &base.cell_downstream}, {&m.cell_river_kind, &base.cell_river_kind}})
         *to = values(*from, r);
     renumber(m.cell_downstream, r);
     m.edges_on_cell = rows(base.edges_on_cell, r, w, nw, kNone);
@@ -135,7 +134,6 @@ void cut_vertices(const MpasMesh &base, const Kept &k, MpasMesh &m) {
           {&m.area_triangle, &base.area_triangle}})
         *to = values(*from, r);
     m.vertex_side = values(base.vertex_side, r);
-    m.vertex_source_triangle = values(base.vertex_source_triangle, r);
     const size_t d = kVertexDegree;
     m.kite_areas_on_vertex = rows(base.kite_areas_on_vertex, r, d, d, 0.0);
     m.cells_on_vertex = rows(base.cells_on_vertex, r, d, d, kNone);

@@ -148,6 +148,26 @@ std::vector<uint8_t> river_mouths(const MpasMesh &m, const std::vector<int32_t> 
     return mouth;
 }
 
+// Each river edge's flow (+1 from cellsOnEdge 1 to 2, -1 back, 0 none):
+// down the routing, from the farther cell to the nearer one where the edge
+// closes a cycle; into the sea from an outlet; none where the distances
+// (steps to the outlet, -1 unrouted) tie or no coast is reached.
+std::vector<int32_t> edge_flows(const MpasMesh &m, const std::vector<int32_t> &distance) {
+    std::vector<int32_t> flows(static_cast<size_t>(m.n_edges), 0);
+    for (int64_t e = 0; e < m.n_edges; ++e) {
+        if (!is_river_edge(m, e)) continue;
+        const int32_t a = m.cells_on_edge[2 * e], b = m.cells_on_edge[2 * e + 1];
+        const bool land_a = is_land(m, a), land_b = is_land(m, b);
+        if (land_a && land_b) {
+            if (distance[a] >= 0 && distance[b] >= 0 && distance[a] != distance[b])
+                flows[e] = distance[a] > distance[b] ? 1 : -1;
+        } else if (land_a != land_b) {
+            flows[e] = land_a ? 1 : -1;
+        }
+    }
+    return flows;
+}
+
 }  // namespace
 
 RiverRouting river_routing(const MpasMesh &m) {
@@ -195,23 +215,7 @@ RiverRouting river_routing(const MpasMesh &m) {
         if (note.cycles > 0) report.with_cycles.push_back(note);
     }
 
-    // Each river edge's flow: down the routing, from the farther cell to the
-    // nearer one where the edge closes a cycle; into the sea from an outlet;
-    // none where the distances tie or no coast is reached.
-    out.edge_river_downstream.assign(static_cast<size_t>(m.n_edges), 0);
-    for (int64_t e = 0; e < m.n_edges; ++e) {
-        if (!is_river_edge(m, e)) continue;
-        const int32_t a = m.cells_on_edge[2 * e], b = m.cells_on_edge[2 * e + 1];
-        const bool land_a = is_land(m, a), land_b = is_land(m, b);
-        int32_t flow = 0;
-        if (land_a && land_b) {
-            if (distance[a] >= 0 && distance[b] >= 0 && distance[a] != distance[b])
-                flow = distance[a] > distance[b] ? 1 : -1;
-        } else if (land_a != land_b) {
-            flow = land_a ? 1 : -1;
-        }
-        out.edge_river_downstream[e] = flow;
-    }
+    out.edge_river_downstream = edge_flows(m, distance);
     return out;
 }
 

@@ -59,14 +59,6 @@ typedef struct {
     double *area_cell;
 } Mesh;
 
-static size_t dim_length(int nc, const char *name) {
-    int id = -1;
-    size_t n = 0;
-    assert_int_equal(nc_inq_dimid(nc, name, &id), NC_NOERR);
-    assert_int_equal(nc_inq_dimlen(nc, id, &n), NC_NOERR);
-    return n;
-}
-
 static int *ints(int nc, const char *name, size_t n) {
     int var = -1;
     int *out = malloc(n * sizeof(int));

@@ -49,14 +49,6 @@ static um_mesh *refine(um_context *ctx, double km, const char *geojson) {
     return m;
 }
 
-static size_t dim_length(int nc, const char *name) {
-    int id = -1;
-    size_t n = 0;
-    assert_int_equal(nc_inq_dimid(nc, name, &id), NC_NOERR);
-    assert_int_equal(nc_inq_dimlen(nc, id, &n), NC_NOERR);
-    return n;
-}
-
 /* The file has the mesh's cells and vertices, 1-based connectivity, and the
  * side tags where the mesh has them. */
 static void check_file(const char *path, um_mesh *m) {

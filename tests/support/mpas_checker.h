@@ -1,6 +1,6 @@
-/* The shared MPAS checker (../shared/tools/mpas_check.py) run on a file by
- * the C ABI suites that write MPAS meshes. UNIMESH_SHARED_DIR is set by
- * tests/CMakeLists.txt. */
+/* For the C ABI suites that write MPAS meshes: the shared MPAS checker
+ * (../shared/tools/mpas_check.py) run on a file, and a dimension read back
+ * with netCDF-C. UNIMESH_SHARED_DIR is set by tests/CMakeLists.txt. */
 #ifndef UNIMESH_TESTS_MPAS_CHECKER_H
 #define UNIMESH_TESTS_MPAS_CHECKER_H
 
@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <netcdf.h>
 
 static const char *const kPython = "/usr/bin/python3";
 static const char *const kChecker = UNIMESH_SHARED_DIR "/tools/mpas_check.py";
@@ -33,6 +35,15 @@ static void run_checker(const char *path) {
     int status = pclose(out);
     assert_true(WIFEXITED(status));
     assert_int_equal(WEXITSTATUS(status), 0);
+}
+
+/* The length of dimension name of the open file nc (it must be there). */
+static size_t dim_length(int nc, const char *name) {
+    int id = -1;
+    size_t n = 0;
+    assert_int_equal(nc_inq_dimid(nc, name, &id), NC_NOERR);
+    assert_int_equal(nc_inq_dimlen(nc, id, &n), NC_NOERR);
+    return n;
 }
 
 #endif
