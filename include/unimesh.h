@@ -563,10 +563,12 @@ UM_API um_status um_spacing_evaluate(const um_spacing *s, int64_t n, const doubl
 /* What a mesh of spacing s on the Earth is expected to need, before any work:
  * cells (the sphere's area over the area of a cell of spacing h, summed over
  * 180 x 360 bands), refine_bytes (the peak of um_mesh_refine and
- * um_mesh_optimise) and mpas_bytes (the peak of um_mesh_write_mpas and the
- * MPAS copy-out, which build the whole staggered mesh). These are the
- * estimates the memory cap judges: a caller that will write the MPAS mesh
- * can refuse a size whose mpas_bytes exceed the cap before refining it.
+ * um_mesh_optimise) and mpas_bytes (what um_mesh_write_mpas adds to the
+ * mesh: it streams the file a block of rows at a time; the MPAS copy-out and
+ * um_mesh_write_components build the whole staggered mesh, about ten times
+ * that). These are the estimates the memory cap judges: a caller that will
+ * write the MPAS mesh can refuse a size whose mpas_bytes exceed the cap
+ * before refining it.
  * Out-pointers may be NULL. */
 UM_API um_status um_spacing_estimate(const um_spacing *s, int64_t *cells, int64_t *refine_bytes,
                                      int64_t *mpas_bytes);

@@ -7,6 +7,7 @@
 #include "capi/objects.hpp"
 #include "dual/mpas_fields.hpp"
 #include "dual/mpas_mesh.hpp"
+#include "dual/mpas_source.hpp"
 #include "io/jigsaw_writer.hpp"
 #include "io/mpas_writer.hpp"
 
@@ -140,10 +141,11 @@ UM_API um_status um_mesh_write_mpas(const um_mesh *m, const char *path) {
     if (path[0] == '\0') fail(UM_ERR_INVALID_ARGUMENT, "path is empty");
     um::Context &ctx = *m->context;
     ctx.progress("MPAS mesh", 0.0);
-    um::dual::MpasMesh mpas = um::dual::build_mpas_mesh(ctx, m->mesh);
-    // The last chance to cancel: once writing starts the file is finished.
-    ctx.progress("MPAS mesh", 0.5);
-    um::io::write_mpas_mesh(mpas, path);
+    // Streamed: the file is written a block of rows at a time from the
+    // numbering, so the staggered mesh is never held whole.
+    ctx.check_memory(um::dual::kMpasSourceBytesPerCell * m->mesh.vertex_count(), "the MPAS mesh file");
+    const um::dual::MpasSource source(ctx, m->mesh);
+    um::io::write_mpas_mesh(ctx, source, path);
     return UM_OK;
     UM_API_END(mesh_context(m))
 }

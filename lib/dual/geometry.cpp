@@ -1,5 +1,6 @@
-// Positions, lengths, angles and areas of the MPAS mesh (mpas-format.md,
-// "What a generator must produce"), from unit vectors, scaled by R at the end.
+// Connectivity, positions, lengths, angles and areas of the MPAS mesh
+// (mpas-format.md, "What a generator must produce"), a block of rows at a
+// time from the layout's unit vectors, scaled by R.
 #include <cmath>
 
 #include "dual/spherical.hpp"
@@ -9,58 +10,79 @@ namespace um::dual {
 
 namespace {
 
-void place(const std::vector<Vec3> &unit, double radius, std::vector<double> &x,
-           std::vector<double> &y, std::vector<double> &z, std::vector<double> &lat,
-           std::vector<double> &lon, int64_t i) {
-    const Vec3 &u = unit[i];
-    x[i] = radius * u.x, y[i] = radius * u.y, z[i] = radius * u.z;
-    lat_lon(u, lat[i], lon[i]);
+struct Placed {
+    std::vector<double> *x, *y, *z, *lat, *lon;
+};
+
+void resize_rows(Placed p, size_t n) {
+    for (auto *a : {p.x, p.y, p.z, p.lat, p.lon}) a->resize(n);
 }
 
-void resize_all(size_t n, std::initializer_list<std::vector<double> *> arrays) {
-    for (auto *a : arrays) a->resize(n);
+void place(Placed p, Vec3 u, double radius, int64_t i) {
+    (*p.x)[i] = radius * u.x, (*p.y)[i] = radius * u.y, (*p.z)[i] = radius * u.z;
+    lat_lon(u, (*p.lat)[i], (*p.lon)[i]);
 }
 
-void cell_geometry(Context &ctx, const UnitPositions &pos, MpasMesh &m) {
-    const double r = m.radius_m, r2 = r * r;
-    const size_t w = static_cast<size_t>(m.max_edges);
-    resize_all(pos.cell.size(), {&m.x_cell, &m.y_cell, &m.z_cell, &m.lat_cell, &m.lon_cell,
-                                 &m.area_cell});
-    ctx.parallel_for(m.n_cells, 4096, [&](int64_t b, int64_t e) {
-        for (int64_t c = b; c < e; ++c) {
-            place(pos.cell, r, m.x_cell, m.y_cell, m.z_cell, m.lat_cell, m.lon_cell, c);
+}  // namespace
+
+void ring_geometry(const MpasLayout &layout, double radius, int32_t c, RingGeometry &g) {
+    layout.cell_ring(c, g.ring);
+    const int d = g.ring.degree();
+    const Vec3 x = layout.cell_unit(c);
+    g.corner.resize(d), g.edge.resize(d), g.kite.resize(d), g.dv.resize(d), g.ends.resize(d);
+    for (int j = 0; j < d; ++j) g.corner[j] = layout.vertex_unit(g.ring.vertices[j]);
+    // Edge j runs between corners j - 1 and j, from c to cellsOnCell(j).
+    for (int j = 0; j < d; ++j) {
+        const EdgeEnds &ends = g.ends[j] = layout.edge_ends(g.ring.edges[j]);
+        const Vec3 across = layout.cell_unit(g.ring.cells[j]);
+        const Vec3 &here = g.corner[j], &before = g.corner[(j + d - 1) % d];
+        const bool c_first = ends.cell[0] == c, here_first = ends.vertex[0] == g.ring.vertices[j];
+        const Vec3 &v1 = here_first ? here : before, &v2 = here_first ? before : here;
+        g.edge[j] = layout.edge_unit(ends, c_first ? x : across, c_first ? across : x, v1, v2);
+        g.dv[j] = radius * arc(v1, v2);
+    }
+    // Kite of corner j: the quad (corner, xEdge, xCell, xEdge') as two
+    // triangles from the corner, the edges in the corner's own
+    // counter-clockwise order (edgesOnCell(j + 1), then edgesOnCell(j)).
+    const double r2 = radius * radius;
+    for (int j = 0; j < d; ++j) {
+        const Vec3 &o = g.corner[j], &before = g.edge[(j + 1) % d], &after = g.edge[j];
+        g.kite[j] = r2 * (signed_area(o, before, x) + signed_area(o, x, after));
+    }
+}
+
+void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
+               MpasMesh &m) {
+    const double r2 = radius * radius;
+    const size_t w = static_cast<size_t>(layout.max_edges()), n = static_cast<size_t>(count);
+    const Placed placed{&m.x_cell, &m.y_cell, &m.z_cell, &m.lat_cell, &m.lon_cell};
+    resize_rows(placed, n);
+    m.area_cell.resize(n);
+    m.n_edges_on_cell.resize(n);
+    m.edges_on_cell.assign(w * n, kNone);
+    m.vertices_on_cell.assign(w * n, kNone);
+    m.cells_on_cell.assign(w * n, kNone);
+    ctx.parallel_for(count, 1024, [&](int64_t b, int64_t e) {
+        CellRing ring;
+        std::vector<Vec3> corner;
+        for (int64_t i = b; i < e; ++i) {
+            const int32_t c = static_cast<int32_t>(first + i);
+            layout.cell_ring(c, ring);
+            const int d = ring.degree();
+            m.n_edges_on_cell[i] = d;
+            std::copy(ring.edges.begin(), ring.edges.end(), &m.edges_on_cell[w * i]);
+            std::copy(ring.vertices.begin(), ring.vertices.end(), &m.vertices_on_cell[w * i]);
+            std::copy(ring.cells.begin(), ring.cells.end(), &m.cells_on_cell[w * i]);
+            place(placed, layout.cell_unit(c), radius, i);
             // The power cell's polygon fanned from the centroid of its corners:
             // the generator may lie outside its own cell.
-            const int32_t *corner = &m.vertices_on_cell[w * c];
-            const int d = m.n_edges_on_cell[c];
+            corner.resize(d);
             Vec3 sum{};
-            for (int j = 0; j < d; ++j) sum = sum + pos.vertex[corner[j]];
-            Vec3 centre = geom::normalized(sum);
+            for (int j = 0; j < d; ++j) sum = sum + (corner[j] = layout.vertex_unit(ring.vertices[j]));
+            const Vec3 centre = geom::normalized(sum);
             double area = 0;
-            for (int j = 0; j < d; ++j)
-                area += signed_area(centre, pos.vertex[corner[j]], pos.vertex[corner[(j + 1) % d]]);
-            m.area_cell[c] = r2 * area;
-        }
-    });
-}
-
-void edge_geometry(Context &ctx, const UnitPositions &pos, MpasMesh &m) {
-    const double r = m.radius_m;
-    resize_all(pos.edge.size(), {&m.x_edge, &m.y_edge, &m.z_edge, &m.lat_edge, &m.lon_edge,
-                                 &m.dc_edge, &m.dv_edge, &m.angle_edge});
-    ctx.parallel_for(m.n_edges, 4096, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) {
-            place(pos.edge, r, m.x_edge, m.y_edge, m.z_edge, m.lat_edge, m.lon_edge, i);
-            const Vec3 &c1 = pos.cell[m.cells_on_edge[2 * i]], &c2 = pos.cell[m.cells_on_edge[2 * i + 1]];
-            const Vec3 &v1 = pos.vertex[m.vertices_on_edge[2 * i]];
-            const Vec3 &v2 = pos.vertex[m.vertices_on_edge[2 * i + 1]];
-            m.dc_edge[i] = r * arc(c1, c2);
-            m.dv_edge[i] = r * arc(v1, v2);
-            // n_e is the direction of the arc c1 -> c2 at xEdge, (c1 x c2) x xEdge.
-            // The dual arc is exactly perpendicular, so this is the normal of
-            // recompute_angle_edge, (v2 - v1) x xEdge, without its rounding on
-            // the metre-long dual edges of nearly cocircular quadruples.
-            m.angle_edge[i] = angle_from_east(geom::cross(geom::cross(c1, c2), pos.edge[i]), pos.edge[i]);
+            for (int j = 0; j < d; ++j) area += signed_area(centre, corner[j], corner[(j + 1) % d]);
+            m.area_cell[i] = r2 * area;
         }
     });
 }
@@ -68,42 +90,60 @@ void edge_geometry(Context &ctx, const UnitPositions &pos, MpasMesh &m) {
 // areaTriangle: the generator triangle. Kite j of vertex v: the quad
 // (v, xEdge_j, xCell_j, xEdge_j+1), signed, as two triangles from v; the
 // edge points lie on the cell-cell arcs, so the kites add up to the triangle.
-void vertex_geometry(Context &ctx, const UnitPositions &pos, MpasMesh &m) {
-    const double r = m.radius_m, r2 = r * r;
-    resize_all(pos.vertex.size(), {&m.x_vertex, &m.y_vertex, &m.z_vertex, &m.lat_vertex,
-                                   &m.lon_vertex, &m.area_triangle});
-    m.kite_areas_on_vertex.resize(3 * pos.vertex.size());
-    ctx.parallel_for(m.n_vertices, 4096, [&](int64_t b, int64_t e) {
-        for (int64_t v = b; v < e; ++v) {
-            place(pos.vertex, r, m.x_vertex, m.y_vertex, m.z_vertex, m.lat_vertex, m.lon_vertex, v);
-            const int32_t *cell = &m.cells_on_vertex[3 * v], *edge = &m.edges_on_vertex[3 * v];
-            const Vec3 &o = pos.vertex[v];
-            m.area_triangle[v] = r2 * signed_area(pos.cell[cell[0]], pos.cell[cell[1]], pos.cell[cell[2]]);
-            for (int j = 0; j < 3; ++j) {
-                const Vec3 &x = pos.cell[cell[j]];
-                const Vec3 &before = pos.edge[edge[j]], &after = pos.edge[edge[(j + 1) % 3]];
-                m.kite_areas_on_vertex[3 * v + j] =
-                    r2 * (signed_area(o, before, x) + signed_area(o, x, after));
-            }
+void vertex_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
+                 MpasMesh &m) {
+    const double r2 = radius * radius;
+    const size_t n = static_cast<size_t>(count);
+    const Placed placed{&m.x_vertex, &m.y_vertex, &m.z_vertex, &m.lat_vertex, &m.lon_vertex};
+    resize_rows(placed, n);
+    m.area_triangle.resize(n);
+    m.cells_on_vertex.resize(3 * n);
+    m.edges_on_vertex.resize(3 * n);
+    m.kite_areas_on_vertex.resize(3 * n);
+    m.boundary_vertex.assign(n, 0);
+    ctx.parallel_for(count, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            const int32_t v = static_cast<int32_t>(first + i);
+            int32_t *cell = &m.cells_on_vertex[3 * i], *edge = &m.edges_on_vertex[3 * i];
+            layout.vertex_corners(v, cell, edge);
+            const Vec3 o = layout.vertex_unit(v);
+            place(placed, o, radius, i);
+            Vec3 x[3], xe[3];
+            for (int j = 0; j < 3; ++j) x[j] = layout.cell_unit(cell[j]), xe[j] = layout.edge_unit(edge[j]);
+            m.area_triangle[i] = r2 * signed_area(x[0], x[1], x[2]);
+            for (int j = 0; j < 3; ++j)
+                m.kite_areas_on_vertex[3 * i + j] =
+                    r2 * (signed_area(o, xe[j], x[j]) + signed_area(o, x[j], xe[(j + 1) % 3]));
         }
     });
 }
 
-}  // namespace
-
-void cross_edge_points(Context &ctx, UnitPositions &pos, const MpasMesh &m) {
-    ctx.parallel_for(m.n_edges, 4096, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i)
-            pos.edge[i] = arc_crossing(pos.cell[m.cells_on_edge[2 * i]], pos.cell[m.cells_on_edge[2 * i + 1]],
-                                       pos.vertex[m.vertices_on_edge[2 * i]], pos.vertex[m.vertices_on_edge[2 * i + 1]],
-                                       pos.edge[i]);
+void edge_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
+               MpasMesh &m) {
+    const size_t n = static_cast<size_t>(count);
+    const Placed placed{&m.x_edge, &m.y_edge, &m.z_edge, &m.lat_edge, &m.lon_edge};
+    resize_rows(placed, n);
+    for (auto *a : {&m.dc_edge, &m.dv_edge, &m.angle_edge}) a->resize(n);
+    m.cells_on_edge.resize(2 * n);
+    m.vertices_on_edge.resize(2 * n);
+    ctx.parallel_for(count, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            const EdgeEnds ends = layout.edge_ends(static_cast<int32_t>(first + i));
+            const Vec3 c1 = layout.cell_unit(ends.cell[0]), c2 = layout.cell_unit(ends.cell[1]);
+            const Vec3 v1 = layout.vertex_unit(ends.vertex[0]), v2 = layout.vertex_unit(ends.vertex[1]);
+            const Vec3 x = layout.edge_unit(ends, c1, c2, v1, v2);
+            place(placed, x, radius, i);
+            m.cells_on_edge[2 * i] = ends.cell[0], m.cells_on_edge[2 * i + 1] = ends.cell[1];
+            m.vertices_on_edge[2 * i] = ends.vertex[0], m.vertices_on_edge[2 * i + 1] = ends.vertex[1];
+            m.dc_edge[i] = radius * arc(c1, c2);
+            m.dv_edge[i] = radius * arc(v1, v2);
+            // n_e is the direction of the arc c1 -> c2 at xEdge, (c1 x c2) x xEdge.
+            // The dual arc is exactly perpendicular, so this is the normal of
+            // recompute_angle_edge, (v2 - v1) x xEdge, without its rounding on
+            // the metre-long dual edges of nearly cocircular quadruples.
+            m.angle_edge[i] = angle_from_east(geom::cross(geom::cross(c1, c2), x), x);
+        }
     });
-}
-
-void fill_geometry(Context &ctx, const UnitPositions &pos, MpasMesh &m) {
-    cell_geometry(ctx, pos, m);
-    edge_geometry(ctx, pos, m);
-    vertex_geometry(ctx, pos, m);
 }
 
 }  // namespace um::dual

@@ -46,10 +46,11 @@ namespace um::dual {
 // writer turns it into MPAS's 1-based form with 0 padding.
 constexpr int32_t kNone = -1;
 constexpr int32_t kVertexDegree = 3;
-// Bytes per cell of the finished MPAS mesh and the temporaries of its
+// Bytes per cell of a whole MPAS mesh in memory and the temporaries of its
 // construction (3 edges and 2 vertices per cell; maxEdges about 8), for the
-// memory cap: the mesh is built whole (1.19-1.24 kB/cell measured at the
-// peak of `unimesh build`, tools/bench/bench_scale.py).
+// memory cap (1.19-1.24 kB/cell measured at the peak of `unimesh build` when
+// mesh.nc was written from it, tools/bench/bench_scale.py). The file writer
+// streams instead (mpas_source.hpp).
 constexpr int64_t kMpasBytesPerCell = 1600;
 
 struct MpasMesh {

@@ -1,35 +1,49 @@
-// The stages of build_mpas_mesh after the numbering and the connectivity
-// (mpas_mesh.cpp): geometry (geometry.cpp) and TRSK weights (trsk.cpp).
+// The rows of the staggered mesh, computed from its layout a block at a time
+// (mpas_source.cpp puts them together with the tags): geometry.cpp for the
+// connectivity, positions, lengths, angles and areas, trsk.cpp for the TRSK
+// stencils. Each fills rows [first, first + count) of its element kind into
+// block's arrays, resized to `count` rows; indices are the whole mesh's.
 // Internal to lib/dual.
 #pragma once
 
-#include <vector>
+#include <cstdint>
 
 #include "core/context.hpp"
+#include "dual/mpas_layout.hpp"
 #include "dual/mpas_mesh.hpp"
 
 namespace um::dual {
 
-using geom::Vec3;
+// xCell..lonCell, nEdgesOnCell, edgesOnCell, verticesOnCell, cellsOnCell, areaCell.
+void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
+               MpasMesh &block);
 
-// Unit vectors of the cells (generators), edges (edge orthocentres) and
-// vertices (orthocentres), in the MPAS numbering.
-struct UnitPositions {
-    std::vector<Vec3> cell, edge, vertex;
-};
+// xVertex..lonVertex, cellsOnVertex, edgesOnVertex, areaTriangle, kiteAreasOnVertex.
+void vertex_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
+                 MpasMesh &block);
 
-// Moves each edge point (xEdge) onto the crossing of its primal and dual
-// great circles (arc_crossing), from the connectivity and the cell and
-// vertex positions: so that a cell's kites add up to its polygon.
-void cross_edge_points(Context &ctx, UnitPositions &pos, const MpasMesh &m);
+// xEdge..lonEdge, cellsOnEdge, verticesOnEdge, dcEdge, dvEdge, angleEdge.
+void edge_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
+               MpasMesh &block);
 
-// Fills positions, lat/lon, dcEdge, dvEdge, angleEdge, areaCell,
-// areaTriangle and kiteAreasOnVertex from the connectivity and the unit
-// positions, scaled by m.radius_m.
-void fill_geometry(Context &ctx, const UnitPositions &pos, MpasMesh &m);
+// nEdgesOnEdge, edgesOnEdge, weightsOnEdge of the rows edge_rows filled
+// (it reads their cellsOnEdge and dcEdge).
+void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
+               MpasMesh &block);
 
-// Fills nEdgesOnEdge, edgesOnEdge and weightsOnEdge from the connectivity,
-// areas, kites and lengths already in m.
+// nEdgesOnEdge, edgesOnEdge and weightsOnEdge of a whole mesh in memory from
+// its connectivity, dvEdge, dcEdge and kites (a cut mesh: lib/components).
 void fill_trsk_weights(Context &ctx, MpasMesh &m);
+
+// The kite of each corner of cell c (kite(verticesOnCell(j), c), m^2), the
+// units of its corners and of its edges and their ends, in ring order: what
+// its TRSK stencil is made of.
+struct RingGeometry {
+    CellRing ring;
+    std::vector<EdgeEnds> ends;
+    std::vector<Vec3> corner, edge;
+    std::vector<double> kite, dv;  // dv: dvEdge of each edge
+};
+void ring_geometry(const MpasLayout &layout, double radius, int32_t c, RingGeometry &g);
 
 }  // namespace um::dual

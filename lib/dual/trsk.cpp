@@ -13,75 +13,155 @@
 // tangential flux the kite average of the primal divergences. On a cut mesh
 // (lib/components) an edge of the boundary has only the stencil of its one
 // cell, c1, as on MPAS's culled meshes.
+#include <algorithm>
+
 #include "dual/stages.hpp"
 
 namespace um::dual {
 
 namespace {
 
-// R_iv for every corner of every cell, in verticesOnCell order. The
-// denominator is the sum of the cell's kites, which equals areaCell to
-// rounding; taking it makes the fractions of a cell add up to 1 to the last
-// bits, and with them the antisymmetry of W dc dv, even where the generator
-// lies far outside a small power cell and its kites nearly cancel.
-std::vector<double> corner_fractions(Context &ctx, const MpasMesh &m) {
-    const size_t w = static_cast<size_t>(m.max_edges);
-    std::vector<double> fraction(w * static_cast<size_t>(m.n_cells), 0.0);
-    ctx.parallel_for(m.n_cells, 4096, [&](int64_t b, int64_t e) {
-        for (int64_t c = b; c < e; ++c) {
-            double *row = &fraction[w * c], sum = 0;
-            for (int j = 0; j < m.n_edges_on_cell[c]; ++j) {
-                int32_t v = m.vertices_on_cell[w * c + j];
-                for (int k = 0; k < 3; ++k)
-                    if (m.cells_on_vertex[3 * int64_t(v) + k] == c)
-                        row[j] = m.kite_areas_on_vertex[3 * int64_t(v) + k];
-                sum += row[j];
-            }
-            for (int j = 0; j < m.n_edges_on_cell[c]; ++j) row[j] /= sum;
-        }
-    });
-    return fraction;
-}
+// One cell as its TRSK stencils see it: its edges counter-clockwise, the
+// fraction of its area in each corner (R_iv, corner j between edges j - 1
+// and j), dvEdge of each edge and whether the cell is that edge's
+// cellsOnEdge(1).
+struct CellStencil {
+    int degree = 0;
+    const int32_t *edges = nullptr;
+    const double *fraction = nullptr, *dv = nullptr;
+    const uint8_t *cell_first = nullptr;
+};
 
-// Appends the weights of edge e from its side `side` (0: c1, 1: c2) at *slot.
-void side_weights(MpasMesh &m, const std::vector<double> &fraction, int64_t e, int side,
-                  int &slot) {
-    const size_t w = static_cast<size_t>(m.max_edges), w2 = 2 * w;
-    const int32_t cell = m.cells_on_edge[2 * e + side];
-    if (cell == kNone) return;  // cut off with its cell (a component mesh)
-    const int d = m.n_edges_on_cell[cell];
-    const int32_t *edges = &m.edges_on_cell[w * cell];
+// Appends the weights of edge e from the side of `cell` (side 0: it is c1,
+// 1: c2) at *slot of the row (edges_out, weights_out).
+void side_weights(const CellStencil &cell, int32_t e, int side, double dc, int32_t *edges_out,
+                  double *weights_out, int &slot) {
+    const int d = cell.degree;
     int j0 = 0;
-    while (j0 < d && edges[j0] != e) ++j0;
+    while (j0 < d && cell.edges[j0] != e) ++j0;
     double passed = 0;
     for (int step = 1; step < d; ++step) {
-        int j = (j0 + step) % d;
-        int32_t other = edges[j];
+        const int j = (j0 + step) % d;
         // The corner between edgesOnCell(j - 1) and (j) is verticesOnCell(j - 1).
-        passed += fraction[w * cell + (j + d - 1) % d];
-        double s = m.cells_on_edge[2 * int64_t(other)] == cell ? 1.0 : -1.0;
+        passed += cell.fraction[(j + d - 1) % d];
+        double s = cell.cell_first[j] ? 1.0 : -1.0;
         if (side == 1) s = -s;
-        m.edges_on_edge[w2 * e + slot] = other;
-        m.weights_on_edge[w2 * e + slot] = s * (0.5 - passed) * m.dv_edge[other] / m.dc_edge[e];
+        edges_out[slot] = cell.edges[j];
+        weights_out[slot] = s * (0.5 - passed) * cell.dv[j] / dc;
         ++slot;
     }
+}
+
+// Turns kites into R_iv. The denominator is the sum of the cell's kites,
+// which equals areaCell to rounding; taking it makes the fractions of a cell
+// add up to 1 to the last bits, and with them the antisymmetry of W dc dv,
+// even where the generator lies far outside a small power cell and its kites
+// nearly cancel.
+void kites_to_fractions(double *kite, int d) {
+    double sum = 0;
+    for (int j = 0; j < d; ++j) sum += kite[j];
+    for (int j = 0; j < d; ++j) kite[j] /= sum;
+}
+
+// The stencils of whole cells, max_edges wide, in a block of rows: built
+// from a mesh in memory (stencils_of_mesh) or from a layout (trsk_rows).
+struct Stencils {
+    size_t width = 0;
+    std::vector<int32_t> degree, edges;
+    std::vector<double> fraction, dv;
+    std::vector<uint8_t> cell_first;
+
+    void resize(size_t cells, size_t w) {
+        width = w;
+        degree.assign(cells, 0);
+        edges.assign(w * cells, kNone);
+        fraction.assign(w * cells, 0.0);
+        dv.assign(w * cells, 0.0);
+        cell_first.assign(w * cells, 0);
+    }
+    CellStencil operator[](size_t i) const {
+        return {degree[i], &edges[width * i], &fraction[width * i], &dv[width * i], &cell_first[width * i]};
+    }
+};
+
+Stencils stencils_of_mesh(Context &ctx, const MpasMesh &m) {
+    const size_t w = static_cast<size_t>(m.max_edges);
+    Stencils st;
+    st.resize(static_cast<size_t>(m.n_cells), w);
+    ctx.parallel_for(m.n_cells, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t c = b; c < e; ++c) {
+            const int d = st.degree[c] = m.n_edges_on_cell[c];
+            for (int j = 0; j < d; ++j) {
+                const int32_t v = m.vertices_on_cell[w * c + j], edge = m.edges_on_cell[w * c + j];
+                for (int k = 0; k < 3; ++k)
+                    if (m.cells_on_vertex[3 * int64_t(v) + k] == c)
+                        st.fraction[w * c + j] = m.kite_areas_on_vertex[3 * int64_t(v) + k];
+                st.edges[w * c + j] = edge;
+                st.dv[w * c + j] = m.dv_edge[edge];
+                st.cell_first[w * c + j] = m.cells_on_edge[2 * int64_t(edge)] == c;
+            }
+            kites_to_fractions(&st.fraction[w * c], d);
+        }
+    });
+    return st;
+}
+
+// Rows [0, count) of nEdgesOnEdge, edgesOnEdge and weightsOnEdge of m, whose
+// cellsOnEdge and dcEdge hold those rows; stencil_of(cell) gives a cell's.
+template <class StencilOf>
+void stencil_rows(Context &ctx, int64_t first, int64_t count, size_t w2, MpasMesh &m, StencilOf stencil_of) {
+    m.n_edges_on_edge.assign(static_cast<size_t>(count), 0);
+    m.edges_on_edge.assign(w2 * count, kNone);
+    m.weights_on_edge.assign(w2 * count, 0.0);
+    ctx.parallel_for(count, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            int slot = 0;
+            for (int side = 0; side < 2; ++side) {
+                const int32_t cell = m.cells_on_edge[2 * i + side];
+                if (cell == kNone) continue;  // cut off with its cell (a component mesh)
+                side_weights(stencil_of(cell), static_cast<int32_t>(first + i), side, m.dc_edge[i],
+                             &m.edges_on_edge[w2 * i], &m.weights_on_edge[w2 * i], slot);
+            }
+            m.n_edges_on_edge[i] = slot;
+        }
+    });
 }
 
 }  // namespace
 
 void fill_trsk_weights(Context &ctx, MpasMesh &m) {
-    std::vector<double> fraction = corner_fractions(ctx, m);
-    const size_t w2 = static_cast<size_t>(m.max_edges2());
-    m.n_edges_on_edge.assign(static_cast<size_t>(m.n_edges), 0);
-    m.edges_on_edge.assign(w2 * m.n_edges, kNone);
-    m.weights_on_edge.assign(w2 * m.n_edges, 0.0);
-    ctx.parallel_for(m.n_edges, 4096, [&](int64_t b, int64_t e) {
+    const Stencils st = stencils_of_mesh(ctx, m);
+    stencil_rows(ctx, 0, m.n_edges, static_cast<size_t>(m.max_edges2()), m,
+                 [&](int32_t cell) { return st[static_cast<size_t>(cell)]; });
+}
+
+// The stencils of the cells the block's edges touch, each built once from
+// its ring geometry (neighbouring edges share cells: rows are numbered along
+// a Hilbert curve), then the rows from them.
+void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
+               MpasMesh &m) {
+    std::vector<int32_t> cells(m.cells_on_edge.begin(), m.cells_on_edge.begin() + 2 * count);
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    const size_t w = static_cast<size_t>(layout.max_edges());
+    Stencils st;
+    st.resize(cells.size(), w);
+    ctx.parallel_for(static_cast<int64_t>(cells.size()), 256, [&](int64_t b, int64_t e) {
+        RingGeometry g;
         for (int64_t i = b; i < e; ++i) {
-            int slot = 0;
-            side_weights(m, fraction, i, 0, slot);
-            side_weights(m, fraction, i, 1, slot);
-            m.n_edges_on_edge[i] = slot;
+            ring_geometry(layout, radius, cells[i], g);
+            const int d = st.degree[i] = g.ring.degree();
+            for (int j = 0; j < d; ++j) {
+                st.edges[w * i + j] = g.ring.edges[j];
+                st.fraction[w * i + j] = g.kite[j];
+                st.dv[w * i + j] = g.dv[j];
+                st.cell_first[w * i + j] = g.ends[j].cell[0] == cells[i];
+            }
+            kites_to_fractions(&st.fraction[w * i], d);
         }
+    });
+    stencil_rows(ctx, first, count, 2 * w, m, [&](int32_t cell) {
+        return st[static_cast<size_t>(std::lower_bound(cells.begin(), cells.end(), cell) - cells.begin())];
     });
 }
 

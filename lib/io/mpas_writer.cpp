@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <functional>
+#include <mutex>
 #include <filesystem>
 #include <system_error>
 #include <vector>
@@ -11,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "dual/mpas_fields.hpp"
+#include "dual/mpas_source.hpp"
 #include "io/error_text.hpp"
 #include "io/nc_output.hpp"
 #include "io/netcdf_lock.hpp"
@@ -49,6 +52,56 @@ struct Hash {
     }
 };
 
+// Hash::bytes of one variable's values fed in pieces of any size (blocks of
+// rows), with the same result for any way of cutting them.
+class StreamHash {
+public:
+    explicit StreamHash(uint64_t total_bytes) { hash_.word(total_bytes); }
+    void feed(const void *data, size_t n) {
+        const unsigned char *p = static_cast<const unsigned char *>(data);
+        while (n > 0) {
+            const size_t take = std::min(n, sizeof pending_ - filled_);
+            std::memcpy(pending_ + filled_, p, take);
+            filled_ += take, p += take, n -= take;
+            if (filled_ == sizeof pending_) {
+                uint64_t w;
+                std::memcpy(&w, pending_, 8);
+                hash_.word(w);
+                filled_ = 0;
+            }
+        }
+    }
+    uint64_t finish() {
+        uint64_t tail = 0;
+        std::memcpy(&tail, pending_, filled_);
+        hash_.word(tail);
+        return hash_.h;
+    }
+
+private:
+    Hash hash_;
+    unsigned char pending_[8] = {};
+    size_t filled_ = 0;
+};
+
+// file_id: the radius, each variable's name and the hash of its values (its
+// row count for the indexTo*ID variables), then a final avalanche and 10
+// base-36 digits (36^10 < 2^52).
+std::string file_id_of(double radius, const std::vector<MpasField> &fields, const std::vector<uint64_t> &value_hashes) {
+    Hash hash;
+    hash.bytes(&radius, sizeof radius);
+    for (size_t i = 0; i < fields.size(); ++i) {
+        hash.bytes(fields[i].name, std::strlen(fields[i].name));
+        hash.word(value_hashes[i]);
+    }
+    uint64_t h = hash.h;
+    h ^= h >> 31, h *= 0x94d049bb133111ebull, h ^= h >> 29;
+    const char digits[] = "0123456789abcdefghijklmnopqrstuvwxyz";
+    std::string id(10, '0');
+    for (char &c : id) c = digits[h % 36], h /= 36;
+    return id;
+}
+
 // ----------------------------------------------------------------- netCDF
 
 size_t dim_length(const MpasMesh &m, MpasDim d) {
@@ -57,16 +110,24 @@ size_t dim_length(const MpasMesh &m, MpasDim d) {
 
 size_t row_width(const MpasMesh &m, const MpasField &f) { return static_cast<size_t>(f.columns(m)); }
 
+uint64_t value_bytes(const MpasMesh &m, const MpasField &f) {
+    uint64_t bytes = f.kind == MpasKind::real ? 8 : 4;
+    for (MpasDim d : f.dims) bytes *= dim_length(m, d);
+    return bytes;
+}
+
 // 64-bit offset files hold fixed-size variables of up to 2^32 - 4 bytes;
 // larger meshes (weightsOnEdge passes it at about 8 M cells) need CDF-5.
 int format_for(const MpasMesh &m, const std::vector<MpasField> &fields, uint64_t limit) {
-    for (const MpasField &f : fields) {
-        uint64_t bytes = f.kind == MpasKind::real ? 8 : 4;
-        for (MpasDim d : f.dims) bytes *= dim_length(m, d);
-        if (bytes > limit) return NC_64BIT_DATA;
-    }
+    for (const MpasField &f : fields)
+        if (value_bytes(m, f) > limit) return NC_64BIT_DATA;
     return NC_64BIT_OFFSET;
 }
+
+// The file_id attribute is written last, when the values are known: a
+// placeholder of the same length first, so that the header keeps its size
+// and nothing moves when it is replaced.
+constexpr const char *kFileIdPlaceholder = "0000000000";
 
 void define(const NcOutput &nc, const MpasMesh &m, const std::vector<MpasField> &fields,
             std::vector<int> &var_ids) {
@@ -99,57 +160,123 @@ void define(const NcOutput &nc, const MpasMesh &m, const std::vector<MpasField> 
     nc.put_text(NC_GLOBAL, "mesh_spec", "1.0");
     nc.put_text(NC_GLOBAL, "Conventions", "MPAS");
     nc.put_text(NC_GLOBAL, "source", "unimesh " UM_VERSION_STRING);
-    nc.put_text(NC_GLOBAL, "file_id", mpas_file_id(m));
+    nc.put_text(NC_GLOBAL, "file_id", kFileIdPlaceholder);
 }
 
-// Writes a variable in blocks of rows, so that the 1-based copy of a large
-// index array never needs a second full-size buffer.
-void put_field(const NcOutput &nc, const MpasMesh &m, const MpasField &f, int var) {
-    const size_t rows = dim_length(m, f.dims[0]), width = row_width(m, f);
-    const size_t block = std::max<size_t>(1, (size_t(1) << 20) / std::max<size_t>(width, 1));
-    std::vector<int32_t> buffer;
-    for (size_t r0 = 0; r0 < rows; r0 += block) {
-        const size_t r1 = std::min(rows, r0 + block);
-        size_t start[2] = {r0, 0}, count[2] = {r1 - r0, width};
-        int status;
-        if (f.kind == MpasKind::real) {
-            status = nc_put_vara_double(nc.id(), var, start, count, f.reals->data() + r0 * width);
-        } else if (f.kind == MpasKind::integer) {
-            status = nc_put_vara_int(nc.id(), var, start, count, f.ints->data() + r0 * width);
-        } else {
-            buffer.resize((r1 - r0) * width);
-            for (size_t i = 0; i < buffer.size(); ++i)
-                buffer[i] = f.kind == MpasKind::id ? static_cast<int32_t>(r0 + i + 1)
-                                               : (*f.ints)[r0 * width + i] + 1;  // kNone -> 0
-            status = nc_put_vara_int(nc.id(), var, start, count, buffer.data());
-        }
-        nc.check(status, "writing variable ", f.name);
+// Rows [first, first + count) of f, whose arrays (in block) start at row
+// array_first; the values go into the file and into the variable's hash.
+struct RowRange {
+    int64_t first, count, array_first;
+};
+
+void put_rows(const NcOutput &nc, const MpasMesh &block, const MpasField &f, int var, RowRange r,
+              StreamHash &hash, std::vector<int32_t> &buffer) {
+    const size_t width = row_width(block, f), values = static_cast<size_t>(r.count) * width;
+    const size_t offset = static_cast<size_t>(r.first - r.array_first) * width;
+    const size_t have = f.reals ? f.reals->size() : f.ints ? f.ints->size() : offset + values;
+    if (have < offset + values)
+        fail(UM_ERR_INTERNAL, "MPAS mesh: variable ", f.name, " has ", have, " values, rows up to ",
+             r.first + r.count, " asked for");
+    size_t start[2] = {static_cast<size_t>(r.first), 0}, count[2] = {static_cast<size_t>(r.count), width};
+    int status;
+    if (f.kind == MpasKind::real) {
+        status = nc_put_vara_double(nc.id(), var, start, count, f.reals->data() + offset);
+        hash.feed(f.reals->data() + offset, values * sizeof(double));
+    } else if (f.kind == MpasKind::integer) {
+        status = nc_put_vara_int(nc.id(), var, start, count, f.ints->data() + offset);
+        hash.feed(f.ints->data() + offset, values * sizeof(int32_t));
+    } else {
+        buffer.resize(values);
+        for (size_t i = 0; i < values; ++i)
+            buffer[i] = f.kind == MpasKind::id ? static_cast<int32_t>(r.first + i + 1)
+                                               : (*f.ints)[offset + i] + 1;  // kNone -> 0
+        status = nc_put_vara_int(nc.id(), var, start, count, buffer.data());
+        if (f.ints) hash.feed(f.ints->data() + offset, values * sizeof(int32_t));
     }
+    nc.check(status, "writing variable ", f.name);
+}
+
+// The block of a mesh that holds rows [first, first + count) along `kind`;
+// *array_first: the row at which its arrays of that kind start.
+using BlockOf = std::function<const MpasMesh &(MpasDim kind, int64_t first, int64_t count, int64_t *array_first)>;
+
+std::vector<StreamHash> value_hashes_for(const MpasMesh &m, const std::vector<MpasField> &fields) {
+    std::vector<StreamHash> hashes;
+    for (const MpasField &f : fields) hashes.emplace_back(value_bytes(m, f));
+    return hashes;
+}
+
+std::vector<uint64_t> finish(std::vector<StreamHash> &hashes, const MpasMesh &m, const std::vector<MpasField> &fields) {
+    std::vector<uint64_t> out;
+    for (size_t i = 0; i < fields.size(); ++i)
+        out.push_back(fields[i].kind == MpasKind::id ? dim_length(m, fields[i].dims[0]) : hashes[i].finish());
+    return out;
+}
+
+// Writes the file from `probe` (every variable present, the whole mesh's
+// counts) and the blocks block_of gives, kind by kind, block_rows rows at a
+// time. The netCDF lock is held while netCDF is called, not while a
+// block is made or progress reported, so that another thread's file and the
+// caller's progress callback are not held up (or deadlocked) by it.
+void write_blocks(Context *ctx, const MpasMesh &probe, const BlockOf &block_of, const std::string &path,
+                  uint64_t variable_limit, int64_t block_rows) {
+    const std::vector<MpasField> fields = dual::mpas_fields(probe);
+    std::unique_lock<std::mutex> lock(netcdf_mutex());
+    NcOutput nc(path, format_for(probe, fields, variable_limit), "MPAS mesh file");
+    int old_fill = 0;
+    nc.check(nc_set_fill(nc.id(), NC_NOFILL, &old_fill), "setting no-fill mode");
+    std::vector<int> var_ids;
+    define(nc, probe, fields, var_ids);
+    nc.check(nc_enddef(nc.id()), "ending define mode");
+    std::vector<StreamHash> hashes = value_hashes_for(probe, fields);
+    std::vector<int32_t> buffer;
+    const int64_t total = int64_t(probe.n_cells) + probe.n_edges + probe.n_vertices;
+    int64_t done = 0;
+    for (MpasDim kind : {MpasDim::nCells, MpasDim::nEdges, MpasDim::nVertices}) {
+        const int64_t rows = dual::mpas_dim_length(probe, kind);
+        for (int64_t first = 0; first < rows; first += block_rows) {
+            const int64_t count = std::min(block_rows, rows - first);
+            int64_t array_first = 0;
+            lock.unlock();
+            const MpasMesh *block = nullptr;
+            try {
+                if (ctx) ctx->progress("MPAS mesh", 0.05 + 0.95 * double(done) / double(total));
+                block = &block_of(kind, first, count, &array_first);
+            } catch (...) {
+                lock.lock();  // nc's destructor removes the partial file under the lock
+                throw;
+            }
+            lock.lock();
+            const std::vector<MpasField> block_fields = dual::mpas_fields(*block);
+            if (block_fields.size() != fields.size())
+                fail(UM_ERR_INTERNAL, "MPAS mesh: a block has ", block_fields.size(), " variables, not ", fields.size());
+            for (size_t i = 0; i < fields.size(); ++i)
+                if (fields[i].dims[0] == kind)
+                    put_rows(nc, *block, block_fields[i], var_ids[i], {first, count, array_first}, hashes[i], buffer);
+            done += count;
+        }
+    }
+    const std::string id = file_id_of(probe.radius_m, fields, finish(hashes, probe, fields));
+    nc.check(nc_redef(nc.id()), "reopening define mode");
+    nc.put_text(NC_GLOBAL, "file_id", id);
+    nc.check(nc_enddef(nc.id()), "ending define mode");
+    nc.close();
 }
 
 }  // namespace
 
 std::string mpas_file_id(const MpasMesh &m) {
-    Hash hash;
-    hash.bytes(&m.radius_m, sizeof m.radius_m);
-    for (const MpasField &f : dual::mpas_fields(m)) {
-        hash.bytes(f.name, std::strlen(f.name));
-        if (f.reals) hash.bytes(f.reals->data(), f.reals->size() * sizeof(double));
-        if (f.ints) hash.bytes(f.ints->data(), f.ints->size() * sizeof(int32_t));
-        if (f.kind == MpasKind::id) hash.word(dim_length(m, f.dims[0]));
+    const std::vector<MpasField> fields = dual::mpas_fields(m);
+    std::vector<StreamHash> hashes = value_hashes_for(m, fields);
+    for (size_t i = 0; i < fields.size(); ++i) {
+        if (fields[i].reals) hashes[i].feed(fields[i].reals->data(), fields[i].reals->size() * sizeof(double));
+        if (fields[i].ints) hashes[i].feed(fields[i].ints->data(), fields[i].ints->size() * sizeof(int32_t));
     }
-    // Final avalanche, then 10 base-36 digits (36^10 < 2^52).
-    uint64_t h = hash.h;
-    h ^= h >> 31, h *= 0x94d049bb133111ebull, h ^= h >> 29;
-    const char digits[] = "0123456789abcdefghijklmnopqrstuvwxyz";
-    std::string id(10, '0');
-    for (char &c : id) c = digits[h % 36], h /= 36;
-    return id;
+    return file_id_of(m.radius_m, fields, finish(hashes, m, fields));
 }
 
 void write_mpas_mesh(const MpasMesh &m, const std::string &path, uint64_t variable_limit) {
-    const std::vector<MpasField> fields = dual::mpas_fields(m);
-    for (const MpasField &f : fields) {
+    for (const MpasField &f : dual::mpas_fields(m)) {
         size_t n = 1;
         for (MpasDim d : f.dims) n *= dim_length(m, d);
         size_t have = f.reals ? f.reals->size() : f.ints ? f.ints->size() : n;
@@ -157,15 +284,24 @@ void write_mpas_mesh(const MpasMesh &m, const std::string &path, uint64_t variab
             fail(UM_ERR_INTERNAL, "MPAS mesh: variable ", f.name, " has ", have,
                  " values instead of ", n);
     }
-    NetcdfLock lock;
-    NcOutput nc(path, format_for(m, fields, variable_limit), "MPAS mesh file");
-    int old_fill = 0;
-    nc.check(nc_set_fill(nc.id(), NC_NOFILL, &old_fill), "setting no-fill mode");
-    std::vector<int> var_ids;
-    define(nc, m, fields, var_ids);
-    nc.check(nc_enddef(nc.id()), "ending define mode");
-    for (size_t i = 0; i < fields.size(); ++i) put_field(nc, m, fields[i], var_ids[i]);
-    nc.close();
+    write_blocks(nullptr, m, [&](MpasDim, int64_t, int64_t, int64_t *array_first) -> const MpasMesh & {
+        *array_first = 0;
+        return m;
+    }, path, variable_limit, dual::kMpasBlockRows);
+}
+
+void write_mpas_mesh(Context &ctx, const dual::MpasSource &source, const std::string &path,
+                     uint64_t variable_limit, int64_t block_rows) {
+    if (block_rows < 1) fail(UM_ERR_INTERNAL, "MPAS mesh: blocks of ", block_rows, " rows");
+    // One row of every kind, so that every variable is present.
+    MpasMesh block = source.shape();
+    for (MpasDim kind : {MpasDim::nCells, MpasDim::nEdges, MpasDim::nVertices}) source.rows(ctx, kind, 0, 1, block);
+    const MpasMesh probe = block;
+    write_blocks(&ctx, probe, [&](MpasDim kind, int64_t first, int64_t count, int64_t *array_first) -> const MpasMesh & {
+        source.rows(ctx, kind, first, count, block);
+        *array_first = first;
+        return block;
+    }, path, variable_limit, block_rows);
 }
 
 }  // namespace um::io

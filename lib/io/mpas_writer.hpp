@@ -8,21 +8,33 @@
 #include <cstdint>
 #include <string>
 
+#include "core/context.hpp"
 #include "dual/mpas_mesh.hpp"
+#include "dual/mpas_source.hpp"
 
 namespace um::io {
 
 // The largest fixed-size variable a netCDF 64-bit offset file can hold.
 constexpr uint64_t kOffset64VariableLimit = (uint64_t(1) << 32) - 4;
 
-// Writes m to path (created or overwritten) under the process-wide netCDF
-// lock. The bytes depend only on m: file_id is a hash of its content, no
-// clock, no randomness. The format is 64-bit offset unless a variable needs
+// Writes m to path (created or overwritten; netCDF calls under the
+// process-wide netCDF lock). The bytes depend only on m: file_id is a hash of
+// its content, no clock, no randomness. The format is 64-bit offset unless a variable needs
 // more than variable_limit bytes (a parameter so that tests can reach the
 // CDF-5 branch with small meshes), then CDF-5. Throws UM_ERR_IO naming the
 // file; a partly written file is removed.
 void write_mpas_mesh(const dual::MpasMesh &m, const std::string &path,
                      uint64_t variable_limit = kOffset64VariableLimit);
+
+// The same file streamed from source a block of rows at a time (the whole
+// staggered mesh is never held), reporting progress on ctx between blocks
+// (a cancel there removes the partial file). Identical bytes to writing
+// the mesh build_mpas_mesh makes from the same input, for any thread count.
+// block_rows: rows per block (a parameter so that tests can cut small meshes
+// into many blocks).
+void write_mpas_mesh(Context &ctx, const dual::MpasSource &source, const std::string &path,
+                     uint64_t variable_limit = kOffset64VariableLimit,
+                     int64_t block_rows = dual::kMpasBlockRows);
 
 // The file_id attribute: 10 characters [0-9a-z] from a hash of every array
 // and the radius of m.

@@ -5,8 +5,9 @@
 
 #include "core/earth.hpp"
 #include "core/error.hpp"
-#include "dual/mpas_mesh.hpp"
 #include "core/text.hpp"
+#include "dual/mpas_mesh.hpp"
+#include "dual/mpas_source.hpp"
 #include "refine/boundary.hpp"
 #include "refine/lattice.hpp"
 #include "refine/relax.hpp"
@@ -120,9 +121,11 @@ int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri) {
 // with a margin. Measured by tools/bench/bench_refine: the refinement 170
 // (uniform 30 km) to 225-238 (coastlines and rivers at 60 km), the whole
 // pipeline 233-242 (uniform, undo snapshot included) and up to 340 on the
-// coastline cases, hence the optimisation's 480.
+// coastline cases, hence the optimisation's 480; without features (no
+// restricted edges, sides or guards) 231 at 10 km (tools/bench/bench_scale.py),
+// hence 300.
 constexpr int64_t kRefineBytesPerCell = 280;
-constexpr int64_t kOptimiseBytesPerCell = 480;
+constexpr int64_t kOptimiseBytesPerCell = 480, kOptimiseUniformBytesPerCell = 300;
 constexpr double kOptimiseNewVertices = 0.125, kOptimiseNewTriangles = 0.05;  // room reserved
 constexpr int kRefineRounds = 4;           // surface passes at most (each after a boundary pass)
 
@@ -233,7 +236,7 @@ MeshEstimate estimate_mesh(Context &ctx, const hfun::Spacing &h) {
     e.cells = estimated_cells(ctx, h);
     const int64_t cells = std::min<int64_t>(e.cells, int64_t(1) << 50);  // the products below fit int64
     e.refine_bytes = cells * std::max(kRefineBytesPerCell, kOptimiseBytesPerCell);
-    e.mpas_bytes = cells * dual::kMpasBytesPerCell;
+    e.mpas_bytes = cells * dual::kMpasSourceBytesPerCell;
     return e;
 }
 
@@ -365,7 +368,7 @@ void put_back(RefinedMesh &m, Undo &&u) {
 
 void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
                    const quality::Report *refined_quality) {
-    ctx.check_memory(m.vertex_count() * kOptimiseBytesPerCell,
+    ctx.check_memory(m.vertex_count() * (m.gamma ? kOptimiseBytesPerCell : kOptimiseUniformBytesPerCell),
                      concat("optimising a mesh of ", m.vertex_count(), " cells").c_str());
     const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
     const quality::Report before = refined_quality ? *refined_quality : quality::measure(ctx, m.tri, hr, &m.on_segment);

@@ -89,8 +89,10 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
 
 // What a mesh of spacing h on the Earth is expected to need, for refusing a
 // size up front: its cells (the sphere's area over the cells' area at h) and
-// the peak bytes of refining and optimising it, and of its MPAS mesh (built
-// whole in memory by the writer and the copy-out).
+// the peak bytes of refining and optimising it (with features: without them
+// the optimisation needs less), and the bytes the MPAS mesh file's writer
+// adds (it streams the file; the copy-out and the component files build the
+// whole staggered mesh, dual::kMpasBytesPerCell).
 struct MeshEstimate {
     int64_t cells = 0, refine_bytes = 0, mpas_bytes = 0;
 };

@@ -157,6 +157,8 @@ public:
     // Input index of a vertex slot.
     int32_t id(int32_t v) const { return id_[v]; }
     bool in_triangulation(int32_t v) const { return vertex_tri_[v] >= 0; }
+    // A triangle incident to vertex slot v (negative when v is not in the triangulation).
+    int32_t incident_triangle(int32_t v) const { return vertex_tri_[v]; }
     // Removed by remove() (as opposed to hidden by its neighbours).
     bool is_removed(int32_t v) const { return vertex_tri_[v] == kRemoved; }
     // Input indices of the hidden points (empty power cell), ascending.

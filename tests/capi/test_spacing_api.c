@@ -194,8 +194,9 @@ static void estimate(void **state) {
     int64_t cells = 0, refine_bytes = 0, mpas_bytes = 0;
     assert_int_equal(um_spacing_estimate(s, &cells, &refine_bytes, &mpas_bytes), UM_OK);
     assert_true(cells > 39000 && cells < 43000);
-    assert_true(refine_bytes >= 200 * cells && refine_bytes < mpas_bytes);
-    assert_true(mpas_bytes >= 1000 * cells);
+    assert_true(refine_bytes >= 200 * cells);
+    /* The file is streamed: the layout (~76 B/cell) and a block, less than the mesh itself. */
+    assert_true(mpas_bytes >= 100 * cells && mpas_bytes < refine_bytes);
     assert_int_equal(um_spacing_estimate(s, NULL, NULL, NULL), UM_OK);
     um_spacing *fine = NULL;
     int64_t fine_cells = 0;

@@ -411,11 +411,10 @@ class Errors(unittest.TestCase):
             # (the available memory), with the estimate; a cap of 1 MiB too.
             self.assert_fails(["build", "--spacing-km", "0.03", "--out", out], "cells needs about", "memory cap")
             self.assert_fails(["build", "--spacing-km", "100", "--memory-cap", "1M", "--out", out], "memory cap")
-            # A size whose mesh fits but whose MPAS mesh (built whole for mesh.nc) does not: refused
-            # before the meshing (at 5 km it used to be refused after 230 s, at the MPAS stage).
+            # A real size over a small cap: refused before the meshing, not minutes into it.
             started = time.monotonic()
-            self.assert_fails(["build", "--spacing-km", "20", "--memory-cap", "1G", "--out", out],
-                              "MPAS mesh (mesh.nc)", "memory cap")
+            self.assert_fails(["build", "--spacing-km", "20", "--memory-cap", "300M", "--out", out],
+                              "cells needs about", "memory cap")
             self.assertLess(time.monotonic() - started, 20)
             self.assert_fails(["build", "--spacing-km", "100", "--memory-cap", "lots", "--out", out],
                               "--memory-cap", "lots")

@@ -22,6 +22,7 @@
 #include "core/error.hpp"
 #include "core/options.hpp"
 #include "dual/mpas_mesh.hpp"
+#include "dual/mpas_source.hpp"
 #include "features/network.hpp"
 #include "hfun/spacing.hpp"
 #include "io/mpas_writer.hpp"
@@ -699,6 +700,32 @@ void netcdf_round_trip(void **) {
     std::remove(path.c_str());
 }
 
+// The streamed file (rows made a block at a time from the layout) has the
+// bytes of the whole mesh's file: one row per block, a few, one block; with
+// the tags and for any thread count; CDF-5 as well.
+void streamed_file_matches_whole_mesh(void **) {
+    Context ctx;
+    Options options;
+    mesh::RefinedMesh refined = mesh::refine_mesh(ctx, hfun::make_constant(900.0), square_island(), options);
+    const std::string whole_path = output_path("test_dual_whole.nc"), path = output_path("test_dual_streamed.nc");
+    const MpasMesh m = dual::build_mpas_mesh(ctx, refined);
+    assert_false(m.edge_feature_kind.empty());
+    for (uint64_t limit : {io::kOffset64VariableLimit, uint64_t(1000)}) {
+        io::write_mpas_mesh(m, whole_path, limit);
+        const std::string whole = file_bytes(whole_path);
+        for (int threads : {1, 3}) {
+            Context streaming;
+            streaming.set_threads(threads);
+            const dual::MpasSource source(streaming, refined);
+            for (int64_t rows : {int64_t(1), int64_t(777), dual::kMpasBlockRows}) {
+                io::write_mpas_mesh(streaming, source, path, limit, rows);
+                assert_true(file_bytes(path) == whole);
+            }
+        }
+    }
+    std::remove(whole_path.c_str()), std::remove(path.c_str());
+}
+
 // Variables too large for a 64-bit offset file switch the file to CDF-5
 // (reached here with a small mesh and a small limit).
 void large_variables_give_cdf5(void **) {
@@ -744,6 +771,7 @@ int main() {
         cmocka_unit_test(refined_mesh_with_sides),
         cmocka_unit_test(same_mesh_for_any_thread_count),
         cmocka_unit_test(netcdf_round_trip),
+        cmocka_unit_test(streamed_file_matches_whole_mesh),
         cmocka_unit_test(large_variables_give_cdf5),
         cmocka_unit_test(write_errors_name_the_file),
     };

@@ -286,20 +286,6 @@ std::optional<Plot> start_map(const BuildArgs &a, const std::string &mesh_nc, co
     return start_plot("plot_mesh.py", arguments, shown);
 }
 
-// The build always writes mesh.nc, whose staggered mesh is built whole: a
-// size whose MPAS stage the memory cap cannot hold is refused here, before
-// minutes of meshing (the library would refuse it only at that stage).
-void refuse_what_cannot_be_written(um_context *ctx, um_spacing *h, const BuildArgs &a) {
-    int64_t cap = 0, cells = 0, mpas_bytes = 0;
-    um_context_get_memory_cap(ctx, &cap);
-    if (cap <= 0) return;
-    check(um_spacing_estimate(h, &cells, nullptr, &mpas_bytes), ctx, "estimating the mesh");
-    if (mpas_bytes <= cap) return;
-    throw Failure{"a mesh of about " + std::to_string(cells) + " cells needs about " +
-                  std::to_string(mpas_bytes >> 20) + " MiB for its MPAS mesh (mesh.nc), more than the memory cap of " +
-                  std::to_string(cap >> 20) + " MiB (--memory-cap " + a.memory_cap + ")"};
-}
-
 }  // namespace
 
 int run_build(const BuildArgs &a) {
@@ -326,7 +312,6 @@ int run_build(const BuildArgs &a) {
         if (a.spacing_gradient_given)  // the library names a value out of range (or NaN)
             check(um_options_set_double(opts, UM_OPT_SPACING_GRADIENT, a.spacing_gradient), ctx, "--spacing-gradient");
         h = make_spacing(ctx, a);
-        refuse_what_cannot_be_written(ctx, h, a);
         if (!a.geometry.empty() || !a.passages.empty()) {
             check(um_features_create(ctx, &f), ctx, "features");
             for (const auto &g : a.geometry)

@@ -1,0 +1,85 @@
+// The MPAS numbering of a Laguerre triangulation (mpas_mesh.hpp has the
+// conventions) and its elements one at a time: a cell's ring, an edge's two
+// cells and two vertices, a vertex's three cells and edges, and the unit
+// positions of each. It holds only the maps between the numbering and the
+// triangulation (about 76 bytes per cell), so that the staggered mesh can be
+// produced a block of rows at a time (mpas_source.hpp) instead of whole.
+// Internal to lib/dual.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/context.hpp"
+#include "geom/sphere.hpp"
+#include "tri/triangulation.hpp"
+
+namespace um::dual {
+
+using geom::Vec3;
+
+// An edge: cellsOnEdge (cell[0] < cell[1]), verticesOnEdge, and the
+// triangulation's view of it from the lower triangle slot (triangle
+// `lower`, local edge `k`), from which its edge point is found.
+struct EdgeEnds {
+    int32_t cell[2], vertex[2];
+    int32_t lower;
+    int k;
+};
+
+// A cell's ring in MPAS order: verticesOnCell, edgesOnCell, cellsOnCell,
+// counter-clockwise from the lowest-numbered vertex.
+struct CellRing {
+    std::vector<int32_t> vertices, edges, cells;
+    int degree() const { return static_cast<int>(vertices.size()); }
+};
+
+class MpasLayout {
+public:
+    // slot_of_vertex: the mesh vertices (checked to be exactly the
+    // triangulation's vertices); empty = every vertex in slot order. Throws
+    // um::Error on a numbering that does not match, broken neighbour links,
+    // counts beyond int32 (UM_ERR_LIMIT). Keeps a reference to tri.
+    MpasLayout(Context &ctx, const tri::Triangulation &tri, std::vector<int32_t> slot_of_vertex);
+
+    const tri::Triangulation &tri() const { return *tri_; }
+    int32_t n_cells() const { return static_cast<int32_t>(cell_slot_.size()); }
+    int32_t n_edges() const { return static_cast<int32_t>(edge_half_.size()); }
+    int32_t n_vertices() const { return static_cast<int32_t>(vertex_tri_.size()); }
+    int32_t max_edges() const { return max_edges_; }
+
+    // The mesh vertex (index into slot_of_vertex) and the slot of cell c; the
+    // triangle slot of MPAS vertex v.
+    int32_t cell_source_vertex(int32_t c) const { return cell_vertex_[c]; }
+    int32_t cell_slot(int32_t c) const { return cell_slot_[c]; }
+    int32_t vertex_triangle(int32_t v) const { return vertex_tri_[v]; }
+    // The cell of a vertex slot (-1: not a vertex).
+    int32_t cell_of_slot(int32_t s) const { return cell_of_slot_[s]; }
+
+    EdgeEnds edge_ends(int32_t e) const;
+    void cell_ring(int32_t c, CellRing &ring) const;
+    // cellsOnVertex and edgesOnVertex of v.
+    void vertex_corners(int32_t v, int32_t cells[3], int32_t edges[3]) const;
+
+    Vec3 cell_unit(int32_t c) const { return tri_->direction(cell_slot_[c]); }
+    Vec3 vertex_unit(int32_t v) const { return tri_->orthocentre(vertex_tri_[v]); }
+    // xEdge: the crossing of the edge's primal and dual great circles, from
+    // the units of its cells and vertices (in EdgeEnds order).
+    Vec3 edge_unit(const EdgeEnds &ends, Vec3 c1, Vec3 c2, Vec3 v1, Vec3 v2) const;
+    Vec3 edge_unit(int32_t e) const;
+
+private:
+    void number_cells(Context &ctx, const std::vector<int32_t> &slots);
+    void number_vertices(Context &ctx);
+    void number_edges(Context &ctx);
+    void check_rings(Context &ctx);
+
+    const tri::Triangulation *tri_;
+    std::vector<int32_t> cell_vertex_, cell_slot_, cell_of_slot_;
+    std::vector<int32_t> vertex_tri_, vertex_of_tri_;
+    std::vector<int64_t> edge_half_;     // edge -> 3 * lower triangle slot + k
+    std::vector<int32_t> edge_of_half_;  // 3 * triangle slot + k -> edge across edge k
+    int32_t max_edges_ = 0;
+};
+
+}  // namespace um::dual
