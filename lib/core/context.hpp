@@ -17,6 +17,7 @@
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
 
 #include "core/growth.hpp"
 #include "core/worker_placement.hpp"
@@ -59,6 +60,39 @@ public:
                                       });
         });
 #endif
+    }
+
+    // Runs background() in this context's arena while host() runs on the
+    // calling thread (work that must stay on it, such as the netCDF calls
+    // under their lock), returning when both are done: the first to fail
+    // is rethrown (host's when both fail) after both finished. background
+    // may use parallel_for. With one thread, or plain threads: host(), then
+    // background().
+    template <class Background, class Host>
+    void alongside(Background &&background, Host &&host) {
+#ifndef UNIMESH_PLAIN_THREADS
+        if (threads_ > 1) {
+            WorkerPlacement::Scope placed(placement_);
+            oneapi::tbb::task_group group;
+            arena_->execute([&] { group.run([&] { background(); }); });
+            std::exception_ptr host_failed, background_failed;
+            try {
+                host();
+            } catch (...) {
+                host_failed = std::current_exception();
+            }
+            try {
+                arena_->execute([&] { group.wait(); });
+            } catch (...) {
+                background_failed = std::current_exception();
+            }
+            if (host_failed) std::rethrow_exception(host_failed);
+            if (background_failed) std::rethrow_exception(background_failed);
+            return;
+        }
+#endif
+        host();
+        background();
     }
 
     // parallel_for(n, grain, fn) in consecutive blocks with a heartbeat

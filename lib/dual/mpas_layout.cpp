@@ -4,7 +4,9 @@
 #include <atomic>
 #include <limits>
 
+#include "core/buffer.hpp"
 #include "core/error.hpp"
+#include "core/radix_sort.hpp"
 #include "dual/mpas_mesh.hpp"
 #include "dual/spherical.hpp"
 #include "tri/spatial_order.hpp"
@@ -36,14 +38,16 @@ void check_links(const std::atomic<bool> &broken) {
 // keys are unique and the order does not depend on the sort or on threads.
 template <class PositionFn>
 std::vector<int32_t> hilbert_order(Context &ctx, int64_t n, PositionFn position) {
-    std::vector<uint64_t> keys(static_cast<size_t>(n));
+    Buffer<uint64_t> keys(static_cast<size_t>(n));
     ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i)
             keys[i] = tri::hilbert_key(position(i)) << 32 | static_cast<uint64_t>(i);
     });
-    std::sort(keys.begin(), keys.end());
+    radix_sort(ctx, keys, 32, 64);  // stable: ties stay in index order
     std::vector<int32_t> order(keys.size());
-    for (size_t i = 0; i < keys.size(); ++i) order[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
+    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) order[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
+    });
     return order;
 }
 
@@ -140,10 +144,10 @@ void MpasLayout::number_edges(Context &ctx) {
     const tri::Triangulation &tri = *tri_;
     std::vector<int64_t> halves;  // 3 * t + k
     halves.reserve(static_cast<size_t>(tri.triangle_count()) * 3 / 2);
-    for (int32_t t : vertex_tri_)
-        for (int k = 0; k < 3; ++k)
-            if (t < tri.neighbour(t, k)) halves.push_back(3 * int64_t(t) + k);
-    std::sort(halves.begin(), halves.end());  // by slot: independent of the vertex order
+    for (int32_t t = 0; t < tri.triangle_slots(); ++t)  // by slot: independent of the vertex order
+        if (!tri.is_free(t))
+            for (int k = 0; k < 3; ++k)
+                if (t < tri.neighbour(t, k)) halves.push_back(3 * int64_t(t) + k);
     const int64_t n = static_cast<int64_t>(halves.size());
     const std::vector<int32_t> order = hilbert_order(ctx, n, [&](int64_t i) {
         const int32_t t = static_cast<int32_t>(halves[i] / 3);

@@ -196,9 +196,15 @@ void put_rows(const NcOutput &nc, const MpasMesh &block, const MpasField &f, int
     nc.check(status, "writing variable ", f.name);
 }
 
-// The block of a mesh that holds rows [first, first + count) along `kind`;
-// *array_first: the row at which its arrays of that kind start.
-using BlockOf = std::function<const MpasMesh &(MpasDim kind, int64_t first, int64_t count, int64_t *array_first)>;
+// The block of a mesh that holds rows [first, first + count) along `kind`,
+// made in buffer 0 or 1 (two blocks live at once: one written while the
+// next is made); *array_first: the row at which its arrays of that kind
+// start.
+struct Rows {
+    MpasDim kind;
+    int64_t first, count;
+};
+using BlockOf = std::function<const MpasMesh &(int buffer, Rows rows, int64_t *array_first)>;
 
 std::vector<StreamHash> value_hashes_for(const MpasMesh &m, const std::vector<MpasField> &fields) {
     std::vector<StreamHash> hashes;
@@ -213,14 +219,46 @@ std::vector<uint64_t> finish(std::vector<StreamHash> &hashes, const MpasMesh &m,
     return out;
 }
 
+// Every block of rows, kind by kind.
+std::vector<Rows> blocks_of(const MpasMesh &m, int64_t block_rows) {
+    std::vector<Rows> blocks;
+    for (MpasDim kind : {MpasDim::nCells, MpasDim::nEdges, MpasDim::nVertices}) {
+        const int64_t rows = dual::mpas_dim_length(m, kind);
+        for (int64_t first = 0; first < rows; first += block_rows)
+            blocks.push_back({kind, first, std::min(block_rows, rows - first)});
+    }
+    return blocks;
+}
+
+// A block's variables into the file.
+struct FileState {
+    const NcOutput &nc;
+    const std::vector<MpasField> &fields;
+    const std::vector<int> &var_ids;
+    std::vector<StreamHash> &hashes;
+    std::vector<int32_t> buffer;
+};
+
+void put_block(FileState &file, const MpasMesh &block, Rows rows, int64_t array_first) {
+    const std::vector<MpasField> block_fields = dual::mpas_fields(block);
+    if (block_fields.size() != file.fields.size())
+        fail(UM_ERR_INTERNAL, "MPAS mesh: a block has ", block_fields.size(), " variables, not ", file.fields.size());
+    for (size_t i = 0; i < file.fields.size(); ++i)
+        if (file.fields[i].dims[0] == rows.kind)
+            put_rows(file.nc, block, block_fields[i], file.var_ids[i], {rows.first, rows.count, array_first},
+                     file.hashes[i], file.buffer);
+}
+
 // Writes the file from `probe` (every variable present, the whole mesh's
-// counts) and the blocks block_of gives, kind by kind, block_rows rows at a
-// time. The netCDF lock is held while netCDF is called, not while a
-// block is made or progress reported, so that another thread's file and the
-// caller's progress callback are not held up (or deadlocked) by it.
-void write_blocks(Context *ctx, const MpasMesh &probe, const BlockOf &block_of, const std::string &path,
+// counts) and the blocks block_of makes, block_rows rows at a time: each
+// block is written on the calling thread while the next is made in the
+// context's arena. The netCDF lock is held while netCDF is called, not
+// while progress is reported, so that the caller's progress callback is not
+// deadlocked by it; file_id goes in last.
+void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, const std::string &path,
                   uint64_t variable_limit, int64_t block_rows) {
     const std::vector<MpasField> fields = dual::mpas_fields(probe);
+    const std::vector<Rows> blocks = blocks_of(probe, block_rows);
     std::unique_lock<std::mutex> lock(netcdf_mutex());
     NcOutput nc(path, format_for(probe, fields, variable_limit), "MPAS mesh file");
     int old_fill = 0;
@@ -229,32 +267,29 @@ void write_blocks(Context *ctx, const MpasMesh &probe, const BlockOf &block_of, 
     define(nc, probe, fields, var_ids);
     nc.check(nc_enddef(nc.id()), "ending define mode");
     std::vector<StreamHash> hashes = value_hashes_for(probe, fields);
-    std::vector<int32_t> buffer;
-    const int64_t total = int64_t(probe.n_cells) + probe.n_edges + probe.n_vertices;
-    int64_t done = 0;
-    for (MpasDim kind : {MpasDim::nCells, MpasDim::nEdges, MpasDim::nVertices}) {
-        const int64_t rows = dual::mpas_dim_length(probe, kind);
-        for (int64_t first = 0; first < rows; first += block_rows) {
-            const int64_t count = std::min(block_rows, rows - first);
-            int64_t array_first = 0;
-            lock.unlock();
-            const MpasMesh *block = nullptr;
-            try {
-                if (ctx) ctx->progress("MPAS mesh", 0.05 + 0.95 * double(done) / double(total));
-                block = &block_of(kind, first, count, &array_first);
-            } catch (...) {
-                lock.lock();  // nc's destructor removes the partial file under the lock
-                throw;
-            }
-            lock.lock();
-            const std::vector<MpasField> block_fields = dual::mpas_fields(*block);
-            if (block_fields.size() != fields.size())
-                fail(UM_ERR_INTERNAL, "MPAS mesh: a block has ", block_fields.size(), " variables, not ", fields.size());
-            for (size_t i = 0; i < fields.size(); ++i)
-                if (fields[i].dims[0] == kind)
-                    put_rows(nc, *block, block_fields[i], var_ids[i], {first, count, array_first}, hashes[i], buffer);
-            done += count;
+    FileState file{nc, fields, var_ids, hashes, {}};
+    try {
+        lock.unlock();
+        int64_t array_first[2] = {0, 0};
+        const MpasMesh *made[2] = {nullptr, nullptr};
+        if (!blocks.empty()) made[0] = &block_of(0, blocks[0], &array_first[0]);
+        for (size_t b = 0; b < blocks.size(); ++b) {
+            const int now = static_cast<int>(b % 2), next = 1 - now;
+            ctx.alongside(
+                [&] {
+                    if (b + 1 < blocks.size()) made[next] = &block_of(next, blocks[b + 1], &array_first[next]);
+                },
+                [&] {
+                    lock.lock();
+                    put_block(file, *made[now], blocks[b], array_first[now]);
+                    lock.unlock();
+                });
+            ctx.progress("MPAS mesh", 0.05 + 0.95 * double(b + 1) / double(blocks.size()));
         }
+        lock.lock();
+    } catch (...) {
+        if (!lock.owns_lock()) lock.lock();  // nc's destructor removes the partial file under the lock
+        throw;
     }
     const std::string id = file_id_of(probe.radius_m, fields, finish(hashes, probe, fields));
     nc.check(nc_redef(nc.id()), "reopening define mode");
@@ -284,7 +319,9 @@ void write_mpas_mesh(const MpasMesh &m, const std::string &path, uint64_t variab
             fail(UM_ERR_INTERNAL, "MPAS mesh: variable ", f.name, " has ", have,
                  " values instead of ", n);
     }
-    write_blocks(nullptr, m, [&](MpasDim, int64_t, int64_t, int64_t *array_first) -> const MpasMesh & {
+    Context serial;  // nothing to make: every block is already in m
+    serial.set_threads(1);
+    write_blocks(serial, m, [&](int, Rows, int64_t *array_first) -> const MpasMesh & {
         *array_first = 0;
         return m;
     }, path, variable_limit, dual::kMpasBlockRows);
@@ -293,14 +330,16 @@ void write_mpas_mesh(const MpasMesh &m, const std::string &path, uint64_t variab
 void write_mpas_mesh(Context &ctx, const dual::MpasSource &source, const std::string &path,
                      uint64_t variable_limit, int64_t block_rows) {
     if (block_rows < 1) fail(UM_ERR_INTERNAL, "MPAS mesh: blocks of ", block_rows, " rows");
-    // One row of every kind, so that every variable is present.
-    MpasMesh block = source.shape();
-    for (MpasDim kind : {MpasDim::nCells, MpasDim::nEdges, MpasDim::nVertices}) source.rows(ctx, kind, 0, 1, block);
-    const MpasMesh probe = block;
-    write_blocks(&ctx, probe, [&](MpasDim kind, int64_t first, int64_t count, int64_t *array_first) -> const MpasMesh & {
-        source.rows(ctx, kind, first, count, block);
-        *array_first = first;
-        return block;
+    // Two blocks, each first one row of every kind, so that every variable
+    // is present in both.
+    MpasMesh block[2] = {source.shape(), {}};
+    for (MpasDim kind : {MpasDim::nCells, MpasDim::nEdges, MpasDim::nVertices}) source.rows(ctx, kind, 0, 1, block[0]);
+    block[1] = block[0];
+    const MpasMesh probe = block[0];
+    write_blocks(ctx, probe, [&](int buffer, Rows rows, int64_t *array_first) -> const MpasMesh & {
+        source.rows(ctx, rows.kind, rows.first, rows.count, block[buffer]);
+        *array_first = rows.first;
+        return block[buffer];
     }, path, variable_limit, block_rows);
 }
 

@@ -17,6 +17,7 @@ cap before or during the run; the benchmark prints the reason and goes on.
 import argparse
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -85,7 +86,8 @@ def main():
     parser.add_argument("--cli", default=os.path.join(ROOT, "build", "tools", "unimesh"))
     parser.add_argument("--sizes", default="30,10,5", help="spacings in km, comma-separated")
     parser.add_argument("--threads", type=int, default=2)
-    parser.add_argument("--out", help="keep each case's files in OUT/<km>km (default: a temporary folder)")
+    parser.add_argument("--out", help="keep each case's files in OUT/<km>km (default: a temporary folder, "
+                                      "emptied after each case)")
     args = parser.parse_args()
     if not os.access(args.cli, os.X_OK):
         sys.exit(f"bench_scale: no command line at {args.cli} (cmake --build build --target unimesh_cli)")
@@ -95,6 +97,8 @@ def main():
             out_dir = os.path.join(args.out or scratch, f"{km}km")
             print(f"bench_scale: {km} km ...", file=sys.stderr, flush=True)
             results.append(run_case(args.cli, km, args.threads, out_dir))
+            if not args.out:
+                shutil.rmtree(out_dir)  # a 3 km mesh.nc is about 65 GB: one case on disk at a time
     print_table(results, args.threads)
 
 
