@@ -761,8 +761,11 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * neighbours have nearby indices. The file is netCDF classic 64-bit offset,
  * or CDF-5 when a variable is too large for it (meshes of about 8 million
  * cells and more). The same mesh gives the same bytes for any thread count.
- * The progress callback sees stage "MPAS mesh" before the mesh is built and
- * before the file is written; cancelling there writes nothing.
+ * The file is streamed: made and written a block of rows at a time, so that
+ * it needs about 160 bytes per cell beyond the mesh (the staggered mesh
+ * whole would be about 1.2 kB per cell). The progress callback sees stage
+ * "MPAS mesh" before the numbering and after each block; cancelling at any
+ * of them leaves path as it was.
  * The file is written under a temporary name in path's directory (".NAME.part-
  * PID-N"), flushed to disk and renamed over path only when complete: a failed
  * or interrupted write leaves whatever was at path as it was (and removes its
@@ -773,6 +776,13 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * spacing's errors if a callback spacing gives a value that is not finite
  * and > 0 at a generator. */
 UM_API um_status um_mesh_write_mpas(const um_mesh *m, const char *path);
+/* um_mesh_write_mpas in the container asked for: UM_MPAS_FILE_AUTO (what
+ * um_mesh_write_mpas writes) or UM_MPAS_FILE_NETCDF4 (netCDF-4/HDF5, for
+ * tools and I/O layers that want it; the same variables and attributes, the
+ * same bytes for any thread count). UM_ERR_INVALID_ARGUMENT for another
+ * format, naming it. */
+enum { UM_MPAS_FILE_AUTO = 0, UM_MPAS_FILE_NETCDF4 = 1 };
+UM_API um_status um_mesh_write_mpas_as(const um_mesh *m, const char *path, int32_t format);
 
 /* The same staggered mesh in memory, variable by variable, so that a model
  * builds its arrays without a file. Every variable of the file is there by

@@ -75,7 +75,7 @@ module unimesh
   public :: UM_FEATURE_COASTLINE, UM_FEATURE_LAKE, UM_FEATURE_RIVER, UM_FEATURE_WATERSHED, &
       UM_FEATURE_OTHER, UM_FEATURE_PASSAGE
   public :: UM_SIDE_OCEAN, UM_SIDE_LAND, UM_SIDE_COASTAL
-  public :: UM_MPAS_REAL, UM_MPAS_INT
+  public :: UM_MPAS_REAL, UM_MPAS_INT, UM_MPAS_FILE_AUTO, UM_MPAS_FILE_NETCDF4
 
   ! ------------------------------------------------------------------ handles
 
@@ -165,7 +165,8 @@ module unimesh
       um_mesh_get_triangles, um_mesh_get_vertex_parts, um_mesh_get_restricted_edges, &
       um_mesh_get_vertex_sides, um_mesh_get_triangle_sides
   public :: um_mesh_quality_summary, um_mesh_quality_counts, um_mesh_quality_json
-  public :: um_mesh_write_mpas, um_mesh_write_jigsaw, um_mesh_mpas_dimensions, um_mesh_get_mpas, um_mesh_release_mpas
+  public :: um_mesh_write_mpas, um_mesh_write_mpas_as, um_mesh_write_jigsaw, um_mesh_mpas_dimensions, um_mesh_get_mpas, &
+      um_mesh_release_mpas
   public :: um_mesh_write_components, um_mpas_file_write_components, um_mesh_river_report_json
 
   ! An MPAS variable by its netCDF name into an allocatable array: rank 1
@@ -1468,6 +1469,16 @@ contains
     integer, optional, intent(out) :: ierr
     call finish(c_um_mesh_write_mpas(mesh%ptr, to_c(path)), mesh%ctx, 'um_mesh_write_mpas', ierr)
   end subroutine um_mesh_write_mpas
+
+  !> Writes the MPAS mesh file in the container asked for: UM_MPAS_FILE_AUTO
+  !> (as um_mesh_write_mpas) or UM_MPAS_FILE_NETCDF4.
+  subroutine um_mesh_write_mpas_as(mesh, path, format, ierr)
+    type(um_mesh_t), intent(in) :: mesh
+    character(len=*), intent(in) :: path
+    integer(c_int32_t), intent(in) :: format
+    integer, optional, intent(out) :: ierr
+    call finish(c_um_mesh_write_mpas_as(mesh%ptr, to_c(path), format), mesh%ctx, 'um_mesh_write_mpas_as', ierr)
+  end subroutine um_mesh_write_mpas_as
 
   !> Writes the component meshes and coupler grids into an existing
   !> directory: mesh.nc (with the maps), ocean.nc, land.nc, their graph.info

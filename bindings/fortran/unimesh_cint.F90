@@ -108,6 +108,8 @@ module unimesh_cint
   integer(c_int32_t), parameter :: UM_SIDE_COASTAL = 2
   integer(c_int32_t), parameter :: UM_MPAS_REAL = 1
   integer(c_int32_t), parameter :: UM_MPAS_INT = 2
+  integer(c_int32_t), parameter :: UM_MPAS_FILE_AUTO = 0
+  integer(c_int32_t), parameter :: UM_MPAS_FILE_NETCDF4 = 1
 
   ! ---------------------------------------------------------- callback types
   ! The header's function-pointer typedefs, for writing callbacks in Fortran:
@@ -696,6 +698,12 @@ module unimesh_cint
       type(c_ptr), value :: m
       character(kind=c_char), intent(in) :: path(*)
     end function c_um_mesh_write_mpas
+    integer(c_int32_t) function c_um_mesh_write_mpas_as(m, path, format) bind(c, name="um_mesh_write_mpas_as")
+      import :: c_int32_t, c_ptr, c_char
+      type(c_ptr), value :: m
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int32_t), value :: format
+    end function c_um_mesh_write_mpas_as
 
     integer(c_int32_t) function c_um_mesh_mpas_dimensions(m, n_cells, n_edges, n_vertices, &
         max_edges) bind(c, name="um_mesh_mpas_dimensions")

@@ -133,21 +133,30 @@ UM_API um_status um_mesh_release_mpas(um_mesh *m) {
     UM_API_END(mesh_context(m))
 }
 
-UM_API um_status um_mesh_write_mpas(const um_mesh *m, const char *path) {
+UM_API um_status um_mesh_write_mpas_as(const um_mesh *m, const char *path, int32_t format) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
     require_pointer(path, "path");
     if (path[0] == '\0') fail(UM_ERR_INVALID_ARGUMENT, "path is empty");
+    if (format != UM_MPAS_FILE_AUTO && format != UM_MPAS_FILE_NETCDF4)
+        fail(UM_ERR_INVALID_ARGUMENT, "format = ", format,
+             " is not UM_MPAS_FILE_AUTO (0) or UM_MPAS_FILE_NETCDF4 (1)");
     um::Context &ctx = *m->context;
     ctx.progress("MPAS mesh", 0.0);
     // Streamed: the file is written a block of rows at a time from the
     // numbering, so the staggered mesh is never held whole.
     ctx.check_memory(um::dual::kMpasSourceBytesPerCell * m->mesh.vertex_count(), "the MPAS mesh file");
     const um::dual::MpasSource source(ctx, m->mesh);
-    um::io::write_mpas_mesh(ctx, source, path);
+    um::io::MpasWriteOptions options;
+    if (format == UM_MPAS_FILE_NETCDF4) options.format = um::io::MpasFileFormat::netcdf4;
+    um::io::write_mpas_mesh(ctx, source, path, options);
     return UM_OK;
     UM_API_END(mesh_context(m))
+}
+
+UM_API um_status um_mesh_write_mpas(const um_mesh *m, const char *path) {
+    return um_mesh_write_mpas_as(m, path, UM_MPAS_FILE_AUTO);
 }
 
 }  // extern "C"

@@ -118,9 +118,10 @@ uint64_t value_bytes(const MpasMesh &m, const MpasField &f) {
 
 // 64-bit offset files hold fixed-size variables of up to 2^32 - 4 bytes;
 // larger meshes (weightsOnEdge passes it at about 8 M cells) need CDF-5.
-int format_for(const MpasMesh &m, const std::vector<MpasField> &fields, uint64_t limit) {
+int format_for(const MpasMesh &m, const std::vector<MpasField> &fields, const MpasWriteOptions &options) {
+    if (options.format == MpasFileFormat::netcdf4) return NC_NETCDF4;
     for (const MpasField &f : fields)
-        if (value_bytes(m, f) > limit) return NC_64BIT_DATA;
+        if (value_bytes(m, f) > options.variable_limit) return NC_64BIT_DATA;
     return NC_64BIT_OFFSET;
 }
 
@@ -256,11 +257,12 @@ void put_block(FileState &file, const MpasMesh &block, Rows rows, int64_t array_
 // while progress is reported, so that the caller's progress callback is not
 // deadlocked by it; file_id goes in last.
 void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, const std::string &path,
-                  uint64_t variable_limit, int64_t block_rows) {
+                  const MpasWriteOptions &options) {
+    if (options.block_rows < 1) fail(UM_ERR_INTERNAL, "MPAS mesh: blocks of ", options.block_rows, " rows");
     const std::vector<MpasField> fields = dual::mpas_fields(probe);
-    const std::vector<Rows> blocks = blocks_of(probe, block_rows);
+    const std::vector<Rows> blocks = blocks_of(probe, options.block_rows);
     std::unique_lock<std::mutex> lock(netcdf_mutex());
-    NcOutput nc(path, format_for(probe, fields, variable_limit), "MPAS mesh file");
+    NcOutput nc(path, format_for(probe, fields, options), "MPAS mesh file");
     int old_fill = 0;
     nc.check(nc_set_fill(nc.id(), NC_NOFILL, &old_fill), "setting no-fill mode");
     std::vector<int> var_ids;
@@ -310,7 +312,7 @@ std::string mpas_file_id(const MpasMesh &m) {
     return file_id_of(m.radius_m, fields, finish(hashes, m, fields));
 }
 
-void write_mpas_mesh(const MpasMesh &m, const std::string &path, uint64_t variable_limit) {
+void write_mpas_mesh(const MpasMesh &m, const std::string &path, const MpasWriteOptions &options) {
     for (const MpasField &f : dual::mpas_fields(m)) {
         size_t n = 1;
         for (MpasDim d : f.dims) n *= dim_length(m, d);
@@ -324,12 +326,11 @@ void write_mpas_mesh(const MpasMesh &m, const std::string &path, uint64_t variab
     write_blocks(serial, m, [&](int, Rows, int64_t *array_first) -> const MpasMesh & {
         *array_first = 0;
         return m;
-    }, path, variable_limit, dual::kMpasBlockRows);
+    }, path, options);
 }
 
 void write_mpas_mesh(Context &ctx, const dual::MpasSource &source, const std::string &path,
-                     uint64_t variable_limit, int64_t block_rows) {
-    if (block_rows < 1) fail(UM_ERR_INTERNAL, "MPAS mesh: blocks of ", block_rows, " rows");
+                     const MpasWriteOptions &options) {
     // Two blocks, each first one row of every kind, so that every variable
     // is present in both.
     MpasMesh block[2] = {source.shape(), {}};
@@ -340,7 +341,7 @@ void write_mpas_mesh(Context &ctx, const dual::MpasSource &source, const std::st
         source.rows(ctx, rows.kind, rows.first, rows.count, block[buffer]);
         *array_first = rows.first;
         return block[buffer];
-    }, path, variable_limit, block_rows);
+    }, path, options);
 }
 
 }  // namespace um::io

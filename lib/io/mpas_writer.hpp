@@ -17,24 +17,30 @@ namespace um::io {
 // The largest fixed-size variable a netCDF 64-bit offset file can hold.
 constexpr uint64_t kOffset64VariableLimit = (uint64_t(1) << 32) - 4;
 
+// The container: netCDF classic 64-bit offset, or CDF-5 when a variable is
+// larger than variable_limit (automatic), or netCDF-4 (HDF5) on request.
+enum class MpasFileFormat { automatic, netcdf4 };
+
+struct MpasWriteOptions {
+    MpasFileFormat format = MpasFileFormat::automatic;
+    // A parameter so that tests can reach the CDF-5 branch with small meshes.
+    uint64_t variable_limit = kOffset64VariableLimit;
+    // Rows per block of the streamed writer (tests cut small meshes into many).
+    int64_t block_rows = dual::kMpasBlockRows;
+};
+
 // Writes m to path (created or overwritten; netCDF calls under the
-// process-wide netCDF lock). The bytes depend only on m: file_id is a hash of
-// its content, no clock, no randomness. The format is 64-bit offset unless a variable needs
-// more than variable_limit bytes (a parameter so that tests can reach the
-// CDF-5 branch with small meshes), then CDF-5. Throws UM_ERR_IO naming the
-// file; a partly written file is removed.
-void write_mpas_mesh(const dual::MpasMesh &m, const std::string &path,
-                     uint64_t variable_limit = kOffset64VariableLimit);
+// process-wide netCDF lock). The bytes depend only on m and the options:
+// file_id is a hash of its content, no clock, no randomness. Throws
+// UM_ERR_IO naming the file; a partly written file is removed.
+void write_mpas_mesh(const dual::MpasMesh &m, const std::string &path, const MpasWriteOptions &options = {});
 
 // The same file streamed from source a block of rows at a time (the whole
 // staggered mesh is never held), reporting progress on ctx between blocks
 // (a cancel there removes the partial file). Identical bytes to writing
 // the mesh build_mpas_mesh makes from the same input, for any thread count.
-// block_rows: rows per block (a parameter so that tests can cut small meshes
-// into many blocks).
 void write_mpas_mesh(Context &ctx, const dual::MpasSource &source, const std::string &path,
-                     uint64_t variable_limit = kOffset64VariableLimit,
-                     int64_t block_rows = dual::kMpasBlockRows);
+                     const MpasWriteOptions &options = {});
 
 // The file_id attribute: 10 characters [0-9a-z] from a hash of every array
 // and the radius of m.

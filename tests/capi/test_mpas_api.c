@@ -384,6 +384,77 @@ static int entries_starting(const char *prefix) {
  * EFBIG, as a full disk gives ENOSPC) leaves the old file at the path
  * byte for byte and no temporary file; a FIFO or a device at the path is
  * refused and stays. Both writers. */
+/* Every variable of two files, read as doubles, is the same. */
+static void expect_same_variables(const char *path_a, const char *path_b) {
+    int a = -1, b = -1, n_vars = 0, n_vars_b = 0;
+    assert_int_equal(nc_open(path_a, NC_NOWRITE, &a), NC_NOERR);
+    assert_int_equal(nc_open(path_b, NC_NOWRITE, &b), NC_NOERR);
+    assert_int_equal(nc_inq_nvars(a, &n_vars), NC_NOERR);
+    assert_int_equal(nc_inq_nvars(b, &n_vars_b), NC_NOERR);
+    assert_int_equal(n_vars, n_vars_b);
+    for (int var = 0; var < n_vars; ++var) {
+        char name[NC_MAX_NAME + 1];
+        int n_dims, dims[NC_MAX_VAR_DIMS], var_b = -1;
+        assert_int_equal(nc_inq_var(a, var, name, NULL, &n_dims, dims, NULL), NC_NOERR);
+        assert_int_equal(nc_inq_varid(b, name, &var_b), NC_NOERR);
+        size_t n = 1;
+        for (int d = 0; d < n_dims; ++d) {
+            size_t len;
+            assert_int_equal(nc_inq_dimlen(a, dims[d], &len), NC_NOERR);
+            n *= len;
+        }
+        double *va = malloc((n + 1) * sizeof(double)), *vb = malloc((n + 1) * sizeof(double));
+        assert_int_equal(nc_get_var_double(a, var, va), NC_NOERR);
+        assert_int_equal(nc_get_var_double(b, var_b, vb), NC_NOERR);
+        assert_memory_equal(va, vb, n * sizeof(double));
+        free(va), free(vb);
+    }
+    char id_a[16] = {0}, id_b[16] = {0};
+    assert_int_equal(nc_get_att_text(a, NC_GLOBAL, "file_id", id_a), NC_NOERR);
+    assert_int_equal(nc_get_att_text(b, NC_GLOBAL, "file_id", id_b), NC_NOERR);
+    assert_string_equal(id_a, id_b);
+    assert_int_equal(nc_close(a), NC_NOERR);
+    assert_int_equal(nc_close(b), NC_NOERR);
+}
+
+/* netCDF-4 on request: the same variables and file_id as the automatic
+ * (classic) file, the same bytes for 1 and 2 threads, valid for the
+ * independent checker; a format that is neither is refused by name. */
+static void netcdf4_on_request(void **state) {
+    um_context *ctx = *state;
+    um_mesh *m = refine(ctx, 480.0, UNIMESH_DATA_DIR "/coast_global_l.geojson");
+    char classic[2048], path1[2048], path2[2048];
+    output_path(classic, sizeof classic, "test_mpas_auto.nc");
+    output_path(path1, sizeof path1, "test_mpas_netcdf4_1.nc");
+    output_path(path2, sizeof path2, "test_mpas_netcdf4_2.nc");
+    assert_int_equal(um_mesh_write_mpas_as(m, classic, UM_MPAS_FILE_AUTO), UM_OK);
+    assert_int_equal(um_context_set_threads(ctx, 1), UM_OK);
+    assert_int_equal(um_mesh_write_mpas_as(m, path1, UM_MPAS_FILE_NETCDF4), UM_OK);
+    assert_int_equal(um_context_set_threads(ctx, 2), UM_OK);
+    assert_int_equal(um_mesh_write_mpas_as(m, path2, UM_MPAS_FILE_NETCDF4), UM_OK);
+    int nc = -1, format = 0;
+    assert_int_equal(nc_open(path1, NC_NOWRITE, &nc), NC_NOERR);
+    assert_int_equal(nc_inq_format(nc, &format), NC_NOERR);
+    assert_int_equal(format, NC_FORMAT_NETCDF4);
+    assert_int_equal(nc_close(nc), NC_NOERR);
+    expect_same_variables(classic, path1);
+    long n1 = 0, n2 = 0;
+    unsigned char *a = slurp(path1, &n1), *b = slurp(path2, &n2);
+    assert_int_equal(n1, n2);
+    assert_memory_equal(a, b, (size_t)n1);
+    free(a), free(b);
+    run_checker(path1);
+
+    for (int32_t bad = -1; bad <= 2; bad += 3) {
+        assert_int_equal(um_mesh_write_mpas_as(m, path1, bad), UM_ERR_INVALID_ARGUMENT);
+        assert_non_null(strstr(um_context_last_error(ctx), "format"));
+        um_context_clear_error(ctx);
+    }
+    remove(classic), remove(path1), remove(path2);
+    assert_int_equal(entries_starting(".test_mpas_netcdf4"), 0);
+    um_mesh_destroy(m);
+}
+
 static void failed_writes_keep_the_old_file(void **state) {
     um_context *ctx = *state;
     um_mesh *m = refine(ctx, 900.0, NULL);
@@ -457,6 +528,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(global_coastline_480km, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(same_bytes_for_any_thread_count, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(copy_out_matches_the_file, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(netcdf4_on_request, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(jigsaw_file, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(misuse_and_errors, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(failed_writes_keep_the_old_file, setup_context, teardown_context),

@@ -219,6 +219,41 @@ class Build(unittest.TestCase):
             self.assertEqual(r.returncode, 1)
             self.assertIn("'vtu' must be true or false", r.stderr)
 
+    def test_netcdf4_mesh_file_on_request(self):
+        # --mpas-format netcdf4 (or the case file's key) writes mesh.nc as
+        # netCDF-4 with the automatic file's values; check and graph.info
+        # read it; the component files have only the automatic format.
+        import netCDF4  # python3-netcdf4 (and numpy), installed by tools/setup.sh
+        import numpy as np
+        with tempfile.TemporaryDirectory() as folder:
+            auto, hdf = os.path.join(folder, "auto"), os.path.join(folder, "hdf")
+            r = run("build", "--spacing-km", "900", "--threads", "1", "--out", auto)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            case = os.path.join(folder, "case.toml")
+            with open(case, "w") as f:
+                f.write('spacing_km = 900\nthreads = 1\nmpas_format = "netcdf4"\nout = "hdf"\n')
+            r = run("build", "--case", case)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with netCDF4.Dataset(os.path.join(auto, "mesh.nc")) as a, netCDF4.Dataset(os.path.join(hdf, "mesh.nc")) as b:
+                self.assertEqual(a.data_model, "NETCDF3_64BIT_OFFSET")
+                self.assertEqual(b.data_model, "NETCDF4")
+                self.assertEqual(sorted(a.variables), sorted(b.variables))
+                for name in a.variables:
+                    self.assertTrue(np.array_equal(a[name][:], b[name][:]), name)
+                self.assertEqual(a.file_id, b.file_id)
+            with open(os.path.join(auto, "graph.info")) as f, open(os.path.join(hdf, "graph.info")) as g:
+                self.assertEqual(f.read(), g.read())
+            r = run("check", os.path.join(hdf, "mesh.nc"))
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            r = run("build", "--spacing-km", "900", "--mpas-format", "netcdf4", "--components", "--out", hdf)
+            self.assertEqual(r.returncode, 1)
+            self.assertIn("--mpas-format netcdf4 with --components", r.stderr)
+            with open(case, "w") as f:
+                f.write('spacing_km = 900\nmpas_format = "hdf5"\n')
+            r = run("build", "--case", case)
+            self.assertEqual(r.returncode, 1)
+            self.assertIn("'mpas_format' must be", r.stderr)
+
     def test_case_file_and_flags_that_win(self):
         with tempfile.TemporaryDirectory() as folder:
             case = os.path.join(folder, "case.toml")

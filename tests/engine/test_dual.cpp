@@ -711,14 +711,17 @@ void streamed_file_matches_whole_mesh(void **) {
     const MpasMesh m = dual::build_mpas_mesh(ctx, refined);
     assert_false(m.edge_feature_kind.empty());
     for (uint64_t limit : {io::kOffset64VariableLimit, uint64_t(1000)}) {
-        io::write_mpas_mesh(m, whole_path, limit);
+        io::MpasWriteOptions options;
+        options.variable_limit = limit;
+        io::write_mpas_mesh(m, whole_path, options);
         const std::string whole = file_bytes(whole_path);
         for (int threads : {1, 3}) {
             Context streaming;
             streaming.set_threads(threads);
             const dual::MpasSource source(streaming, refined);
             for (int64_t rows : {int64_t(1), int64_t(777), dual::kMpasBlockRows}) {
-                io::write_mpas_mesh(streaming, source, path, limit, rows);
+                options.block_rows = rows;
+                io::write_mpas_mesh(streaming, source, path, options);
                 assert_true(file_bytes(path) == whole);
             }
         }
@@ -734,7 +737,9 @@ void large_variables_give_cdf5(void **) {
     const std::string path = output_path("test_dual_cdf5.nc");
     const uint64_t weights_bytes = m.weights_on_edge.size() * sizeof(double);
     for (uint64_t limit : {weights_bytes, weights_bytes - 1}) {
-        io::write_mpas_mesh(m, path, limit);
+        io::MpasWriteOptions options;
+        options.variable_limit = limit;
+        io::write_mpas_mesh(m, path, options);
         int nc = -1, format = 0;
         assert_int_equal(nc_open(path.c_str(), NC_NOWRITE, &nc), NC_NOERR);
         assert_int_equal(nc_inq_format(nc, &format), NC_NOERR);

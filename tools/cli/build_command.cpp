@@ -297,6 +297,9 @@ int run_build(const BuildArgs &a) {
     int rc = 0;
     std::string stage;
     try {
+        if (a.components && a.mpas_format != "auto")
+            throw Failure{"--mpas-format " + a.mpas_format +
+                          " with --components: the component files are written in the automatic format only"};
         if (!a.spacing_file.empty()) {  // before any thread of ours exists: the probe forks
             const std::string refused = crash_reading_spacing_file(a.spacing_file, memory_cap_bytes(a.memory_cap),
                                                                    trial_read_seconds(a.spacing_file));
@@ -353,7 +356,8 @@ int run_build(const BuildArgs &a) {
             print_river_summary(out->staged("rivers.json"));
             lap("MPAS mesh and components");
         } else {
-            check(um_mesh_write_mpas(m, mesh_nc.c_str()), ctx, "writing " + dir + "mesh.nc");
+            const int32_t format = a.mpas_format == "netcdf4" ? UM_MPAS_FILE_NETCDF4 : UM_MPAS_FILE_AUTO;
+            check(um_mesh_write_mpas_as(m, mesh_nc.c_str(), format), ctx, "writing " + dir + "mesh.nc");
             lap("MPAS mesh");
         }
         std::vector<std::string> &component_files = a.components ? written : not_written;

@@ -28,6 +28,9 @@ struct BuildArgs {
     // ocean.nc, land.nc, their graph.info files, SCRIP and ESMF grids of the
     // base and both components, rivers.json; mesh.nc then has the maps.
     bool components = false;
+    // mesh.nc's container: "auto" (64-bit offset, CDF-5 when a variable
+    // needs it) or "netcdf4".
+    std::string mpas_format = "auto";
     std::string options;  // "name=value;..." for um_options_set_string
     std::string out_dir = "out";
     bool progress_bar = false;

@@ -49,13 +49,13 @@ std::string option_text(const toml::node &node, const std::string &key) {
 void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given, BuildArgs &a) {
     static const std::set<std::string> known = {"geometry", "passages", "kind", "spacing_km", "spacing_file",
                                                 "spacing_preset", "threads", "optimise", "vtu", "jigsaw", "components",
-                                                "out", "options"};
+                                                "mpas_format", "out", "options"};
     for (const auto &[key, node] : t) {
         const std::string k(key.str());
         if (!known.count(k))
             throw CaseError{"unknown key '" + k + "'" + where(node) +
                             "; known: geometry, passages, kind, spacing_km, spacing_file, spacing_preset, threads, "
-                            "optimise, vtu, jigsaw, components, out, [options]"};
+                            "optimise, vtu, jigsaw, components, mpas_format, out, [options]"};
     }
     if (const toml::node *g = t.get("geometry"); g && !given.geometry) {
         const toml::array *list = g->as_array();
@@ -100,6 +100,11 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
     flag("vtu", given.vtu, a.vtu);
     flag("jigsaw", given.jigsaw, a.jigsaw);
     flag("components", given.components, a.components);
+    if (const toml::node *n = t.get("mpas_format"); n && !given.mpas_format) {
+        a.mpas_format = string_value(*n, "mpas_format");
+        if (a.mpas_format != "auto" && a.mpas_format != "netcdf4")
+            throw CaseError{"'mpas_format' must be \"auto\" or \"netcdf4\", not \"" + a.mpas_format + "\"" + where(*n)};
+    }
     if (const toml::node *n = t.get("out"); n && !given.out) a.out_dir = resolve(folder, string_value(*n, "out"));
     if (const toml::node *n = t.get("options")) {
         const toml::table *opts = n->as_table();

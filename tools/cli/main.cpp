@@ -72,6 +72,10 @@ int main(int argc, char **argv) {
     build->add_flag("--no-optimise", b.no_optimise, "skip the primal-dual optimisation");
     build->add_flag("--vtu", b.vtu, "also write mesh.vtu and triangles.vtu (ParaView)");
     build->add_flag("--jigsaw", b.jigsaw, "also write mesh.msh (JIGSAW)");
+    build->add_option("--mpas-format", b.mpas_format,
+                      "container of mesh.nc: auto (netCDF 64-bit offset, CDF-5 for large meshes; the default) "
+                      "or netcdf4 (HDF5)")
+        ->check(CLI::IsMember({"auto", "netcdf4"}));
     build->add_flag("--components", b.components,
                     "also write the component meshes and coupler grids: ocean.nc, land.nc, "
                     "ocean.graph.info, land.graph.info, {mesh,ocean,land}.scrip.nc, "
@@ -125,6 +129,7 @@ int main(int argc, char **argv) {
             given.vtu = build->count("--vtu") > 0;
             given.jigsaw = build->count("--jigsaw") > 0;
             given.components = build->count("--components") > 0;
+            given.mpas_format = build->count("--mpas-format") > 0;
             given.out = build->count("--out") > 0;
             std::string error;
             if (!read_case_file(case_file, given, b, &error)) {

@@ -295,6 +295,15 @@ contains
     call um_mpas_file_write_components(ctx, 'fortran_components/rivers.json', 'fortran_components_again', ierr)
     call check(ierr == UM_ERR_FILE_FORMAT, 'a file that is no mesh is refused')
     call um_context_clear_error(ctx)
+
+    ! mesh.nc as netCDF-4 on request; another format is refused.
+    call um_mesh_write_mpas_as(mesh, 'fortran_mesh4.nc', UM_MPAS_FILE_NETCDF4, ierr)
+    call check(ierr == UM_OK, 'netCDF-4 mesh file written')
+    call um_mpas_file_write_components(ctx, 'fortran_mesh4.nc', 'fortran_components_again', ierr)
+    call check(ierr == UM_OK, 'components from the netCDF-4 mesh file')
+    call um_mesh_write_mpas_as(mesh, 'fortran_mesh4.nc', 2_c_int32_t, ierr)
+    call check(ierr == UM_ERR_INVALID_ARGUMENT, 'an unknown file format is refused')
+    call um_context_clear_error(ctx)
     call um_mesh_destroy(mesh)
     call um_spacing_destroy(h)
   end subroutine test_mesh_with_ring

@@ -21,7 +21,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parents[1] / "python"))  # the package, when run without PYTHONPATH
 
 import unimesh  # noqa: E402  (path set just above)
-from unimesh import (FeatureKind, Features, Mesh, Side, Spacing, Status,  # noqa: E402
+from unimesh import (FeatureKind, Features, Mesh, MpasFile, Side, Spacing, Status,  # noqa: E402
                      UnimeshError)
 
 try:
@@ -308,6 +308,16 @@ class MeshTests(unittest.TestCase):
                 mesh.mpas_variable("noSuchVariable")
             self.assertIn("noSuchVariable", str(caught.exception))
             mesh.release_mpas()
+            # netCDF-4 on request: the same values in the other container.
+            hdf = os.path.join(tmp, "mesh4.nc")
+            mesh.write_mpas(hdf, format=MpasFile.NETCDF4)
+            with netCDF4.Dataset(path) as nc, netCDF4.Dataset(hdf) as nc4:
+                self.assertEqual(nc4.data_model, "NETCDF4")
+                for name, var in nc.variables.items():
+                    numpy.testing.assert_array_equal(var[:].data, nc4[name][:].data, err_msg=name)
+            with self.assertRaises(UnimeshError) as caught:
+                mesh.write_mpas(hdf, format=7)
+            self.assertIn("format = 7", str(caught.exception))
 
     def test_components_and_river_report(self):
         gamma = Features(self.ctx)

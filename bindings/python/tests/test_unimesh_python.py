@@ -115,6 +115,7 @@ class Constants(unittest.TestCase):
         ("UM_LOG_", unimesh.LogLevel),
         ("UM_FEATURE_", unimesh.FeatureKind),
         ("UM_SIDE_", unimesh.Side),
+        ("UM_MPAS_FILE_", unimesh.MpasFile),
         ("UM_MPAS_", unimesh.MpasType),
         ("UM_", unimesh.Status),
     )

@@ -35,7 +35,7 @@ __all__ = [
     "VERSION_MAJOR", "VERSION_MINOR", "VERSION_PATCH", "VERSION_NUMBER", "VERSION_STRING",
     "Status", "Option", "OptionType", "FeatureKind", "Side", "LogLevel", "ErrorMode", "OptionInfo", "UnimeshError",
     "Context", "Options", "Triangulation", "TriangulationCounts", "Features", "FeaturesCounts",
-    "FeatureParts", "Spacing", "Mesh", "MeshCounts", "QualitySummary", "QualityCounts", "MeshEstimate", "MpasType", "MpasDimensions",
+    "FeatureParts", "Spacing", "Mesh", "MeshCounts", "QualitySummary", "QualityCounts", "MeshEstimate", "MpasType", "MpasFile", "MpasDimensions",
     "version", "version_number",
     "version_string", "status_string", "status_class", "option_info", "option_name",
     "option_key", "library_path", "missing_functions",
@@ -132,6 +132,12 @@ class MpasType(enum.IntEnum):
 
 
 MPAS_REAL = MpasType.REAL
+
+
+class MpasFile(enum.IntEnum):
+    """Containers of the MPAS mesh file (UM_MPAS_FILE_*)."""
+    AUTO = 0
+    NETCDF4 = 1
 
 
 class LogLevel(enum.IntEnum):
@@ -1044,9 +1050,10 @@ class Mesh(_Handle):
         self._check(C.um_mesh_quality_counts(self._handle, *(byref(c) for c in counts)))
         return QualityCounts(*(c.value for c in counts))
 
-    def write_mpas(self, path):
-        """Writes the MPAS mesh file (netCDF) of this mesh."""
-        self._check(C.um_mesh_write_mpas(self._handle, os.fsencode(path)))
+    def write_mpas(self, path, format=MpasFile.AUTO):
+        """Writes the MPAS mesh file (netCDF) of this mesh: format AUTO (64-bit
+        offset, CDF-5 for large meshes) or NETCDF4."""
+        self._check(C.um_mesh_write_mpas_as(self._handle, os.fsencode(path), int(format)))
 
     def write_components(self, directory):
         """Writes the component meshes and coupler grids into an existing

@@ -119,6 +119,7 @@ SIGNATURES = (
     ("um_mesh_quality_counts", status_t, (handle_t, _i64p, _i64p)),
     # MPAS output
     ("um_mesh_write_mpas", status_t, (handle_t, string_in_t)),
+    ("um_mesh_write_mpas_as", status_t, (handle_t, string_in_t, c_int32)),
     ("um_mesh_mpas_dimensions", status_t, (handle_t, _i64p, _i64p, _i64p, _i64p)),
     ("um_mesh_mpas_variable", status_t, (handle_t, string_in_t, _i32p, _i64p, _i64p)),
     ("um_mesh_copy_mpas_real", status_t, (handle_t, string_in_t, _f64p, c_int64)),
