@@ -565,10 +565,10 @@ UM_API um_status um_spacing_evaluate(const um_spacing *s, int64_t n, const doubl
  * 180 x 360 bands), refine_bytes (the peak of um_mesh_refine and
  * um_mesh_optimise) and mpas_bytes (what um_mesh_write_mpas adds to the
  * mesh: it streams the file a block of rows at a time; the MPAS copy-out and
- * um_mesh_write_components build the whole staggered mesh, about ten times
- * that). These are the estimates the memory cap judges: a caller that will
- * write the MPAS mesh can refuse a size whose mpas_bytes exceed the cap
- * before refining it.
+ * um_mesh_write_components build the whole staggered mesh, about 1.6 kB
+ * per cell, judged by the cap when they build it). These are the estimates
+ * the memory cap judges: a caller that will write the MPAS mesh file can
+ * refuse a size whose mpas_bytes exceed the cap before refining it.
  * Out-pointers may be NULL. */
 UM_API um_status um_spacing_estimate(const um_spacing *s, int64_t *cells, int64_t *refine_bytes,
                                      int64_t *mpas_bytes);
@@ -762,7 +762,8 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * or CDF-5 when a variable is too large for it (meshes of about 8 million
  * cells and more). The same mesh gives the same bytes for any thread count.
  * The file is streamed: made and written a block of rows at a time, so that
- * it needs about 160 bytes per cell beyond the mesh (the staggered mesh
+ * it needs about 160 bytes per cell beyond the mesh (280 with features,
+ * while the rivers are routed) and two blocks of rows (the staggered mesh
  * whole would be about 1.2 kB per cell). The progress callback sees stage
  * "MPAS mesh" before the numbering and after each block; cancelling at any
  * of them leaves path as it was.

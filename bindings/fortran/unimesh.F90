@@ -1119,8 +1119,8 @@ contains
         lat_deg, km), spacing%ctx, routine, ierr)
   end subroutine um_spacing_evaluate
 
-  !> What a mesh of this spacing is expected to need: cells, and the peak
-  !> bytes of refining and optimising it and of its MPAS mesh.
+  !> What a mesh of this spacing is expected to need: cells, the peak bytes
+  !> of refining and optimising it, and what writing its MPAS mesh file adds.
   subroutine um_spacing_estimate(spacing, cells, refine_bytes, mpas_bytes, ierr)
     type(um_spacing_t), intent(in) :: spacing
     integer(int64), optional, intent(out) :: cells, refine_bytes, mpas_bytes

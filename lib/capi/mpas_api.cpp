@@ -146,7 +146,8 @@ UM_API um_status um_mesh_write_mpas_as(const um_mesh *m, const char *path, int32
     ctx.progress("MPAS mesh", 0.0);
     // Streamed: the file is written a block of rows at a time from the
     // numbering, so the staggered mesh is never held whole.
-    ctx.check_memory(um::dual::kMpasSourceBytesPerCell * m->mesh.vertex_count(), "the MPAS mesh file");
+    ctx.check_memory(um::dual::mpas_stream_bytes(m->mesh.vertex_count(), m->mesh.gamma != nullptr),
+                     "the MPAS mesh file");
     const um::dual::MpasSource source(ctx, m->mesh);
     um::io::MpasWriteOptions options;
     if (format == UM_MPAS_FILE_NETCDF4) options.format = um::io::MpasFileFormat::netcdf4;

@@ -74,7 +74,14 @@ public:
         if (threads_ > 1) {
             WorkerPlacement::Scope placed(placement_);
             oneapi::tbb::task_group group;
-            arena_->execute([&] { group.run([&] { background(); }); });
+            // The worker that runs background() is one of this context's: its
+            // parallel_for is then nested and leaves the placement to the host's.
+            arena_->execute([&] {
+                group.run([&] {
+                    placement_.note_part_runner();
+                    background();
+                });
+            });
             std::exception_ptr host_failed, background_failed;
             try {
                 host();

@@ -6,6 +6,7 @@
 // never held; build_mpas_mesh (mpas_mesh.hpp) asks it for every row.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -22,8 +23,9 @@ struct RefinedMesh;
 namespace um::dual {
 
 // Bytes per cell a source holds (its layout, the cell widths, the tags) at
-// its peak while being built, for the memory cap.
-constexpr int64_t kMpasSourceBytesPerCell = 160;
+// its peak while being built, for the memory cap: the river routing of a
+// mesh with features needs the whole river graph while it runs.
+constexpr int64_t kMpasSourceBytesPerCell = 160, kMpasSourceWithFeaturesBytesPerCell = 280;
 
 class MpasSource {
 public:
@@ -55,8 +57,17 @@ private:
     std::unique_ptr<Tags> tags_;
 };
 
-// The rows along each kind in blocks of this many (even, so that a block of
-// int32 rows is a whole number of 8-byte words for the file_id hash).
+// The rows along each kind in blocks of this many.
 constexpr int64_t kMpasBlockRows = int64_t(1) << 17;
+
+// What streaming the file of a mesh of `cells` cells adds to the mesh: the
+// source, and two blocks of rows (one written while the next is made), each
+// holding a block of every kind (a cell row about 190 B with maxEdges 9, an
+// edge row 316 B and the stencils of its cells 160 B, a vertex row 108 B).
+inline int64_t mpas_stream_bytes(int64_t cells, bool features) {
+    auto rows = [](int64_t n) { return std::min(n, kMpasBlockRows); };
+    const int64_t block = rows(cells) * 190 + rows(3 * cells) * (316 + 160) + rows(2 * cells) * 108;
+    return cells * (features ? kMpasSourceWithFeaturesBytesPerCell : kMpasSourceBytesPerCell) + 2 * block;
+}
 
 }  // namespace um::dual

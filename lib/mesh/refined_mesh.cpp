@@ -236,7 +236,7 @@ MeshEstimate estimate_mesh(Context &ctx, const hfun::Spacing &h) {
     e.cells = estimated_cells(ctx, h);
     const int64_t cells = std::min<int64_t>(e.cells, int64_t(1) << 50);  // the products below fit int64
     e.refine_bytes = cells * std::max(kRefineBytesPerCell, kOptimiseBytesPerCell);
-    e.mpas_bytes = cells * dual::kMpasSourceBytesPerCell;
+    e.mpas_bytes = dual::mpas_stream_bytes(cells, true);  // features or not: the larger
     return e;
 }
 
