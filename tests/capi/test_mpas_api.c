@@ -384,6 +384,33 @@ static int entries_starting(const char *prefix) {
  * EFBIG, as a full disk gives ENOSPC) leaves the old file at the path
  * byte for byte and no temporary file; a FIFO or a device at the path is
  * refused and stays. Both writers. */
+/* The file is streamed a block of rows at a time with progress between
+ * blocks: cancelled part-way (after the cell and edge blocks of a small
+ * mesh), the file already at path is kept byte for byte and no temporary
+ * file is left. */
+static void cancel_part_way_keeps_the_old_file(void **state) {
+    um_context *ctx = *state;
+    um_mesh *old_mesh = refine(ctx, 900.0, NULL), *m = refine(ctx, 700.0, NULL);
+    char path[2048];
+    output_path(path, sizeof path, "test_mpas_cancel.nc");
+    assert_int_equal(um_mesh_write_mpas(old_mesh, path), UM_OK);
+    long n_before = 0, n_after = 0;
+    unsigned char *before = slurp(path, &n_before);
+    int calls = 0;
+    assert_int_equal(um_context_set_progress(ctx, cancel_at_half, &calls), UM_OK);
+    assert_int_equal(um_mesh_write_mpas(m, path), UM_CANCELLED);
+    assert_true(calls >= 3);  /* the start, then blocks: cancelled after the first block */
+    assert_int_equal(um_context_set_progress(ctx, NULL, NULL), UM_OK);
+    um_context_clear_error(ctx);
+    unsigned char *after = slurp(path, &n_after);
+    assert_int_equal(n_before, n_after);
+    assert_memory_equal(before, after, (size_t)n_before);
+    assert_int_equal(entries_starting(".test_mpas_cancel.nc"), 0);
+    free(before), free(after);
+    remove(path);
+    um_mesh_destroy(old_mesh), um_mesh_destroy(m);
+}
+
 /* Every variable of two files, read as doubles, is the same. */
 static void expect_same_variables(const char *path_a, const char *path_b) {
     int a = -1, b = -1, n_vars = 0, n_vars_b = 0;
@@ -529,6 +556,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(same_bytes_for_any_thread_count, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(copy_out_matches_the_file, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(netcdf4_on_request, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(cancel_part_way_keeps_the_old_file, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(jigsaw_file, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(misuse_and_errors, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(failed_writes_keep_the_old_file, setup_context, teardown_context),
