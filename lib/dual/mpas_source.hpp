@@ -31,7 +31,7 @@ class MpasSource {
 public:
     // Throws um::Error as build_mpas_mesh does. Keeps references to tri and
     // to refined, which must outlive it.
-    MpasSource(Context &ctx, const tri::Triangulation &tri, const MpasMeshInput &input);
+    MpasSource(Context &ctx, const tri::Triangulation &tri, MpasMeshInput input);
     MpasSource(Context &ctx, const mesh::RefinedMesh &refined);
     ~MpasSource();
 

@@ -37,26 +37,14 @@ struct Hash {
         h *= 0xff51afd7ed558ccdull;
         h ^= h >> 33;
     }
-    void bytes(const void *data, size_t n) {
-        const unsigned char *p = static_cast<const unsigned char *>(data);
-        word(n);
-        size_t i = 0;
-        for (; i + 8 <= n; i += 8) {
-            uint64_t w;
-            std::memcpy(&w, p + i, 8);
-            word(w);
-        }
-        uint64_t tail = 0;
-        if (n > i) std::memcpy(&tail, p + i, n - i);
-        word(tail);
-    }
 };
 
-// Hash::bytes of one variable's values fed in pieces of any size (blocks of
+// n bytes into a hash: their count, then 8-byte words, then the last
+// partial word padded with zeros; fed in pieces of any size (blocks of
 // rows), with the same result for any way of cutting them.
-class StreamHash {
+class ByteStream {
 public:
-    explicit StreamHash(uint64_t total_bytes) { hash_.word(total_bytes); }
+    ByteStream(Hash start, uint64_t total_bytes) : hash_(start) { hash_.word(total_bytes); }
     void feed(const void *data, size_t n) {
         const unsigned char *p = static_cast<const unsigned char *>(data);
         while (n > 0) {
@@ -71,11 +59,11 @@ public:
             }
         }
     }
-    uint64_t finish() {
+    Hash finish() {
         uint64_t tail = 0;
         std::memcpy(&tail, pending_, filled_);
         hash_.word(tail);
-        return hash_.h;
+        return hash_;
     }
 
 private:
@@ -84,14 +72,30 @@ private:
     size_t filled_ = 0;
 };
 
+Hash with_bytes(Hash hash, const void *data, size_t n) {
+    ByteStream stream(hash, n);
+    stream.feed(data, n);
+    return stream.finish();
+}
+
+// A variable's values, block by block.
+class StreamHash {
+public:
+    explicit StreamHash(uint64_t total_bytes) : stream_(Hash{}, total_bytes) {}
+    void feed(const void *data, size_t n) { stream_.feed(data, n); }
+    uint64_t finish() { return stream_.finish().h; }
+
+private:
+    ByteStream stream_;
+};
+
 // file_id: the radius, each variable's name and the hash of its values (its
 // row count for the indexTo*ID variables), then a final avalanche and 10
 // base-36 digits (36^10 < 2^52).
 std::string file_id_of(double radius, const std::vector<MpasField> &fields, const std::vector<uint64_t> &value_hashes) {
-    Hash hash;
-    hash.bytes(&radius, sizeof radius);
+    Hash hash = with_bytes(Hash{}, &radius, sizeof radius);
     for (size_t i = 0; i < fields.size(); ++i) {
-        hash.bytes(fields[i].name, std::strlen(fields[i].name));
+        hash = with_bytes(hash, fields[i].name, std::strlen(fields[i].name));
         hash.word(value_hashes[i]);
     }
     uint64_t h = hash.h;
