@@ -1515,8 +1515,9 @@ contains
     call finish(c_um_mesh_write_jigsaw(mesh%ptr, to_c(path)), mesh%ctx, 'um_mesh_write_jigsaw', ierr)
   end subroutine um_mesh_write_jigsaw
 
-  !> Dimensions of the MPAS staggered mesh (built on first use and kept with
-  !> the mesh until um_mesh_release_mpas).
+  !> Dimensions of the MPAS staggered mesh (its numbering is made on first
+  !> use and kept with the mesh until um_mesh_release_mpas; each variable is
+  !> made when it is copied).
   subroutine um_mesh_mpas_dimensions(mesh, n_cells, n_edges, n_vertices, max_edges, ierr)
     type(um_mesh_t), intent(in) :: mesh
     integer, optional, intent(out) :: n_cells, n_edges, n_vertices, max_edges
@@ -1534,7 +1535,7 @@ contains
     if (present(max_edges)) max_edges = int(m)
   end subroutine um_mesh_mpas_dimensions
 
-  !> Frees the staggered mesh kept for um_mesh_get_mpas.
+  !> Frees the numbering of the staggered mesh kept for um_mesh_get_mpas.
   subroutine um_mesh_release_mpas(mesh, ierr)
     type(um_mesh_t), intent(in) :: mesh
     integer, optional, intent(out) :: ierr

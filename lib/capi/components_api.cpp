@@ -62,10 +62,10 @@ UM_API um_status um_mesh_river_report_json(const um_mesh *m, char *buf, int64_t 
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
-    const um::dual::MpasMesh &mpas = m->staggered();
-    const um::dual::RiverReport report = um::dual::river_routing(mpas).report;
-    return um::capi::copy_out_string(m->context.get(), um::components::river_report_json(report, mpas), buf,
-                                     capacity, needed);
+    const um::dual::MpasSource &source = m->staggered();
+    const std::string json = um::components::river_report_json(
+        source.river_report(), [&](int32_t cell, double &lat, double &lon) { source.cell_lat_lon(cell, lat, lon); });
+    return um::capi::copy_out_string(m->context.get(), json, buf, capacity, needed);
     UM_API_END(mesh_context(m))
 }
 

@@ -25,12 +25,11 @@ um::Context *mesh_context(const um_mesh *m) {
     return um::capi::is_live(m, HandleKind::mesh) ? m->context.get() : nullptr;
 }
 
-const um::dual::MpasMesh &mpas_of(const um_mesh *m) { return m->staggered(); }
-
-// The variable called name, checked to be of the given type (0: any).
-um::dual::MpasField field_of(const um::dual::MpasMesh &mpas, const char *name, int32_t type) {
+// The variable called name of the mesh whose variables `probe` lists,
+// checked to be of the given type (0: any).
+um::dual::MpasField field_of(const um::dual::MpasMesh &probe, const char *name, int32_t type) {
     require_pointer(name, "name");
-    for (const um::dual::MpasField &f : um::dual::mpas_fields(mpas)) {
+    for (const um::dual::MpasField &f : um::dual::mpas_fields(probe)) {
         if (std::strcmp(f.name, name) != 0) continue;
         const int32_t is = f.kind == um::dual::MpasKind::real ? UM_MPAS_REAL : UM_MPAS_INT;
         if (type != 0 && type != is)
@@ -39,6 +38,21 @@ um::dual::MpasField field_of(const um::dual::MpasMesh &mpas, const char *name, i
         return f;
     }
     fail(UM_ERR_INVALID_ARGUMENT, "name = '", name, "' is not an MPAS variable of this mesh");
+}
+
+// Variable `name` of m's staggered mesh into out, a block of rows at a time:
+// put(field, values, at) for each block: its `values` values go to out + at.
+template <class Put>
+void copy_variable(const um_mesh *m, const char *name, int32_t type, int64_t capacity, const void *out, Put put) {
+    const um::dual::MpasSource &source = m->staggered();
+    const um::dual::MpasMesh probe = source.probe(*m->context);
+    const um::dual::MpasField f = field_of(probe, name, type);
+    const int64_t columns = f.columns(probe);
+    check_capacity(capacity, f.rows(probe) * columns, name);
+    require_pointer(out, "out");
+    um::dual::for_each_block_of(*m->context, source, f, [&](const um::dual::MpasField &block, int64_t first, int64_t count) {
+        put(block, count * columns, first * columns);
+    });
 }
 
 }  // namespace
@@ -50,7 +64,7 @@ UM_API um_status um_mesh_mpas_dimensions(const um_mesh *m, int64_t *n_cells, int
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
-    const um::dual::MpasMesh &mpas = mpas_of(m);
+    const um::dual::MpasMesh mpas = m->staggered().shape();
     if (n_cells) *n_cells = mpas.n_cells;
     if (n_edges) *n_edges = mpas.n_edges;
     if (n_vertices) *n_vertices = mpas.n_vertices;
@@ -65,11 +79,11 @@ UM_API um_status um_mesh_mpas_variable(const um_mesh *m, const char *name, int32
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
     require_pointer(name, "name");
-    const um::dual::MpasMesh &mpas = mpas_of(m);
-    const um::dual::MpasField f = field_of(mpas, name, 0);
+    const um::dual::MpasMesh probe = m->staggered().probe(*m->context);
+    const um::dual::MpasField f = field_of(probe, name, 0);
     if (type) *type = f.kind == um::dual::MpasKind::real ? UM_MPAS_REAL : UM_MPAS_INT;
-    if (n_rows) *n_rows = f.rows(mpas);
-    if (n_columns) *n_columns = f.columns(mpas);
+    if (n_rows) *n_rows = f.rows(probe);
+    if (n_columns) *n_columns = f.columns(probe);
     return UM_OK;
     UM_API_END(mesh_context(m))
 }
@@ -79,13 +93,10 @@ UM_API um_status um_mesh_copy_mpas_real(const um_mesh *m, const char *name, doub
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
-    require_pointer(name, "name");
-    const um::dual::MpasMesh &mpas = mpas_of(m);
-    const um::dual::MpasField f = field_of(mpas, name, UM_MPAS_REAL);
-    const int64_t n = f.rows(mpas) * f.columns(mpas);
-    check_capacity(capacity, n, name);
-    require_pointer(out, "out");
-    std::copy(f.reals->begin(), f.reals->begin() + n, out);
+    copy_variable(m, name, UM_MPAS_REAL, capacity, out,
+                  [&](const um::dual::MpasField &block, int64_t values, int64_t at) {
+                      std::copy(block.reals->begin(), block.reals->begin() + values, out + at);
+                  });
     return UM_OK;
     UM_API_END(mesh_context(m))
 }
@@ -95,20 +106,18 @@ UM_API um_status um_mesh_copy_mpas_int(const um_mesh *m, const char *name, int32
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
-    require_pointer(name, "name");
     check_base(base);
-    const um::dual::MpasMesh &mpas = mpas_of(m);
-    const um::dual::MpasField f = field_of(mpas, name, UM_MPAS_INT);
-    const int64_t n = f.rows(mpas) * f.columns(mpas);
-    check_capacity(capacity, n, name);
-    require_pointer(out, "out");
-    for (int64_t i = 0; i < n; ++i) {
-        switch (f.kind) {
-            case um::dual::MpasKind::index: out[i] = (*f.ints)[i] + base; break;  // kNone -> base - 1
-            case um::dual::MpasKind::id: out[i] = static_cast<int32_t>(i) + base; break;
-            default: out[i] = (*f.ints)[i]; break;
-        }
-    }
+    copy_variable(m, name, UM_MPAS_INT, capacity, out,
+                  [&](const um::dual::MpasField &block, int64_t values, int64_t at) {
+                      int32_t *to = out + at;
+                      for (int64_t i = 0; i < values; ++i) {
+                          switch (block.kind) {
+                              case um::dual::MpasKind::index: to[i] = (*block.ints)[i] + base; break;  // kNone -> base - 1
+                              case um::dual::MpasKind::id: to[i] = static_cast<int32_t>(at + i) + base; break;
+                              default: to[i] = (*block.ints)[i]; break;
+                          }
+                      }
+                  });
     return UM_OK;
     UM_API_END(mesh_context(m))
 }
@@ -146,12 +155,16 @@ UM_API um_status um_mesh_write_mpas_as(const um_mesh *m, const char *path, int32
     ctx.progress("MPAS mesh", 0.0);
     // Streamed: the file is written a block of rows at a time from the
     // numbering, so the staggered mesh is never held whole.
-    ctx.check_memory(um::dual::mpas_stream_bytes(m->mesh.vertex_count(), m->mesh.gamma != nullptr),
-                     "the MPAS mesh file");
-    const um::dual::MpasSource source(ctx, m->mesh);
+    // The copy-out's source when there is one, else one for this file.
+    std::unique_ptr<um::dual::MpasSource> own;
+    if (!m->mpas) {
+        ctx.check_memory(um::dual::mpas_stream_bytes(m->mesh.vertex_count(), m->mesh.gamma != nullptr),
+                         "the MPAS mesh file");
+        own = std::make_unique<um::dual::MpasSource>(ctx, m->mesh);
+    }
     um::io::MpasWriteOptions options;
     if (format == UM_MPAS_FILE_NETCDF4) options.format = um::io::MpasFileFormat::netcdf4;
-    um::io::write_mpas_mesh(ctx, source, path, options);
+    um::io::write_mpas_mesh(ctx, own ? *own : *m->mpas, path, options);
     return UM_OK;
     UM_API_END(mesh_context(m))
 }

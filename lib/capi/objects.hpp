@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "capi/api.hpp"
-#include "dual/mpas_mesh.hpp"
+#include "dual/mpas_source.hpp"
 #include "features/network.hpp"
 #include "hfun/spacing.hpp"
 #include "mesh/refined_mesh.hpp"
@@ -37,11 +37,16 @@ struct um_mesh {
     // the mesh changes (the quality calls are const; one host thread at a
     // time per context makes the cache safe).
     mutable std::optional<um::quality::Report> quality;
-    // The MPAS staggered mesh of `mesh`, built on the first copy-out and kept
-    // until released or the mesh changes.
-    mutable std::unique_ptr<um::dual::MpasMesh> mpas;
-    const um::dual::MpasMesh &staggered() const {
-        if (!mpas) mpas = std::make_unique<um::dual::MpasMesh>(um::dual::build_mpas_mesh(*context, mesh));
+    // The source of the MPAS staggered mesh of `mesh` (its numbering and
+    // tags), made on the first copy-out and kept until released or the mesh
+    // changes; each variable is made from it when it is copied out.
+    mutable std::unique_ptr<um::dual::MpasSource> mpas;
+    const um::dual::MpasSource &staggered() const {
+        if (!mpas) {
+            context->check_memory(um::dual::mpas_copy_out_bytes(mesh.vertex_count(), mesh.gamma != nullptr),
+                                  "the MPAS copy-out");
+            mpas = std::make_unique<um::dual::MpasSource>(*context, mesh);
+        }
         return *mpas;
     }
     // Set while a call uses the mesh: a call on it from inside another's

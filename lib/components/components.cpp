@@ -55,14 +55,15 @@ void write_text(const std::string &path, const std::string &text) {
 }
 
 // The notes as a JSON list; numbers locale-independent (core/text.hpp).
-std::string notes_json(const std::vector<dual::RiverNetworkNote> &notes, const MpasMesh &base) {
+std::string notes_json(const std::vector<dual::RiverNetworkNote> &notes, const CellLatLon &cell_lat_lon) {
     std::string json = "[";
     for (size_t i = 0; i < notes.size(); ++i) {
         const dual::RiverNetworkNote &n = notes[i];
+        double lat, lon;
+        cell_lat_lon(n.cell, lat, lon);
         json += concat(i ? ", " : "", "{\"network\": ", n.network + 1, ", \"cells\": ", n.cells,
                        ", \"cycles\": ", n.cycles, ", \"cell\": ", n.cell + 1,
-                       ", \"lat\": ", base.lat_cell[n.cell] * 180 / M_PI, ", \"lon\": ",
-                       base.lon_cell[n.cell] * 180 / M_PI, "}");
+                       ", \"lat\": ", lat * 180 / M_PI, ", \"lon\": ", lon * 180 / M_PI, "}");
     }
     return json + "]";
 }
@@ -85,13 +86,19 @@ ComponentMeshes split_components(Context &ctx, MpasMesh &base) {
 }
 
 std::string river_report_json(const dual::RiverReport &report, const MpasMesh &base) {
+    return river_report_json(report, [&](int32_t cell, double &lat, double &lon) {
+        lat = base.lat_cell[cell], lon = base.lon_cell[cell];
+    });
+}
+
+std::string river_report_json(const dual::RiverReport &report, const CellLatLon &cell_lat_lon) {
     int64_t inland_cells = 0;
     for (const auto &n : report.inland) inland_cells += n.cells;
     return concat("{\"networks\": ", report.networks, ", \"river_cells\": ", report.river_cells,
                   ", \"routed_cells\": ", report.routed_cells, ", \"outlets\": ", report.outlets,
                   ", \"bridges\": ", report.bridges, ", \"inland_cells\": ", inland_cells,
-                  ", \"inland_networks\": ", notes_json(report.inland, base),
-                  ", \"networks_with_cycles\": ", notes_json(report.with_cycles, base), "}\n");
+                  ", \"inland_networks\": ", notes_json(report.inland, cell_lat_lon),
+                  ", \"networks_with_cycles\": ", notes_json(report.with_cycles, cell_lat_lon), "}\n");
 }
 
 void require_directory(const std::string &directory) {

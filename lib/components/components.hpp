@@ -5,6 +5,7 @@
 // base cell is in exactly one component (cellOceanMask = 1 - cellLandMask).
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "core/context.hpp"
@@ -37,6 +38,9 @@ dual::RiverReport write_component_files(Context &ctx, dual::MpasMesh &base, cons
 // The river report as JSON: counts, and the networks that reach no coast or
 // hold cycles, each with its cell count and one cell (1-based base cell id,
 // latitude and longitude in degrees) to find it by.
+// cell_lat_lon(c, lat, lon): base cell c's latCell and lonCell (radians).
+using CellLatLon = std::function<void(int32_t, double &, double &)>;
+std::string river_report_json(const dual::RiverReport &report, const CellLatLon &cell_lat_lon);
 std::string river_report_json(const dual::RiverReport &report, const dual::MpasMesh &base);
 
 }  // namespace um::components

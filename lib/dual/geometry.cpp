@@ -52,12 +52,12 @@ void ring_geometry(const MpasLayout &layout, double radius, int32_t c, RingGeome
 }
 
 void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
-               MpasMesh &m) {
+               MpasMesh &m, bool areas) {
     const double r2 = radius * radius;
     const size_t w = static_cast<size_t>(layout.max_edges()), n = static_cast<size_t>(count);
     const Placed placed{&m.x_cell, &m.y_cell, &m.z_cell, &m.lat_cell, &m.lon_cell};
     resize_rows(placed, n);
-    m.area_cell.resize(n);
+    if (areas) m.area_cell.resize(n);
     m.n_edges_on_cell.resize(n);
     m.edges_on_cell.assign(w * n, kNone);
     m.vertices_on_cell.assign(w * n, kNone);
@@ -74,6 +74,7 @@ void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
             std::copy(ring.vertices.begin(), ring.vertices.end(), &m.vertices_on_cell[w * i]);
             std::copy(ring.cells.begin(), ring.cells.end(), &m.cells_on_cell[w * i]);
             place(placed, layout.cell_unit(c), radius, i);
+            if (!areas) continue;
             // The power cell's polygon fanned from the centroid of its corners:
             // the generator may lie outside its own cell.
             corner.resize(d);
@@ -91,15 +92,14 @@ void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
 // (v, xEdge_j, xCell_j, xEdge_j+1), signed, as two triangles from v; the
 // edge points lie on the cell-cell arcs, so the kites add up to the triangle.
 void vertex_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
-                 MpasMesh &m) {
+                 MpasMesh &m, bool areas) {
     const double r2 = radius * radius;
     const size_t n = static_cast<size_t>(count);
     const Placed placed{&m.x_vertex, &m.y_vertex, &m.z_vertex, &m.lat_vertex, &m.lon_vertex};
     resize_rows(placed, n);
-    m.area_triangle.resize(n);
     m.cells_on_vertex.resize(3 * n);
     m.edges_on_vertex.resize(3 * n);
-    m.kite_areas_on_vertex.resize(3 * n);
+    if (areas) m.area_triangle.resize(n), m.kite_areas_on_vertex.resize(3 * n);
     m.boundary_vertex.assign(n, 0);
     ctx.parallel_for(count, 4096, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
@@ -108,6 +108,7 @@ void vertex_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t 
             layout.vertex_corners(v, cell, edge);
             const Vec3 o = layout.vertex_unit(v);
             place(placed, o, radius, i);
+            if (!areas) continue;
             Vec3 x[3], xe[3];
             for (int j = 0; j < 3; ++j) x[j] = layout.cell_unit(cell[j]), xe[j] = layout.edge_unit(edge[j]);
             m.area_triangle[i] = r2 * signed_area(x[0], x[1], x[2]);

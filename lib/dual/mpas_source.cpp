@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <utility>
 
 #include "core/error.hpp"
 #include "dual/river_routing.hpp"
+#include "dual/spherical.hpp"
 #include "dual/stages.hpp"
 #include "mesh/refined_mesh.hpp"
 #include "tri/cell_walk.hpp"
@@ -49,6 +51,23 @@ MpasMeshInput input_of(Context &ctx, const mesh::RefinedMesh &refined) {
         });
     }
     return input;
+}
+
+// The costly parts of a kind's rows that a caller wanting variable `only`
+// (nullptr: every variable) needs: the areas and kites, the TRSK stencils.
+struct RowParts {
+    bool areas = true, stencils = true;
+};
+
+RowParts parts_for(const MpasMesh &block, const char *only) {
+    if (!only) return {};
+    for (const MpasField &f : mpas_fields(block))
+        if (std::strcmp(f.name, only) == 0)
+            return {f.reals == &block.area_cell || f.reals == &block.area_triangle ||
+                        f.reals == &block.kite_areas_on_vertex,
+                    f.ints == &block.n_edges_on_edge || f.ints == &block.edges_on_edge ||
+                        f.reals == &block.weights_on_edge};
+    return {};
 }
 
 uint64_t slot_pair(int32_t a, int32_t b) {
@@ -196,15 +215,42 @@ MpasMesh MpasSource::shape() const {
     return m;
 }
 
-void MpasSource::rows(Context &ctx, MpasDim kind, int64_t first, int64_t count, MpasMesh &block) const {
+MpasMesh MpasSource::probe(Context &ctx) const {
+    MpasMesh m = shape();
+    for (MpasDim kind : {MpasDim::nCells, MpasDim::nEdges, MpasDim::nVertices}) rows(ctx, kind, 0, 1, m);
+    return m;
+}
+
+RiverReport MpasSource::river_report() const {
+    return tags_ && tags_->features() ? tags_->routing.report : RiverReport{};
+}
+
+void MpasSource::cell_lat_lon(int32_t c, double &lat, double &lon) const { lat_lon(layout_.cell_unit(c), lat, lon); }
+
+void for_each_block_of(Context &ctx, const MpasSource &source, const MpasField &variable,
+                       const std::function<void(const MpasField &, int64_t, int64_t)> &take) {
+    MpasMesh block = source.probe(ctx);  // every variable listed, for RowParts
+    const MpasDim kind = variable.dims[0];
+    const int64_t rows = mpas_dim_length(block, kind);
+    for (int64_t first = 0; first < rows; first += kMpasBlockRows) {
+        const int64_t count = std::min(kMpasBlockRows, rows - first);
+        if (variable.kind != MpasKind::id) source.rows(ctx, kind, first, count, block, variable.name);
+        for (const MpasField &f : mpas_fields(block))
+            if (std::strcmp(f.name, variable.name) == 0) take(f, first, count);
+    }
+}
+
+void MpasSource::rows(Context &ctx, MpasDim kind, int64_t first, int64_t count, MpasMesh &block,
+                      const char *only) const {
     const MpasMesh s = shape();
     block.radius_m = s.radius_m;
     block.n_cells = s.n_cells, block.n_edges = s.n_edges, block.n_vertices = s.n_vertices;
     block.max_edges = s.max_edges;
     const size_t n = static_cast<size_t>(count);
+    const RowParts parts = parts_for(block, only);
     switch (kind) {
         case MpasDim::nCells:
-            cell_rows(ctx, layout_, radius_m_, first, count, block);
+            cell_rows(ctx, layout_, radius_m_, first, count, block, parts.areas);
             block.cell_source_vertex.resize(n);
             block.mesh_density.assign(n, 1.0);
             for (size_t i = 0; i < n; ++i) {
@@ -218,11 +264,11 @@ void MpasSource::rows(Context &ctx, MpasDim kind, int64_t first, int64_t count, 
             return;
         case MpasDim::nEdges:
             edge_rows(ctx, layout_, radius_m_, first, count, block);
-            trsk_rows(ctx, layout_, radius_m_, first, count, block);
+            if (parts.stencils) trsk_rows(ctx, layout_, radius_m_, first, count, block);
             edge_tags(first, count, block);
             return;
         case MpasDim::nVertices:
-            vertex_rows(ctx, layout_, radius_m_, first, count, block);
+            vertex_rows(ctx, layout_, radius_m_, first, count, block, parts.areas);
             block.vertex_source_triangle.resize(n);
             for (size_t i = 0; i < n; ++i)
                 block.vertex_source_triangle[i] = layout_.vertex_triangle(static_cast<int32_t>(first + i));

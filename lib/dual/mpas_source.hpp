@@ -2,12 +2,15 @@
 // layout (numbering and maps, about 76 bytes per cell) plus the tags, from
 // which any block of cell, edge or vertex rows is computed with every
 // variable of the contract. The netCDF writer streams a file from it a
-// block at a time, so the whole staggered mesh (about 1.2 kB per cell) is
-// never held; build_mpas_mesh (mpas_mesh.hpp) asks it for every row.
+// block at a time and the C API's copy-out one variable at a time, so the
+// whole staggered mesh (about 1.2 kB per cell) is never held for them;
+// build_mpas_mesh (mpas_mesh.hpp, for the component meshes) asks it for
+// every row.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -15,6 +18,7 @@
 #include "dual/mpas_fields.hpp"
 #include "dual/mpas_layout.hpp"
 #include "dual/mpas_mesh.hpp"
+#include "dual/river_routing.hpp"
 
 namespace um::mesh {
 struct RefinedMesh;
@@ -37,11 +41,22 @@ public:
 
     // The whole mesh's radius, counts and maxEdges, without rows.
     MpasMesh shape() const;
+    // shape() with one row of every kind: every variable this mesh has (the
+    // tags only when known), for a file's or a copy-out's list of them.
+    MpasMesh probe(Context &ctx) const;
     // Every variable's rows [first, first + count) of the elements along
     // `kind` (nCells, nEdges or nVertices) into block's arrays, resized to
     // `count` rows; the arrays of the other kinds are left as they are.
     // Also fills cell_source_vertex / vertex_source_triangle for the rows.
-    void rows(Context &ctx, MpasDim kind, int64_t first, int64_t count, MpasMesh &block) const;
+    // With `only` (a variable's name), the rows need hold that variable
+    // only: what no other needs is then not made (the TRSK stencils of the
+    // edges, the costly part, unless it is one of them).
+    void rows(Context &ctx, MpasDim kind, int64_t first, int64_t count, MpasMesh &block,
+              const char *only = nullptr) const;
+    // The river report of the routing (all zero without features).
+    RiverReport river_report() const;
+    // Cell c's latitude and longitude (radians), as latCell and lonCell.
+    void cell_lat_lon(int32_t c, double &lat, double &lon) const;
 
 private:
     struct Tags;
@@ -60,6 +75,16 @@ private:
 // The rows along each kind in blocks of this many.
 constexpr int64_t kMpasBlockRows = int64_t(1) << 17;
 
+// Calls take(field, first, count) for each block of rows of variable `name`
+// (which `probe` lists) in order: field holds rows [first, first + count),
+// its arrays starting at row first. One block of one kind is held at a time.
+void for_each_block_of(Context &ctx, const MpasSource &source, const MpasField &variable,
+                       const std::function<void(const MpasField &, int64_t, int64_t)> &take);
+
+// What a source holds (kMpasSource*BytesPerCell).
+inline int64_t mpas_source_bytes(int64_t cells, bool features) {
+    return cells * (features ? kMpasSourceWithFeaturesBytesPerCell : kMpasSourceBytesPerCell);
+}
 // What streaming the file of a mesh of `cells` cells adds to the mesh: the
 // source, and two blocks of rows (one written while the next is made), each
 // holding a block of every kind (a cell row about 190 B with maxEdges 9, an
@@ -67,7 +92,12 @@ constexpr int64_t kMpasBlockRows = int64_t(1) << 17;
 inline int64_t mpas_stream_bytes(int64_t cells, bool features) {
     auto rows = [](int64_t n) { return std::min(n, kMpasBlockRows); };
     const int64_t block = rows(cells) * 190 + rows(3 * cells) * (316 + 160) + rows(2 * cells) * 108;
-    return cells * (features ? kMpasSourceWithFeaturesBytesPerCell : kMpasSourceBytesPerCell) + 2 * block;
+    return mpas_source_bytes(cells, features) + 2 * block;
+}
+// What the copy-out of one variable holds: the source and a block of rows
+// of one kind (the largest, an edge block with its stencils).
+inline int64_t mpas_copy_out_bytes(int64_t cells, bool features) {
+    return mpas_source_bytes(cells, features) + std::min(3 * cells, kMpasBlockRows) * (316 + 160);
 }
 
 }  // namespace um::dual

@@ -14,13 +14,15 @@
 
 namespace um::dual {
 
-// xCell..lonCell, nEdgesOnCell, edgesOnCell, verticesOnCell, cellsOnCell, areaCell.
+// xCell..lonCell, nEdgesOnCell, edgesOnCell, verticesOnCell, cellsOnCell,
+// and areaCell unless !areas (then left as it is).
 void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
-               MpasMesh &block);
+               MpasMesh &block, bool areas = true);
 
-// xVertex..lonVertex, cellsOnVertex, edgesOnVertex, areaTriangle, kiteAreasOnVertex.
+// xVertex..lonVertex, cellsOnVertex, edgesOnVertex, boundaryVertex, and
+// areaTriangle and kiteAreasOnVertex unless !areas (then left as they are).
 void vertex_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
-                 MpasMesh &block);
+                 MpasMesh &block, bool areas = true);
 
 // xEdge..lonEdge, cellsOnEdge, verticesOnEdge, dcEdge, dvEdge, angleEdge.
 void edge_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,

@@ -335,12 +335,10 @@ void write_mpas_mesh(const MpasMesh &m, const std::string &path, const MpasWrite
 
 void write_mpas_mesh(Context &ctx, const dual::MpasSource &source, const std::string &path,
                      const MpasWriteOptions &options) {
-    // Two blocks, each first one row of every kind, so that every variable
-    // is present in both.
-    MpasMesh block[2] = {source.shape(), {}};
-    for (MpasDim kind : {MpasDim::nCells, MpasDim::nEdges, MpasDim::nVertices}) source.rows(ctx, kind, 0, 1, block[0]);
-    block[1] = block[0];
-    const MpasMesh probe = block[0];
+    // Two blocks, each first the probe, so that every variable is present
+    // in both.
+    const MpasMesh probe = source.probe(ctx);
+    MpasMesh block[2] = {probe, probe};
     write_blocks(ctx, probe, [&](int buffer, Rows rows, int64_t *array_first) -> const MpasMesh & {
         source.rows(ctx, rows.kind, rows.first, rows.count, block[buffer]);
         *array_first = rows.first;

@@ -104,18 +104,9 @@ static void global_coastline_480km(void **state) {
     um_mesh_destroy(m);
 }
 
-/* Every variable of the written file, copied out through the C API, is the
- * same (reals bit for bit, indices with base 1); the tags hold their
- * promises: masks complement each other, every restricted edge carries its
- * feature, rivers and only rivers have a downstream direction. */
-static void copy_out_matches_the_file(void **state) {
-    um_context *ctx = *state;
-    um_mesh *m = refine(ctx, 480.0, UNIMESH_DATA_DIR "/coast_global_l.geojson");
-    assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
-    char path[2048];
-    output_path(path, sizeof path, "test_mpas_copy_out.nc");
-    assert_int_equal(um_mesh_write_mpas(m, path), UM_OK);
-
+/* Every variable of the file at path, copied out of m through the C API,
+ * is the same: reals bit for bit, indices with base 1. */
+static void expect_copy_out_equals_file(um_mesh *m, const char *path) {
     int nc = -1, n_vars = 0;
     assert_int_equal(nc_open(path, NC_NOWRITE, &nc), NC_NOERR);
     assert_int_equal(nc_inq_nvars(nc, &n_vars), NC_NOERR);
@@ -156,6 +147,21 @@ static void copy_out_matches_the_file(void **state) {
     }
     nc_close(nc);
     assert_true(checked > 40);
+}
+
+/* Every variable of the written file, copied out through the C API, is the
+ * same (reals bit for bit, indices with base 1); the tags hold their
+ * promises: masks complement each other, every restricted edge carries its
+ * feature, rivers and only rivers have a downstream direction. */
+static void copy_out_matches_the_file(void **state) {
+    um_context *ctx = *state;
+    um_mesh *m = refine(ctx, 480.0, UNIMESH_DATA_DIR "/coast_global_l.geojson");
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
+    char path[2048];
+    output_path(path, sizeof path, "test_mpas_copy_out.nc");
+    assert_int_equal(um_mesh_write_mpas(m, path), UM_OK);
+
+    expect_copy_out_equals_file(m, path);
 
     int64_t n_cells = 0, n_edges = 0, n_restricted = 0;
     assert_int_equal(um_mesh_mpas_dimensions(m, &n_cells, &n_edges, NULL, NULL), UM_OK);
@@ -207,6 +213,28 @@ static void copy_out_matches_the_file(void **state) {
     um_mesh_destroy(m);
     assert_int_equal(um_mesh_release_mpas(m), UM_ERR_INVALID_HANDLE);
     um_context_clear_error(ctx);
+}
+
+/* The copy-out makes each variable a block of rows at a time, never the
+ * whole staggered mesh: a mesh of several blocks of every kind (uniform 60
+ * km, about 164,000 cells and 492,000 edges; blocks of 131,072 rows) copies
+ * out every variable as the file holds it under a memory cap of half what
+ * the whole staggered mesh would need (1.6 kB per cell). */
+static void copy_out_in_blocks_under_a_cap(void **state) {
+    um_context *ctx = *state;
+    um_mesh *m = refine(ctx, 60.0, NULL);
+    char path[2048];
+    output_path(path, sizeof path, "test_mpas_copy_out_blocks.nc");
+    assert_int_equal(um_mesh_write_mpas(m, path), UM_OK);
+    int64_t n_cells = 0, n_edges = 0;
+    assert_int_equal(um_mesh_mpas_dimensions(m, &n_cells, &n_edges, NULL, NULL), UM_OK);
+    assert_true(n_cells > 131072 && n_edges > 3 * 131072);
+    assert_int_equal(um_mesh_release_mpas(m), UM_OK);
+    assert_int_equal(um_context_set_memory_cap(ctx, 800 * n_cells), UM_OK);
+    expect_copy_out_equals_file(m, path);
+    assert_int_equal(um_context_set_memory_cap(ctx, 0), UM_OK);
+    um_mesh_destroy(m);
+    remove(path);
 }
 
 static char *read_whole_file(const char *path, long *size) {
@@ -555,6 +583,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(global_coastline_480km, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(same_bytes_for_any_thread_count, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(copy_out_matches_the_file, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(copy_out_in_blocks_under_a_cap, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(netcdf4_on_request, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(cancel_part_way_keeps_the_old_file, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(jigsaw_file, setup_context, teardown_context),

@@ -1069,7 +1069,8 @@ class Mesh(_Handle):
 
     def mpas_dimensions(self):
         """MpasDimensions(n_cells, n_edges, n_vertices, max_edges) of the
-        staggered mesh (built on first use and kept; see release_mpas)."""
+        staggered mesh (its numbering made on first use and kept, see
+        release_mpas; each variable is made when it is copied)."""
         values = c_int64(0), c_int64(0), c_int64(0), c_int64(0)
         self._check(C.um_mesh_mpas_dimensions(self._handle, *(byref(v) for v in values)))
         return MpasDimensions(*(v.value for v in values))
@@ -1094,7 +1095,7 @@ class Mesh(_Handle):
         return out
 
     def release_mpas(self):
-        """Frees the staggered mesh kept by mpas_dimensions / mpas_variable."""
+        """Frees the numbering kept by mpas_dimensions / mpas_variable."""
         self._check(C.um_mesh_release_mpas(self._handle))
 
     def __repr__(self):
