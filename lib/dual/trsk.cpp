@@ -15,6 +15,8 @@
 // cell, c1, as on MPAS's culled meshes.
 #include <algorithm>
 
+#include "core/buffer.hpp"
+#include "core/radix_sort.hpp"
 #include "dual/stages.hpp"
 
 namespace um::dual {
@@ -140,9 +142,18 @@ void fill_trsk_weights(Context &ctx, MpasMesh &m) {
 // a Hilbert curve), then the rows from them.
 void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
                MpasMesh &m) {
-    std::vector<int32_t> cells(m.cells_on_edge.begin(), m.cells_on_edge.begin() + 2 * count);
-    std::sort(cells.begin(), cells.end());
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    // The block's cells, sorted (in parallel: this is on the writer's
+    // critical path) and each once.
+    Buffer<uint64_t> keys(static_cast<size_t>(2 * count));
+    ctx.parallel_for(2 * count, 1 << 14, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) keys[i] = static_cast<uint32_t>(m.cells_on_edge[i]);  // kNone: last
+    });
+    radix_sort(ctx, keys, 0, 32);
+    std::vector<int32_t> cells;
+    cells.reserve(static_cast<size_t>(count));
+    for (size_t i = 0; i < keys.size(); ++i)
+        if (keys[i] != uint32_t(kNone) && (cells.empty() || static_cast<int32_t>(keys[i]) != cells.back()))
+            cells.push_back(static_cast<int32_t>(keys[i]));
     const size_t w = static_cast<size_t>(layout.max_edges());
     Stencils st;
     st.resize(cells.size(), w);

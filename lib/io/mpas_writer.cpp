@@ -41,35 +41,48 @@ struct Hash {
 
 // n bytes into a hash: their count, then 8-byte words, then the last
 // partial word padded with zeros; fed in pieces of any size (blocks of
-// rows), with the same result for any way of cutting them.
+// rows), with the same result for any way of cutting them. Word k goes to
+// lane k % 4 and the lanes are folded in at the end: four independent
+// chains of multiplications run side by side, about four times as fast as
+// one over a file of gigabytes (the writer's thread hashes every value).
 class ByteStream {
 public:
-    ByteStream(Hash start, uint64_t total_bytes) : hash_(start) { hash_.word(total_bytes); }
+    ByteStream(Hash start, uint64_t total_bytes) : hash_(start) {
+        hash_.word(total_bytes);
+        for (int k = 0; k < kLanes; ++k) lanes_[k].word(static_cast<uint64_t>(k));
+    }
     void feed(const void *data, size_t n) {
         const unsigned char *p = static_cast<const unsigned char *>(data);
-        while (n > 0) {
-            const size_t take = std::min(n, sizeof pending_ - filled_);
-            std::memcpy(pending_ + filled_, p, take);
-            filled_ += take, p += take, n -= take;
-            if (filled_ == sizeof pending_) {
-                uint64_t w;
-                std::memcpy(&w, pending_, 8);
-                hash_.word(w);
-                filled_ = 0;
-            }
+        while (n > 0 && (filled_ != 0 || lane_ != 0)) take_byte(p, n);
+        for (; n >= 8 * kLanes; p += 8 * kLanes, n -= 8 * kLanes) {  // most of a file's bytes
+            uint64_t w[kLanes];
+            std::memcpy(w, p, sizeof w);
+            for (int k = 0; k < kLanes; ++k) lanes_[k].word(w[k]);
         }
+        while (n > 0) take_byte(p, n);
     }
     Hash finish() {
         uint64_t tail = 0;
         std::memcpy(&tail, pending_, filled_);
-        hash_.word(tail);
+        lanes_[lane_].word(tail);
+        for (const Hash &lane : lanes_) hash_.word(lane.h);
         return hash_;
     }
 
 private:
-    Hash hash_;
+    static constexpr int kLanes = 4;
+    void take_byte(const unsigned char *&p, size_t &n) {
+        pending_[filled_++] = *p++, --n;
+        if (filled_ < 8) return;
+        uint64_t w;
+        std::memcpy(&w, pending_, 8);
+        lanes_[lane_].word(w);
+        lane_ = (lane_ + 1) % kLanes, filled_ = 0;
+    }
+    Hash hash_, lanes_[kLanes];
     unsigned char pending_[8] = {};
     size_t filled_ = 0;
+    int lane_ = 0;
 };
 
 Hash with_bytes(Hash hash, const void *data, size_t n) {
@@ -289,6 +302,7 @@ void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, 
                     lock.lock();
                     put_block(file, *made[now], blocks[b], array_first[now]);
                     lock.unlock();
+                    nc.start_writeback();
                 });
             ctx.progress("MPAS mesh", 0.05 + 0.95 * double(b + 1) / double(blocks.size()));
         }

@@ -23,6 +23,8 @@ public:
     void check(int status, const char *doing, const char *name = "") const;
     void put_text(int var, const char *name, const std::string &value) const;
     void close();
+    // ReplacingFile::start_writeback: for a file written in many blocks.
+    void start_writeback() const { file_.start_writeback(); }
 
 private:
     std::string path_, what_;

@@ -49,11 +49,8 @@ ReplacingFile::ReplacingFile(const std::string &path, const char *what) : path_(
     for (int attempt = 0; attempt < 100; ++attempt) {
         temporary_ = concat(dir, "/.", name, ".part-", static_cast<long long>(::getpid()), "-",
                             static_cast<unsigned long long>(next_serial.fetch_add(1)));
-        const int fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0) {
-            ::close(fd);
-            return;
-        }
+        fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd_ >= 0) return;
         if (errno != EEXIST)
             fail(UM_ERR_IO, "cannot write ", what, " '", path, "': cannot create a file in '", dir, "': ",
                  system_error_text(errno));
@@ -62,14 +59,19 @@ ReplacingFile::ReplacingFile(const std::string &path, const char *what) : path_(
 }
 
 ReplacingFile::~ReplacingFile() {
+    if (fd_ >= 0) ::close(fd_);
     if (!committed_) ::unlink(temporary_.c_str());
 }
 
+void ReplacingFile::start_writeback() const {
+#ifdef SYNC_FILE_RANGE_WRITE
+    (void)::sync_file_range(fd_, 0, 0, SYNC_FILE_RANGE_WRITE);  // a hint: commit's fsync reports errors
+#endif
+}
+
 void ReplacingFile::commit() {
-    const int fd = ::open(temporary_.c_str(), O_RDONLY | O_CLOEXEC);
-    const bool synced = fd >= 0 && ::fsync(fd) == 0;
+    const bool synced = ::fsync(fd_) == 0;
     const int sync_error = errno;
-    if (fd >= 0) ::close(fd);
     if (!synced) fail(UM_ERR_IO, "cannot write ", what_, " '", path_, "': flushing it: ", system_error_text(sync_error));
     if (::rename(temporary_.c_str(), path_.c_str()) != 0)
         fail(UM_ERR_IO, "cannot write ", what_, " '", path_, "': renaming it into place: ", system_error_text(errno));

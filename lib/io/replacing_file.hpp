@@ -27,9 +27,15 @@ public:
     // path; throws UM_ERR_IO naming the path when that fails (the old file
     // is then still there).
     void commit();
+    // Starts writing to disk what has been written so far, without waiting
+    // for it (Linux's sync_file_range; elsewhere nothing), so that commit's
+    // flush of a large file is not one long wait at the end while the
+    // writes could have gone on beside the work.
+    void start_writeback() const;
 
 private:
     std::string path_, temporary_, what_;
+    int fd_ = -1;  // the temporary file, open until committed or removed
     bool committed_ = false;
 };
 
