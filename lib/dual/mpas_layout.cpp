@@ -6,6 +6,7 @@
 
 #include "core/buffer.hpp"
 #include "core/error.hpp"
+#include "core/huge_pages.hpp"
 #include "core/radix_sort.hpp"
 #include "dual/mpas_mesh.hpp"
 #include "dual/spherical.hpp"
@@ -33,22 +34,64 @@ void check_links(const std::atomic<bool> &broken) {
         fail(UM_ERR_INTERNAL, "MPAS mesh: the triangulation's neighbour links are inconsistent");
 }
 
+// v sized to n values (unwritten), on huge pages from 2 MiB on.
+template <class T>
+void size_on_huge_pages(HugePageVector<T> &v, size_t n) {
+    reset_on_huge_pages(v, n * sizeof(T) >= kHugePageMinBytes);
+    v.reserve(n);
+    advise_huge_pages(v.data(), n * sizeof(T));
+    v.resize(n);
+}
+
 // Positions 0..n-1 sorted along the Hilbert curve of position(i), ties by i:
 // each key holds the 31-bit curve index above the 32-bit element index, so
 // keys are unique and the order does not depend on the sort or on threads.
 template <class PositionFn>
-std::vector<int32_t> hilbert_order(Context &ctx, int64_t n, PositionFn position) {
+HugePageVector<int32_t> hilbert_order(Context &ctx, int64_t n, PositionFn position) {
     Buffer<uint64_t> keys(static_cast<size_t>(n));
     ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i)
             keys[i] = tri::hilbert_key(position(i)) << 32 | static_cast<uint64_t>(i);
     });
     radix_sort(ctx, keys, 32, 64);  // stable: ties stay in index order
-    std::vector<int32_t> order(keys.size());
+    HugePageVector<int32_t> order;
+    size_on_huge_pages(order, keys.size());
     ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) order[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
     });
     return order;
+}
+
+// fn(i, put) calls put(value) for each value element i gives: the values of
+// every i in [0, n) in order, gathered in parallel over fixed blocks in two
+// passes (a count, then the values in place), so that none is held twice.
+template <class T, class Fn>
+UninitVector<T> gather_in_order(Context &ctx, int64_t n, Fn fn) {
+    constexpr int64_t kBlock = int64_t(1) << 16;
+    const int64_t blocks = (n + kBlock - 1) / kBlock;
+    std::vector<int64_t> start(static_cast<size_t>(blocks) + 1, 0);
+    auto each_block = [&](auto &&put_of_block) {
+        ctx.parallel_for(blocks, 1, [&](int64_t b0, int64_t b1) {
+            for (int64_t b = b0; b < b1; ++b) {
+                auto put = put_of_block(b);
+                for (int64_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) fn(i, put);
+            }
+        });
+    };
+    each_block([&](int64_t b) { return [&start, b](const T &) { ++start[b + 1]; }; });
+    for (int64_t b = 0; b < blocks; ++b) start[b + 1] += start[b];
+    UninitVector<T> out(static_cast<size_t>(start[blocks]));
+    each_block([&](int64_t b) { return [&out, at = start[b]](const T &value) mutable { out[at++] = value; }; });
+    return out;
+}
+
+// v sized to n values, every one `value`, written in parallel.
+template <class T>
+void fill_in_parallel(Context &ctx, HugePageVector<T> &v, size_t n, T value) {
+    size_on_huge_pages(v, n);
+    ctx.parallel_for(static_cast<int64_t>(n), 1 << 16, [&](int64_t b, int64_t e) {
+        std::fill(v.begin() + b, v.begin() + e, value);
+    });
 }
 
 // The vertex numbering given, checked against the triangulation.
@@ -113,49 +156,53 @@ MpasLayout::MpasLayout(Context &ctx, const tri::Triangulation &tri, std::vector<
 void MpasLayout::number_cells(Context &ctx, const std::vector<int32_t> &slots) {
     const int64_t n = static_cast<int64_t>(slots.size());
     cell_vertex_ = hilbert_order(ctx, n, [&](int64_t i) { return tri_->lifted(slots[i]); });
-    cell_slot_.resize(slots.size());
-    cell_of_slot_.assign(static_cast<size_t>(tri_->vertex_slots()), kNone);
-    for (int64_t c = 0; c < n; ++c) {
-        const int32_t s = slots[cell_vertex_[c]];
-        cell_slot_[c] = s;
-        cell_of_slot_[s] = static_cast<int32_t>(c);
-    }
+    size_on_huge_pages(cell_slot_, slots.size());
+    fill_in_parallel(ctx, cell_of_slot_, static_cast<size_t>(tri_->vertex_slots()), kNone);
+    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t c = b; c < e; ++c) {
+            const int32_t s = slots[cell_vertex_[c]];
+            cell_slot_[c] = s;
+            cell_of_slot_[s] = static_cast<int32_t>(c);
+        }
+    });
 }
 
 void MpasLayout::number_vertices(Context &ctx) {
-    std::vector<int32_t> live;
-    live.reserve(static_cast<size_t>(tri_->triangle_count()));
-    for (int32_t t = 0; t < tri_->triangle_slots(); ++t)
-        if (!tri_->is_free(t)) live.push_back(t);
+    const UninitVector<int32_t> live = gather_in_order<int32_t>(ctx, tri_->triangle_slots(), [&](int64_t t, auto &put) {
+        if (!tri_->is_free(static_cast<int32_t>(t))) put(static_cast<int32_t>(t));
+    });
     const int64_t n = static_cast<int64_t>(live.size());
-    const std::vector<int32_t> order =
+    const HugePageVector<int32_t> order =
         hilbert_order(ctx, n, [&](int64_t i) { return tri_->orthocentre(live[i]); });
-    vertex_tri_.resize(live.size());
-    vertex_of_tri_.assign(static_cast<size_t>(tri_->triangle_slots()), kNone);
-    for (int64_t v = 0; v < n; ++v) {
-        vertex_tri_[v] = live[order[v]];
-        vertex_of_tri_[live[order[v]]] = static_cast<int32_t>(v);
-    }
+    size_on_huge_pages(vertex_tri_, live.size());
+    fill_in_parallel(ctx, vertex_of_tri_, static_cast<size_t>(tri_->triangle_slots()), kNone);
+    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v) {
+            vertex_tri_[v] = live[order[v]];
+            vertex_of_tri_[live[order[v]]] = static_cast<int32_t>(v);
+        }
+    });
 }
 
 // One edge per pair of neighbouring triangles, from the one of lower slot,
 // numbered along the Hilbert curve of its edge point.
 void MpasLayout::number_edges(Context &ctx) {
     const tri::Triangulation &tri = *tri_;
-    std::vector<int64_t> halves;  // 3 * t + k
-    halves.reserve(static_cast<size_t>(tri.triangle_count()) * 3 / 2);
-    for (int32_t t = 0; t < tri.triangle_slots(); ++t)  // by slot: independent of the vertex order
+    // 3 * t + k, by slot: independent of the vertex order.
+    const UninitVector<int64_t> halves = gather_in_order<int64_t>(ctx, tri.triangle_slots(), [&](int64_t i, auto &put) {
+        const int32_t t = static_cast<int32_t>(i);
         if (!tri.is_free(t))
             for (int k = 0; k < 3; ++k)
-                if (t < tri.neighbour(t, k)) halves.push_back(3 * int64_t(t) + k);
+                if (t < tri.neighbour(t, k)) put(3 * i + k);
+    });
     const int64_t n = static_cast<int64_t>(halves.size());
-    const std::vector<int32_t> order = hilbert_order(ctx, n, [&](int64_t i) {
+    const HugePageVector<int32_t> order = hilbert_order(ctx, n, [&](int64_t i) {
         const int32_t t = static_cast<int32_t>(halves[i] / 3);
         const int k = static_cast<int>(halves[i] % 3);
         return edge_point(tri.lifted(tri.vertex(t, next3(k))), tri.lifted(tri.vertex(t, prev3(k))));
     });
-    edge_half_.resize(halves.size());
-    edge_of_half_.assign(3 * static_cast<size_t>(tri.triangle_slots()), kNone);
+    size_on_huge_pages(edge_half_, halves.size());
+    fill_in_parallel(ctx, edge_of_half_, 3 * static_cast<size_t>(tri.triangle_slots()), kNone);
     std::atomic<bool> broken{false};
     ctx.parallel_for(n, 4096, [&](int64_t b, int64_t end) {
         for (int64_t e = b; e < end; ++e) {
