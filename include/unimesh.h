@@ -794,9 +794,9 @@ UM_API um_status um_mesh_write_mpas_as(const um_mesh *m, const char *path, int32
  * are routed) and that numbering is kept with m until um_mesh_release_mpas,
  * um_mesh_optimise or um_mesh_destroy; each copy makes its variable's
  * values a block of rows at a time straight into out. A copy therefore
- * costs about as much time as making that variable's share of the file, and
- * copying every variable takes about twice as long as building the whole
- * mesh would, in a sixth of the memory.
+ * costs about as much time as making that variable's share of the file:
+ * copying every variable takes longer than writing the file once (about
+ * 1.4 times at 30 km), with nothing held but the numbering and one block.
  *
  * A variable of n_rows x n_columns values (n_columns = 1 for one
  * dimension) is copied row after row: out[r * n_columns + c] is the file's

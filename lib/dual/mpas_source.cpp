@@ -54,19 +54,21 @@ MpasMeshInput input_of(Context &ctx, const mesh::RefinedMesh &refined) {
 }
 
 // The costly parts of a kind's rows that a caller wanting variable `only`
-// (nullptr: every variable) needs: the areas and kites, the TRSK stencils.
+// (nullptr: every variable) needs: the areas and kites, the TRSK stencils
+// and, of those, their weights (the rest is the rings' topology).
 struct RowParts {
-    bool areas = true, stencils = true;
+    bool areas = true, stencils = true, weights = true;
 };
 
 RowParts parts_for(const MpasMesh &block, const char *only) {
     if (!only) return {};
     for (const MpasField &f : mpas_fields(block))
-        if (std::strcmp(f.name, only) == 0)
+        if (std::strcmp(f.name, only) == 0) {
+            const bool weights = f.reals == &block.weights_on_edge;
             return {f.reals == &block.area_cell || f.reals == &block.area_triangle ||
                         f.reals == &block.kite_areas_on_vertex,
-                    f.ints == &block.n_edges_on_edge || f.ints == &block.edges_on_edge ||
-                        f.reals == &block.weights_on_edge};
+                    weights || f.ints == &block.n_edges_on_edge || f.ints == &block.edges_on_edge, weights};
+        }
     return {};
 }
 
@@ -264,7 +266,7 @@ void MpasSource::rows(Context &ctx, MpasDim kind, int64_t first, int64_t count, 
             return;
         case MpasDim::nEdges:
             edge_rows(ctx, layout_, radius_m_, first, count, block);
-            if (parts.stencils) trsk_rows(ctx, layout_, radius_m_, first, count, block);
+            if (parts.stencils) trsk_rows(ctx, layout_, radius_m_, first, count, block, parts.weights);
             edge_tags(first, count, block);
             return;
         case MpasDim::nVertices:

@@ -29,9 +29,11 @@ void edge_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
                MpasMesh &block);
 
 // nEdgesOnEdge, edgesOnEdge, weightsOnEdge of the rows edge_rows filled
-// (it reads their cellsOnEdge and dcEdge).
+// (it reads their cellsOnEdge and dcEdge). Without weights, only the first
+// two (from the rings alone: no geometry); weightsOnEdge is then not
+// meaningful.
 void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
-               MpasMesh &block);
+               MpasMesh &block, bool weights = true);
 
 // nEdgesOnEdge, edgesOnEdge and weightsOnEdge of a whole mesh in memory from
 // its connectivity, dvEdge, dcEdge and kites (a cut mesh: lib/components).

@@ -141,7 +141,7 @@ void fill_trsk_weights(Context &ctx, MpasMesh &m) {
 // its ring geometry (neighbouring edges share cells: rows are numbered along
 // a Hilbert curve), then the rows from them.
 void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
-               MpasMesh &m) {
+               MpasMesh &m, bool weights) {
     // The block's cells, sorted (in parallel: this is on the writer's
     // critical path) and each once.
     Buffer<uint64_t> keys(static_cast<size_t>(2 * count));
@@ -160,6 +160,12 @@ void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
     ctx.parallel_for(static_cast<int64_t>(cells.size()), 256, [&](int64_t b, int64_t e) {
         RingGeometry g;
         for (int64_t i = b; i < e; ++i) {
+            if (!weights) {  // the edges of the ring are all edgesOnEdge needs
+                layout.cell_ring(cells[i], g.ring);
+                st.degree[i] = g.ring.degree();
+                std::copy(g.ring.edges.begin(), g.ring.edges.end(), &st.edges[w * i]);
+                continue;
+            }
             ring_geometry(layout, radius, cells[i], g);
             const int d = st.degree[i] = g.ring.degree();
             for (int j = 0; j < d; ++j) {
