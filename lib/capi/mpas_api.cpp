@@ -1,6 +1,7 @@
 // MPAS output through the C ABI: the staggered mesh of a um_mesh, written as
 // an MPAS mesh file.
 #include <algorithm>
+#include <utility>
 #include <cstring>
 
 #include "capi/api.hpp"
@@ -44,14 +45,20 @@ um::dual::MpasField field_of(const um::dual::MpasMesh &probe, const char *name, 
 // put(field, values, at) for each block: its `values` values go to out + at.
 template <class Put>
 void copy_variable(const um_mesh *m, const char *name, int32_t type, int64_t capacity, const void *out, Put put) {
+    require_pointer(name, "name");
     const um::dual::MpasSource &source = m->staggered();
-    const um::dual::MpasMesh probe = source.probe(*m->context);
+    um::dual::MpasMesh probe = source.probe(*m->context);
     const um::dual::MpasField f = field_of(probe, name, type);
     const int64_t columns = f.columns(probe);
     check_capacity(capacity, f.rows(probe) * columns, name);
     require_pointer(out, "out");
-    um::dual::for_each_block_of(*m->context, source, f, [&](const um::dual::MpasField &block, int64_t first, int64_t count) {
-        put(block, count * columns, first * columns);
+    um::dual::for_each_block_of(*m->context, source, std::move(probe), f,
+                                [&](const um::dual::MpasField &block, int64_t first, int64_t count) {
+        const int64_t values = count * columns;
+        const size_t have = block.reals ? block.reals->size() : block.ints ? block.ints->size() : size_t(values);
+        if (have < static_cast<size_t>(values))
+            fail(UM_ERR_INTERNAL, "MPAS mesh: a block of ", name, " has ", have, " values, not ", values);
+        put(block, values, first * columns);
     });
 }
 
@@ -155,13 +162,13 @@ UM_API um_status um_mesh_write_mpas_as(const um_mesh *m, const char *path, int32
     ctx.progress("MPAS mesh", 0.0);
     // Streamed: the file is written a block of rows at a time from the
     // numbering, so the staggered mesh is never held whole.
-    // The copy-out's source when there is one, else one for this file.
+    // The copy-out's source when there is one, else one for this file
+    // (judged as if made here either way, so that the cap's answer does not
+    // depend on earlier calls).
+    ctx.check_memory(um::dual::mpas_stream_bytes(m->mesh.vertex_count(), m->mesh.gamma != nullptr),
+                     "the MPAS mesh file");
     std::unique_ptr<um::dual::MpasSource> own;
-    if (!m->mpas) {
-        ctx.check_memory(um::dual::mpas_stream_bytes(m->mesh.vertex_count(), m->mesh.gamma != nullptr),
-                         "the MPAS mesh file");
-        own = std::make_unique<um::dual::MpasSource>(ctx, m->mesh);
-    }
+    if (!m->mpas) own = std::make_unique<um::dual::MpasSource>(ctx, m->mesh);
     um::io::MpasWriteOptions options;
     if (format == UM_MPAS_FILE_NETCDF4) options.format = um::io::MpasFileFormat::netcdf4;
     um::io::write_mpas_mesh(ctx, own ? *own : *m->mpas, path, options);

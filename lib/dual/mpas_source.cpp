@@ -219,7 +219,9 @@ MpasMesh MpasSource::shape() const {
 
 MpasMesh MpasSource::probe(Context &ctx) const {
     MpasMesh m = shape();
-    for (MpasDim kind : {MpasDim::nCells, MpasDim::nEdges, MpasDim::nVertices}) rows(ctx, kind, 0, 1, m);
+    // (No row of a kind the mesh has none of: an emptied mesh lists no tags.)
+    for (MpasDim kind : {MpasDim::nCells, MpasDim::nEdges, MpasDim::nVertices})
+        rows(ctx, kind, 0, std::min<int64_t>(1, mpas_dim_length(m, kind)), m);
     return m;
 }
 
@@ -229,9 +231,9 @@ RiverReport MpasSource::river_report() const {
 
 void MpasSource::cell_lat_lon(int32_t c, double &lat, double &lon) const { lat_lon(layout_.cell_unit(c), lat, lon); }
 
-void for_each_block_of(Context &ctx, const MpasSource &source, const MpasField &variable,
+void for_each_block_of(Context &ctx, const MpasSource &source, MpasMesh probe, const MpasField &variable,
                        const std::function<void(const MpasField &, int64_t, int64_t)> &take) {
-    MpasMesh block = source.probe(ctx);  // every variable listed, for RowParts
+    MpasMesh &block = probe;  // every variable listed, for RowParts
     const MpasDim kind = variable.dims[0];
     const int64_t rows = mpas_dim_length(block, kind);
     for (int64_t first = 0; first < rows; first += kMpasBlockRows) {

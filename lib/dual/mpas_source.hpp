@@ -75,10 +75,11 @@ private:
 // The rows along each kind in blocks of this many.
 constexpr int64_t kMpasBlockRows = int64_t(1) << 17;
 
-// Calls take(field, first, count) for each block of rows of variable `name`
-// (which `probe` lists) in order: field holds rows [first, first + count),
-// its arrays starting at row first. One block of one kind is held at a time.
-void for_each_block_of(Context &ctx, const MpasSource &source, const MpasField &variable,
+// Calls take(field, first, count) for each block of rows of `variable` (a
+// field of probe, source.probe()'s) in order: field holds rows [first,
+// first + count), its arrays starting at row first. The blocks are made in
+// probe, one block of one kind at a time.
+void for_each_block_of(Context &ctx, const MpasSource &source, MpasMesh probe, const MpasField &variable,
                        const std::function<void(const MpasField &, int64_t, int64_t)> &take);
 
 // What a source holds (kMpasSource*BytesPerCell).

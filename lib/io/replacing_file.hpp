@@ -35,7 +35,7 @@ public:
 
 private:
     std::string path_, temporary_, what_;
-    int fd_ = -1;  // the temporary file, open until committed or removed
+    int fd_ = -1;  // the temporary file (later the final one), open until destroyed
     bool committed_ = false;
 };
 

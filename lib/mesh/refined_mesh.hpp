@@ -91,8 +91,8 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
 // size up front: its cells (the sphere's area over the cells' area at h) and
 // the peak bytes of refining and optimising it (with features: without them
 // the optimisation needs less), and the bytes the MPAS mesh file's writer
-// adds (it streams the file; the copy-out and the component files build the
-// whole staggered mesh, dual::kMpasBytesPerCell).
+// adds (it streams the file, as the copy-out makes each variable; the
+// component files build the whole staggered mesh, dual::kMpasBytesPerCell).
 struct MeshEstimate {
     int64_t cells = 0, refine_bytes = 0, mpas_bytes = 0;
 };
