@@ -62,29 +62,6 @@ HugePageVector<int32_t> hilbert_order(Context &ctx, int64_t n, PositionFn positi
     return order;
 }
 
-// fn(i, put) calls put(value) for each value element i gives: the values of
-// every i in [0, n) in order, gathered in parallel over fixed blocks in two
-// passes (a count, then the values in place), so that none is held twice.
-template <class T, class Fn>
-UninitVector<T> gather_in_order(Context &ctx, int64_t n, Fn fn) {
-    constexpr int64_t kBlock = int64_t(1) << 16;
-    const int64_t blocks = (n + kBlock - 1) / kBlock;
-    std::vector<int64_t> start(static_cast<size_t>(blocks) + 1, 0);
-    auto each_block = [&](auto &&put_of_block) {
-        ctx.parallel_for(blocks, 1, [&](int64_t b0, int64_t b1) {
-            for (int64_t b = b0; b < b1; ++b) {
-                auto put = put_of_block(b);
-                for (int64_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) fn(i, put);
-            }
-        });
-    };
-    each_block([&](int64_t b) { return [&start, b](const T &) { ++start[b + 1]; }; });
-    for (int64_t b = 0; b < blocks; ++b) start[b + 1] += start[b];
-    UninitVector<T> out(static_cast<size_t>(start[blocks]));
-    each_block([&](int64_t b) { return [&out, at = start[b]](const T &value) mutable { out[at++] = value; }; });
-    return out;
-}
-
 // v sized to n values, every one `value`, written in parallel.
 template <class T>
 void fill_in_parallel(Context &ctx, HugePageVector<T> &v, size_t n, T value) {
@@ -168,9 +145,10 @@ void MpasLayout::number_cells(Context &ctx, const std::vector<int32_t> &slots) {
 }
 
 void MpasLayout::number_vertices(Context &ctx) {
-    const UninitVector<int32_t> live = gather_in_order<int32_t>(ctx, tri_->triangle_slots(), [&](int64_t t, auto &put) {
-        if (!tri_->is_free(static_cast<int32_t>(t))) put(static_cast<int32_t>(t));
-    });
+    std::vector<int32_t> live;
+    live.reserve(static_cast<size_t>(tri_->triangle_count()));
+    for (int32_t t = 0; t < tri_->triangle_slots(); ++t)
+        if (!tri_->is_free(t)) live.push_back(t);
     const int64_t n = static_cast<int64_t>(live.size());
     const HugePageVector<int32_t> order =
         hilbert_order(ctx, n, [&](int64_t i) { return tri_->orthocentre(live[i]); });
@@ -188,13 +166,12 @@ void MpasLayout::number_vertices(Context &ctx) {
 // numbered along the Hilbert curve of its edge point.
 void MpasLayout::number_edges(Context &ctx) {
     const tri::Triangulation &tri = *tri_;
-    // 3 * t + k, by slot: independent of the vertex order.
-    const UninitVector<int64_t> halves = gather_in_order<int64_t>(ctx, tri.triangle_slots(), [&](int64_t i, auto &put) {
-        const int32_t t = static_cast<int32_t>(i);
+    std::vector<int64_t> halves;  // 3 * t + k
+    halves.reserve(static_cast<size_t>(tri.triangle_count()) * 3 / 2);
+    for (int32_t t = 0; t < tri.triangle_slots(); ++t)  // by slot: independent of the vertex order
         if (!tri.is_free(t))
             for (int k = 0; k < 3; ++k)
-                if (t < tri.neighbour(t, k)) put(3 * i + k);
-    });
+                if (t < tri.neighbour(t, k)) halves.push_back(3 * int64_t(t) + k);
     const int64_t n = static_cast<int64_t>(halves.size());
     const HugePageVector<int32_t> order = hilbert_order(ctx, n, [&](int64_t i) {
         const int32_t t = static_cast<int32_t>(halves[i] / 3);

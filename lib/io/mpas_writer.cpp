@@ -91,17 +91,6 @@ Hash with_bytes(Hash hash, const void *data, size_t n) {
     return stream.finish();
 }
 
-// A variable's values, block by block.
-class StreamHash {
-public:
-    explicit StreamHash(uint64_t total_bytes) : stream_(Hash{}, total_bytes) {}
-    void feed(const void *data, size_t n) { stream_.feed(data, n); }
-    uint64_t finish() { return stream_.finish().h; }
-
-private:
-    ByteStream stream_;
-};
-
 // file_id: the radius, each variable's name and the hash of its values (its
 // row count for the indexTo*ID variables), then a final avalanche and 10
 // base-36 digits (36^10 < 2^52).
@@ -188,7 +177,7 @@ struct RowRange {
 };
 
 void put_rows(const NcOutput &nc, const MpasMesh &block, const MpasField &f, int var, RowRange r,
-              StreamHash &hash, std::vector<int32_t> &buffer) {
+              ByteStream &hash, std::vector<int32_t> &buffer) {
     const size_t width = row_width(block, f), values = static_cast<size_t>(r.count) * width;
     const size_t offset = static_cast<size_t>(r.first - r.array_first) * width;
     const size_t have = f.reals ? f.reals->size() : f.ints ? f.ints->size() : offset + values;
@@ -224,16 +213,16 @@ struct Rows {
 };
 using BlockOf = std::function<const MpasMesh &(int buffer, Rows rows, int64_t *array_first)>;
 
-std::vector<StreamHash> value_hashes_for(const MpasMesh &m, const std::vector<MpasField> &fields) {
-    std::vector<StreamHash> hashes;
-    for (const MpasField &f : fields) hashes.emplace_back(value_bytes(m, f));
+std::vector<ByteStream> value_hashes_for(const MpasMesh &m, const std::vector<MpasField> &fields) {
+    std::vector<ByteStream> hashes;
+    for (const MpasField &f : fields) hashes.emplace_back(Hash{}, value_bytes(m, f));  // a variable's values, block by block
     return hashes;
 }
 
-std::vector<uint64_t> finish(std::vector<StreamHash> &hashes, const MpasMesh &m, const std::vector<MpasField> &fields) {
+std::vector<uint64_t> finish(std::vector<ByteStream> &hashes, const MpasMesh &m, const std::vector<MpasField> &fields) {
     std::vector<uint64_t> out;
     for (size_t i = 0; i < fields.size(); ++i)
-        out.push_back(fields[i].kind == MpasKind::id ? dim_length(m, fields[i].dims[0]) : hashes[i].finish());
+        out.push_back(fields[i].kind == MpasKind::id ? dim_length(m, fields[i].dims[0]) : hashes[i].finish().h);
     return out;
 }
 
@@ -253,7 +242,7 @@ struct FileState {
     const NcOutput &nc;
     const std::vector<MpasField> &fields;
     const std::vector<int> &var_ids;
-    std::vector<StreamHash> &hashes;
+    std::vector<ByteStream> &hashes;
     std::vector<int32_t> buffer;
 };
 
@@ -285,7 +274,7 @@ void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, 
     std::vector<int> var_ids;
     define(nc, probe, fields, var_ids);
     nc.check(nc_enddef(nc.id()), "ending define mode");
-    std::vector<StreamHash> hashes = value_hashes_for(probe, fields);
+    std::vector<ByteStream> hashes = value_hashes_for(probe, fields);
     FileState file{nc, fields, var_ids, hashes, {}};
     try {
         lock.unlock();
@@ -322,7 +311,7 @@ void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, 
 
 std::string mpas_file_id(const MpasMesh &m) {
     const std::vector<MpasField> fields = dual::mpas_fields(m);
-    std::vector<StreamHash> hashes = value_hashes_for(m, fields);
+    std::vector<ByteStream> hashes = value_hashes_for(m, fields);
     for (size_t i = 0; i < fields.size(); ++i) {
         if (fields[i].reals) hashes[i].feed(fields[i].reals->data(), fields[i].reals->size() * sizeof(double));
         if (fields[i].ints) hashes[i].feed(fields[i].ints->data(), fields[i].ints->size() * sizeof(int32_t));
