@@ -35,10 +35,14 @@ void NcOutput::put_text(int var, const char *name, const std::string &value) con
 }
 
 void NcOutput::close() {
+    close_netcdf();
+    commit();
+}
+
+void NcOutput::close_netcdf() {
     int status = nc_close(id_);
     id_ = -1;  // nc_close frees the id even when flushing fails
     check(status, "closing the file");
-    file_.commit();
 }
 
 }  // namespace um::io

@@ -1,7 +1,10 @@
 // A netCDF file being created under a temporary name (ReplacingFile):
 // errors throw UM_ERR_IO naming the final path and the kind of file; close()
 // renames it into place, and without that the destructor aborts it and
-// removes the temporary file only. Callers hold the NetcdfLock.
+// removes the temporary file only. A writer that puts a classic file's
+// values at their offsets itself ends netCDF's part with close_netcdf(),
+// writes with write_at() and then commit()s. Callers hold the NetcdfLock
+// while netCDF is called.
 #pragma once
 
 #include <string>
@@ -22,7 +25,14 @@ public:
     // Throws UM_ERR_IO unless status is NC_NOERR: "cannot write <what> '<path>': <doing><name>: <reason>".
     void check(int status, const char *doing, const char *name = "") const;
     void put_text(int var, const char *name, const std::string &value) const;
+    // close_netcdf(), then commit().
     void close();
+    // netCDF's nc_close (a classic file is then as long as its header says),
+    // leaving the file under its temporary name.
+    void close_netcdf();
+    const std::string &temporary_path() const { return file_.temporary_path(); }
+    void write_at(uint64_t offset, const void *data, size_t n) const { file_.write_at(offset, data, n); }
+    void commit() { file_.commit(); }
     // ReplacingFile::start_writeback: for a file written in many blocks.
     void start_writeback() const { file_.start_writeback(); }
 

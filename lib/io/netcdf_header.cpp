@@ -3,8 +3,8 @@
 #include <netcdf.h>
 
 #include <cstdint>
+#include <algorithm>
 #include <fstream>
-#include <iterator>
 #include <vector>
 
 #include "core/text.hpp"
@@ -37,11 +37,13 @@ public:
         if (!failed() && n > (b_.size() - at_) / min_bytes) fail_at(concat(n, " ", what, " cannot fit in the file"));
         return failed() ? 0 : n;
     }
-    void name() {
+    std::string name() {
         const uint64_t n = count();
-        if (failed()) return;
-        if (n > NC_MAX_NAME) return fail_at(concat("a name of ", n, " bytes (at most ", NC_MAX_NAME, ")"));
+        if (failed()) return "";
+        if (n > NC_MAX_NAME) return fail_at(concat("a name of ", n, " bytes (at most ", NC_MAX_NAME, ")")), "";
+        const uint64_t at = at_;
         skip(pad4(n));
+        return failed() ? "" : std::string(b_.begin() + at, b_.begin() + at + n);
     }
     void skip(uint64_t n) {
         if (failed()) return;
@@ -55,34 +57,38 @@ public:
         if (!failed() && t != tag && !(t == 0 && n == 0)) fail_at(concat("a list tag ", t, " where ", tag, " belongs"));
         return n;
     }
-    void attributes() {
+    // Into *found when given (the global attributes).
+    void attributes(std::vector<ClassicLayout::Attribute> *found = nullptr) {
         const uint64_t n = list(NC_ATTRIBUTE_TAG, 12, "attributes");
         for (uint64_t a = 0; a < n && !failed(); ++a) {
-            name();
+            std::string attribute = name();
             const uint64_t type = number(4);
             const int size = type_size(type);
             if (size == 0 && !failed()) return fail_at(concat("an attribute of type ", type));
             const uint64_t values = items(uint64_t(size), "attribute values");
+            if (found && !failed()) found->push_back({std::move(attribute), at_, values * uint64_t(size)});
             skip(pad4(values * uint64_t(size)));
         }
     }
-    void header() {
+    void header(ClassicLayout &layout) {
         skip(4);  // magic
         number(wide_);  // numrecs
         const uint64_t ndims = list(NC_DIMENSION_TAG, 8, "dimensions");
         for (uint64_t d = 0; d < ndims && !failed(); ++d) name(), count();
-        attributes();
+        attributes(&layout.global_attributes);
         const uint64_t nvars = list(NC_VARIABLE_TAG, 16, "variables");
         for (uint64_t v = 0; v < nvars && !failed(); ++v) {
-            name();
+            std::string variable = name();
             const uint64_t rank = items(uint64_t(wide_), "dimension ids");
             for (uint64_t k = 0; k < rank && !failed(); ++k)
                 if (count() >= ndims && !failed()) fail_at("a variable on a dimension that does not exist");
             attributes();
             if (type_size(number(4)) == 0 && !failed()) fail_at("a variable of an unknown type");
-            count();             // vsize
-            number(offset_);     // begin
+            count();                                 // vsize
+            const uint64_t begin = number(offset_);
+            if (!failed()) layout.variables.push_back({std::move(variable), begin});
         }
+        layout.header_bytes = at_;
     }
 
 private:
@@ -109,7 +115,8 @@ private:
 
 }  // namespace
 
-std::string classic_header_problem(const std::string &path) {
+std::string read_classic_layout(const std::string &path, ClassicLayout &layout) {
+    layout = ClassicLayout{};
     std::ifstream in(path, std::ios::binary);
     if (!in) return "";  // netCDF's own open reports it
     char magic[4] = {0, 0, 0, 0};
@@ -117,11 +124,30 @@ std::string classic_header_problem(const std::string &path) {
     if (!in || magic[0] != 'C' || magic[1] != 'D' || magic[2] != 'F' ||
         (magic[3] != 1 && magic[3] != 2 && magic[3] != 5))
         return "";
-    in.seekg(0);
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    HeaderReader reader(std::move(bytes), magic[3]);
-    reader.header();
-    return reader.problem();
+    in.seekg(0, std::ios::end);
+    const uint64_t file_bytes = static_cast<uint64_t>(in.tellg());
+    // The header is read from a prefix of the file, doubled while that is
+    // too short to hold it: a count that a prefix "cannot fit" may fit the
+    // whole file, and what a prefix holds the whole file holds, so the
+    // answer is the whole file's without reading gigabytes of values.
+    for (uint64_t prefix = uint64_t(1) << 20;; prefix *= 2) {
+        const uint64_t n = std::min(prefix, file_bytes);
+        std::vector<unsigned char> bytes(n);
+        in.clear();
+        in.seekg(0);
+        in.read(reinterpret_cast<char *>(bytes.data()), static_cast<std::streamsize>(n));
+        if (!in) return "";  // netCDF's own open reports it
+        HeaderReader reader(std::move(bytes), magic[3]);
+        layout = ClassicLayout{};
+        reader.header(layout);
+        layout.classic = true;
+        if (!reader.failed() || n == file_bytes) return reader.problem();
+    }
+}
+
+std::string classic_header_problem(const std::string &path) {
+    ClassicLayout layout;
+    return read_classic_layout(path, layout);
 }
 
 }  // namespace um::io

@@ -8,9 +8,33 @@
 // than NC_MAX_NAME.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace um::io {
+
+// Where a classic file's header puts things: the byte offset of each
+// variable's values (its "begin"), of each global attribute's values, and
+// the header's length.
+struct ClassicLayout {
+    struct Variable {
+        std::string name;
+        uint64_t begin;
+    };
+    struct Attribute {
+        std::string name;
+        uint64_t offset, bytes;
+    };
+    bool classic = false;  // false: not a classic-format file
+    std::vector<Variable> variables;
+    std::vector<Attribute> global_attributes;
+    uint64_t header_bytes = 0;
+};
+
+// classic_header_problem's check, keeping what the header says in layout
+// (as far as it could be read when there is a problem).
+std::string read_classic_layout(const std::string &path, ClassicLayout &layout);
 
 // "" when path is not a classic-format file (HDF5-based netCDF-4 is left to
 // netCDF) or its header is sound; otherwise what is wrong and where.

@@ -63,6 +63,18 @@ ReplacingFile::~ReplacingFile() {
     if (!committed_) ::unlink(temporary_.c_str());
 }
 
+void ReplacingFile::write_at(uint64_t offset, const void *data, size_t n) const {
+    const char *p = static_cast<const char *>(data);
+    while (n > 0) {
+        const ssize_t wrote = ::pwrite(fd_, p, n, static_cast<off_t>(offset));
+        if (wrote < 0 && errno == EINTR) continue;
+        if (wrote <= 0)
+            fail(UM_ERR_IO, "cannot write ", what_, " '", path_, "': ",
+                 wrote < 0 ? system_error_text(errno) : std::string("the device took no bytes"));
+        p += wrote, offset += static_cast<uint64_t>(wrote), n -= static_cast<size_t>(wrote);
+    }
+}
+
 void ReplacingFile::start_writeback() const {
 #ifdef SYNC_FILE_RANGE_WRITE
     (void)::sync_file_range(fd_, 0, 0, SYNC_FILE_RANGE_WRITE);  // a hint: commit's fsync reports errors

@@ -7,6 +7,8 @@
 // replace it, and writing into it in place could not be undone.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace um::io {
@@ -23,6 +25,9 @@ public:
 
     // Where to write.
     const std::string &temporary_path() const { return temporary_; }
+    // Writes n bytes at byte `offset` of the temporary file (pwrite: the
+    // file's position is not used); throws UM_ERR_IO naming the path.
+    void write_at(uint64_t offset, const void *data, size_t n) const;
     // Flushes the temporary file to disk and renames it over the final
     // path; throws UM_ERR_IO naming the path when that fails (the old file
     // is then still there).
