@@ -119,26 +119,33 @@ GLOBE_PIXELS = 1440
 
 def size_image(mesh):
     """The mean cell size per pixel of a GLOBE_PIXELS x GLOBE_PIXELS/2 image;
-    pixels no cell centre falls in take their neighbours' mean."""
+    a pixel no cell centre falls in takes the mean of the smallest block of
+    2^k x 2^k pixels around it that holds one (a pyramid of block sums: a
+    few passes over the image, where spreading the neighbours' means one
+    pixel a pass took most of a second)."""
     width, height = GLOBE_PIXELS, GLOBE_PIXELS // 2
     col = np.clip(((mesh["lonCell"] + 180.0) / 360.0 * width).astype(np.int64), 0, width - 1)
     row = np.clip(((mesh["latCell"] + 90.0) / 180.0 * height).astype(np.int64), 0, height - 1)
     at = row * width + col
     total = np.bincount(at, weights=mesh["size_km"], minlength=width * height).reshape(height, width)
     count = np.bincount(at, minlength=width * height).reshape(height, width).astype(float)
-    while (count == 0).any():
-        near_total, near_count = np.zeros_like(total), np.zeros_like(count)
-        for axis, shift in ((0, 1), (0, -1), (1, 1), (1, -1)):
-            t, c = np.roll(total, shift, axis=axis), np.roll(count, shift, axis=axis)
-            if axis == 0:  # longitudes wrap around, latitudes do not across the poles
-                edge = 0 if shift == 1 else -1
-                t[edge], c[edge] = 0.0, 0.0
-            near_total += np.where(c > 0, t / np.maximum(c, 1), 0.0)
-            near_count += c > 0
-        empty = (count == 0) & (near_count > 0)
-        total[empty] = near_total[empty] / near_count[empty]
-        count[empty] = 1.0
-    return total / count
+    image = total / np.maximum(count, 1.0)
+    rows, cols = np.nonzero(count == 0)
+    level = 0
+    while len(rows) > 0 and count.size > 1:
+        total, count = halved(total), halved(count)
+        level += 1
+        r, c = rows >> level, cols >> level
+        found = count[r, c] > 0
+        image[rows[found], cols[found]] = total[r[found], c[found]] / count[r[found], c[found]]
+        rows, cols = rows[~found], cols[~found]
+    return image
+
+
+def halved(a):
+    """Sums of 2 x 2 blocks (a row or column of zeros added to an odd side)."""
+    a = np.pad(a, ((0, a.shape[0] % 2), (0, a.shape[1] % 2)))
+    return a.reshape(a.shape[0] // 2, 2, a.shape[1] // 2, 2).sum(axis=(1, 3))
 
 
 def draw_globe(ax, fig, mesh, lines):

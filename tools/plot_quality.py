@@ -31,12 +31,14 @@ PANELS = (
 
 
 def bars(ax, summary, label, colour):
+    # One step outline filled down to the axis: a single artist, where a bar
+    # per bin made drawing the figure take seconds.
     hist = summary["histogram"]
     counts = hist["counts"]
     lo, hi = hist["lo"], hist["hi"]
     width = (hi - lo) / len(counts)
-    edges = [lo + i * width for i in range(len(counts))]
-    ax.bar(edges, counts, width=width, align="edge", alpha=0.55, color=colour, label=label)
+    edges = [lo + i * width for i in range(len(counts) + 1)]
+    ax.stairs(counts, edges, fill=True, alpha=0.55, color=colour, label=label)
 
 
 def main(argv):
@@ -63,7 +65,8 @@ def main(argv):
         ax.legend(fontsize=8)
     fig.suptitle(f"{report['triangles']} triangles; {report['obtuse_triangles']} obtuse, "
                  f"{report['not_well_centred']} not containing their orthocentre", fontsize=10)
-    fig.tight_layout()
+    # Fixed margins: tight_layout measured every tick label, about a second.
+    fig.subplots_adjust(left=0.04, right=0.99, bottom=0.17, top=0.84, wspace=0.22)
     try:
         fig.savefig(argv[2], dpi=110)
     except OSError as e:  # a full disk, a missing folder: one line, not a traceback

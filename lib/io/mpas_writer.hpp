@@ -2,7 +2,9 @@
 // 64-bit offset (CDF-5 when a variable is larger than that format allows),
 // int32 connectivity 1-based with 0 padding, double reals, the global
 // attributes of MpasMeshConverter.x, and the unified tags (cellSide,
-// vertexSide) when the mesh has them.
+// vertexSide) when the mesh has them. netCDF writes the header; a classic
+// file's values are written at the offsets that header gives them (netCDF
+// would read each region back first), a netCDF-4 file's through netCDF.
 #pragma once
 
 #include <cstdint>
