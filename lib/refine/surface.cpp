@@ -205,7 +205,7 @@ public:
     SurfaceStats run(const std::vector<int32_t> &measure, const std::vector<int32_t> &queue) {
         if (!territory_) ctx_.progress("refine surface", 0.0);  // the phase starts (timed by its reports)
         first_owned_ = &queue;
-        for (int32_t t : measure) classify(t);
+        this->measure(measure);
         for (int32_t t : queue)
             if (bad(t)) enqueue(t);
         Candidate c;
@@ -221,9 +221,15 @@ public:
         return std::move(stats_);
     }
 
-    // Classifies triangles (without queueing them).
+    // Classifies triangles (without queueing them), in parallel: a pass
+    // over a whole mesh's triangles is a large part of a lattice start's
+    // refinement, which otherwise places few points. Each writes only its
+    // own triangle's state.
     void measure(const std::vector<int32_t> &triangles) {
-        for (int32_t t : triangles) classify(t);
+        size_state();
+        ctx_.parallel_for(static_cast<int64_t>(triangles.size()), 4096, [&](int64_t b, int64_t e) {
+            for (int64_t i = b; i < e; ++i) classify_sized(triangles[i]);
+        });
     }
 
     // The candidates given up (whose point was rejected), for the serial pass
@@ -240,9 +246,15 @@ public:
 private:
     bool bad(int32_t t) const { return static_cast<size_t>(t) < state_.size() && (state_[t] & kBad); }
 
-    void classify(int32_t t) {
+    void size_state() {
         if (state_.size() < static_cast<size_t>(tri_.triangle_slots()))  // (a territory's is sized)
             state_.resize(static_cast<size_t>(tri_.triangle_slots()), kGood);
+    }
+    void classify(int32_t t) {
+        size_state();
+        classify_sized(t);
+    }
+    void classify_sized(int32_t t) {
         double r, e;
         Vec3 centre;
         triangle_size(tri_, t, &r, &e, &centre);
