@@ -250,14 +250,26 @@ Plot start_plot(const std::string &script, const std::vector<std::string> &argum
     return p;
 }
 
-// Whether the picture was drawn; a warning on stderr when not.
-bool finish_plot(const Plot &p) {
+// Waits for a plot still running when the build fails, so that none
+// outlives the command (finish_plot marks a plot it waited for).
+struct PlotAwaited {
+    const std::optional<Plot> &plot;
+    ~PlotAwaited() {
+        if (plot && plot->pid > 0) waitpid(plot->pid, nullptr, 0);
+    }
+};
+
+// Whether the picture was drawn; a warning on stderr when not. p is then
+// waited for (pid 0).
+bool finish_plot(Plot &p) {
     int status = -1;
-    if (p.pid > 0) waitpid(p.pid, &status, 0);
-    if (p.pid > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
+    const bool started = p.pid > 0;
+    if (started) waitpid(p.pid, &status, 0);
+    p.pid = 0;
+    if (started && WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
     // The script says why on stderr; the hint only where it applies (status
     // 3: a package missing; 127: no Python).
-    const int code = p.pid > 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    const int code = started && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     const char *hint = code == 3 ? "; are python3-matplotlib, python3-numpy and python3-netcdf4 installed?"
                        : code == 127 ? "; is python3 installed?"
                                      : "";
@@ -360,6 +372,10 @@ int run_build(const BuildArgs &a) {
             check(um_mesh_write_mpas_as(m, mesh_nc.c_str(), format), ctx, "writing " + dir + "mesh.nc");
             lap("MPAS mesh");
         }
+        // The map reads only mesh.nc: drawn in its own process while the
+        // other outputs are made.
+        std::optional<Plot> map = start_map(a, mesh_nc, out->staged("mesh.png"), dir + "mesh.png", cell_count(m));
+        const PlotAwaited map_awaited{map};
         std::vector<std::string> &component_files = a.components ? written : not_written;
         component_files.insert(component_files.end(), kComponentFiles.begin(), kComponentFiles.end());
         std::string extra_error;
@@ -383,10 +399,8 @@ int run_build(const BuildArgs &a) {
         write_text(out->staged("quality.json"), quality);
         written.push_back("quality.json");
         lap("quality.json");
-        // The two pictures are drawn at once, in their own processes.
-        const Plot histograms = start_plot("plot_quality.py", {out->staged("quality.json"), out->staged("quality.png")},
+        Plot histograms = start_plot("plot_quality.py", {out->staged("quality.json"), out->staged("quality.png")},
                                            dir + "quality.png");
-        const std::optional<Plot> map = start_map(a, mesh_nc, out->staged("mesh.png"), dir + "mesh.png", cell_count(m));
         (finish_plot(histograms) ? written : not_written).push_back("quality.png");
         (map && finish_plot(*map) ? written : not_written).push_back("mesh.png");
         lap("pictures");
