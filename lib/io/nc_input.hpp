@@ -8,6 +8,8 @@
 
 #include <string>
 
+#include "io/netcdf_header.hpp"
+
 namespace um::io {
 
 class NcInput {
@@ -22,7 +24,9 @@ public:
     int id() const { return id_; }
 
 private:
-    void check_classic_length(const std::string &path, const char *what) const;
+    // netCDF-C reads the missing tail of a truncated classic file as zeros
+    // without an error: the length is checked against what the header declares.
+    void check_classic_length(const std::string &path, const char *what, const ClassicLayout &layout) const;
     int id_ = -1;
 };
 

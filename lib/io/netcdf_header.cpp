@@ -72,26 +72,45 @@ public:
     }
     void header(ClassicLayout &layout) {
         skip(4);  // magic
-        number(wide_);  // numrecs
+        const uint64_t records = number(wide_);
         const uint64_t ndims = list(NC_DIMENSION_TAG, 8, "dimensions");
-        for (uint64_t d = 0; d < ndims && !failed(); ++d) name(), count();
+        std::vector<uint64_t> length;  // the record dimension's (0): the records
+        for (uint64_t d = 0; d < ndims && !failed(); ++d) {
+            name();
+            const uint64_t n = count();
+            length.push_back(n == 0 ? records : n);
+        }
         attributes(&layout.global_attributes);
         const uint64_t nvars = list(NC_VARIABLE_TAG, 16, "variables");
         for (uint64_t v = 0; v < nvars && !failed(); ++v) {
             std::string variable = name();
             const uint64_t rank = items(uint64_t(wide_), "dimension ids");
-            for (uint64_t k = 0; k < rank && !failed(); ++k)
-                if (count() >= ndims && !failed()) fail_at("a variable on a dimension that does not exist");
+            uint64_t values = 1;
+            for (uint64_t k = 0; k < rank && !failed(); ++k) {
+                const uint64_t d = count();
+                if (d >= ndims && !failed()) fail_at("a variable on a dimension that does not exist");
+                if (!failed()) values = saturated_product(values, length[d]);
+            }
             attributes();
-            if (type_size(number(4)) == 0 && !failed()) fail_at("a variable of an unknown type");
+            const int size = type_size(number(4));
+            if (size == 0 && !failed()) fail_at("a variable of an unknown type");
             count();                                 // vsize
             const uint64_t begin = number(offset_);
-            if (!failed()) layout.variables.push_back({std::move(variable), begin});
+            if (failed()) break;
+            layout.variables.push_back({std::move(variable), begin});
+            layout.data_bytes = std::min(kHuge, layout.data_bytes + saturated_product(values, uint64_t(size)));
         }
         layout.header_bytes = at_;
     }
 
 private:
+    // Sizes past this are as good as infinite: a hostile header's dimensions
+    // may multiply past 64 bits.
+    static constexpr uint64_t kHuge = uint64_t(1) << 62;
+    static uint64_t saturated_product(uint64_t a, uint64_t b) {
+        uint64_t p;
+        return __builtin_mul_overflow(a, b, &p) || p > kHuge ? kHuge : p;
+    }
     static constexpr uint32_t NC_DIMENSION_TAG = 0x0A, NC_VARIABLE_TAG = 0x0B, NC_ATTRIBUTE_TAG = 0x0C;
     static uint64_t pad4(uint64_t n) { return (n + 3) / 4 * 4; }
     static int type_size(uint64_t type) {

@@ -15,8 +15,10 @@
 namespace um::io {
 
 // Where a classic file's header puts things: the byte offset of each
-// variable's values (its "begin"), of each global attribute's values, and
-// the header's length.
+// variable's values (its "begin"), of each global attribute's values, the
+// header's length, and how many bytes of values it declares (every
+// variable's, the record variables' for the records it counts; at most
+// 2^62).
 struct ClassicLayout {
     struct Variable {
         std::string name;
@@ -29,7 +31,7 @@ struct ClassicLayout {
     bool classic = false;  // false: not a classic-format file
     std::vector<Variable> variables;
     std::vector<Attribute> global_attributes;
-    uint64_t header_bytes = 0;
+    uint64_t header_bytes = 0, data_bytes = 0;
 };
 
 // classic_header_problem's check, keeping what the header says in layout
