@@ -119,10 +119,11 @@ GLOBE_PIXELS = 1440
 
 def size_image(mesh):
     """The mean cell size per pixel of a GLOBE_PIXELS x GLOBE_PIXELS/2 image;
-    a pixel no cell centre falls in takes the mean of the smallest block of
-    2^k x 2^k pixels around it that holds one (a pyramid of block sums: a
-    few passes over the image, where spreading the neighbours' means one
-    pixel a pass took most of a second)."""
+    a pixel no cell centre falls in takes the mean of the smallest of the
+    aligned blocks of 2^k x 2^k pixels holding it that holds one (a pyramid
+    of block sums: a few passes over the image, where spreading the
+    neighbours' means one pixel a pass took most of a second). Blocks do
+    not wrap at the dateline."""
     width, height = GLOBE_PIXELS, GLOBE_PIXELS // 2
     col = np.clip(((mesh["lonCell"] + 180.0) / 360.0 * width).astype(np.int64), 0, width - 1)
     row = np.clip(((mesh["latCell"] + 90.0) / 180.0 * height).astype(np.int64), 0, height - 1)

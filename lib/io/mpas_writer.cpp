@@ -180,10 +180,11 @@ void define(const NcOutput &nc, const MpasMesh &m, const std::vector<MpasField> 
 // go through netCDF, under the netCDF lock.
 class ValueWriter {
 public:
-    // begins: each variable's offset in a classic file; empty: through netCDF.
-    ValueWriter(const NcOutput &nc, const std::vector<int> &var_ids, std::vector<uint64_t> begins)
-        : nc_(nc), var_ids_(var_ids), begins_(std::move(begins)) {}
-    bool through_netcdf() const { return begins_.empty(); }
+    // begins: each variable's offset in a classic file (unused through netCDF).
+    ValueWriter(const NcOutput &nc, const std::vector<int> &var_ids, bool through_netcdf,
+                std::vector<uint64_t> begins)
+        : nc_(nc), var_ids_(var_ids), through_netcdf_(through_netcdf), begins_(std::move(begins)) {}
+    bool through_netcdf() const { return through_netcdf_; }
 
     template <class T>
     void put(size_t field, const char *name, size_t first_row, size_t rows, size_t width, const T *values) {
@@ -216,6 +217,7 @@ public:
 private:
     const NcOutput &nc_;
     const std::vector<int> &var_ids_;
+    bool through_netcdf_;
     std::vector<uint64_t> begins_;
     std::vector<unsigned char> bytes_;
 };
@@ -348,12 +350,13 @@ void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, 
     std::vector<int> var_ids;
     define(nc, probe, fields, var_ids);
     nc.check(nc_enddef(nc.id()), "ending define mode");
+    const bool through_netcdf = format == NC_NETCDF4;
     ClassicOffsets offsets;
-    if (format != NC_NETCDF4) {
+    if (!through_netcdf) {
         nc.close_netcdf();  // the header, with the variables' offsets
         offsets = classic_offsets(nc, fields);
     }
-    ValueWriter out(nc, var_ids, offsets.begins);
+    ValueWriter out(nc, var_ids, through_netcdf, offsets.begins);
     std::vector<ByteStream> hashes = value_hashes_for(probe, fields);
     FileState file{out, fields, hashes, {}};
     try {
@@ -381,7 +384,8 @@ void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, 
         throw;
     }
     const std::string id = file_id_of(probe.radius_m, fields, finish(hashes, probe, fields));
-    if (!out.through_netcdf()) {
+    if (!through_netcdf) {  // netCDF has closed the file: no lock for the flush
+        lock.unlock();
         nc.write_at(offsets.file_id, id.data(), id.size());
         nc.commit();
         return;

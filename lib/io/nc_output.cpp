@@ -9,10 +9,11 @@ namespace um::io {
 
 NcOutput::NcOutput(const std::string &path, int mode, const char *what)
     : path_(path), what_(what), file_(path, what) {
-    // A classic-format file is written through netCDF's own buffer, by
-    // default the file system's block (4 KiB): 1 MiB, about a block of rows of
-    // one variable, halves the time of a mesh file (4 MiB is no faster, 16
-    // and 64 MiB are slower: tools/bench/HISTORY.md).
+    // netCDF's classic I/O goes through its own buffer, by default the file
+    // system's block (4 KiB); 1 MiB wrote a mesh file in half the time when
+    // its values went through netCDF (4 MiB no faster, 16 and 64 MiB slower:
+    // tools/bench/HISTORY.md). The MPAS writer now puts a classic file's
+    // values itself; other files still use it.
     size_t buffer_bytes = size_t(1) << 20;
     int status = nc__create(file_.temporary_path().c_str(), mode | NC_CLOBBER, 0, &buffer_bytes, &id_);
     if (status != NC_NOERR) {

@@ -20,11 +20,13 @@ public:
         : b_(std::move(bytes)), wide_(version == 5 ? 8 : 4), offset_(version == 1 ? 4 : 8) {}
 
     bool failed() const { return !problem_.empty(); }
+    // Whether the first problem was running out of bytes (or of room for a count).
+    bool short_of_bytes() const { return short_; }
     const std::string &problem() const { return problem_; }
 
     uint64_t number(int width) {
         if (failed()) return 0;
-        if (at_ + uint64_t(width) > b_.size()) return fail_at("the header ends early"), 0;
+        if (at_ + uint64_t(width) > b_.size()) return fail_short("the header ends early"), 0;
         uint64_t v = 0;
         for (int i = 0; i < width; ++i) v = v << 8 | b_[at_ + i];
         at_ += uint64_t(width);
@@ -34,7 +36,7 @@ public:
     // A count of items of at least min_bytes each that the rest must hold.
     uint64_t items(uint64_t min_bytes, const char *what) {
         const uint64_t n = count();
-        if (!failed() && n > (b_.size() - at_) / min_bytes) fail_at(concat(n, " ", what, " cannot fit in the file"));
+        if (!failed() && n > (b_.size() - at_) / min_bytes) fail_short(concat(n, " ", what, " cannot fit in the file"));
         return failed() ? 0 : n;
     }
     std::string name() {
@@ -47,7 +49,7 @@ public:
     }
     void skip(uint64_t n) {
         if (failed()) return;
-        if (n > b_.size() - at_) return fail_at("the header ends early");
+        if (n > b_.size() - at_) return fail_short("the header ends early");
         at_ += n;
     }
     // An absent list is two zero words; a present one has its tag.
@@ -72,7 +74,10 @@ public:
     }
     void header(ClassicLayout &layout) {
         skip(4);  // magic
-        const uint64_t records = number(wide_);
+        // (All ones: a file being streamed, its records not counted yet; none
+        // are counted against its length then.)
+        uint64_t records = number(wide_);
+        if (records == (wide_ == 8 ? ~uint64_t(0) : uint64_t(0xFFFFFFFFu))) records = 0;
         const uint64_t ndims = list(NC_DIMENSION_TAG, 8, "dimensions");
         std::vector<uint64_t> length;  // the record dimension's (0): the records
         for (uint64_t d = 0; d < ndims && !failed(); ++d) {
@@ -125,11 +130,17 @@ private:
     void fail_at(const std::string &what) {
         if (problem_.empty()) problem_ = concat(what, " (header byte ", at_, ")");
     }
+    // A problem that more of the file might not have had.
+    void fail_short(const std::string &what) {
+        if (!failed()) short_ = true;
+        fail_at(what);
+    }
 
     std::vector<unsigned char> b_;
     int wide_, offset_;
     uint64_t at_ = 0;
     std::string problem_;
+    bool short_ = false;
 };
 
 }  // namespace
@@ -148,19 +159,20 @@ std::string read_classic_layout(const std::string &path, ClassicLayout &layout) 
     // The header is read from a prefix of the file, doubled while that is
     // too short to hold it: a count that a prefix "cannot fit" may fit the
     // whole file, and what a prefix holds the whole file holds, so the
-    // answer is the whole file's without reading gigabytes of values.
+    // answer is the whole file's without reading gigabytes of values. Other
+    // problems are the same in any prefix.
     for (uint64_t prefix = uint64_t(1) << 20;; prefix *= 2) {
         const uint64_t n = std::min(prefix, file_bytes);
         std::vector<unsigned char> bytes(n);
         in.clear();
         in.seekg(0);
         in.read(reinterpret_cast<char *>(bytes.data()), static_cast<std::streamsize>(n));
-        if (!in) return "";  // netCDF's own open reports it
+        if (!in) return concat("the first ", n, " bytes cannot be read");
         HeaderReader reader(std::move(bytes), magic[3]);
         layout = ClassicLayout{};
         reader.header(layout);
         layout.classic = true;
-        if (!reader.failed() || n == file_bytes) return reader.problem();
+        if (!reader.short_of_bytes() || n == file_bytes) return reader.problem();
     }
 }
 

@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "hfun/spacing.hpp"
 #include "refine/lattice.hpp"
 #include "refine/restricted.hpp"
 
@@ -224,12 +225,24 @@ public:
     // Classifies triangles (without queueing them), in parallel: a pass
     // over a whole mesh's triangles is a large part of a lattice start's
     // refinement, which otherwise places few points. Each writes only its
-    // own triangle's state.
+    // own triangle's state. A worker does not throw (the spacing may be the
+    // caller's callback): it notes the lowest triangle that failed, which is
+    // classified again here to report the error the serial pass would.
     void measure(const std::vector<int32_t> &triangles) {
         size_state();
-        ctx_.parallel_for(static_cast<int64_t>(triangles.size()), 4096, [&](int64_t b, int64_t e) {
-            for (int64_t i = b; i < e; ++i) classify_sized(triangles[i]);
-        });
+        hfun::FirstInvalid failed;
+        ctx_.parallel_for_with_heartbeat(
+            "refine surface", static_cast<int64_t>(triangles.size()), 4096, [&](int64_t b, int64_t e) {
+                for (int64_t i = b; i < e; ++i) {
+                    try {
+                        classify_sized(triangles[i]);
+                    } catch (...) {
+                        failed.note(i);
+                        return;  // (the rest of the range lies above it)
+                    }
+                }
+            });
+        if (failed.any()) classify_sized(triangles[failed.index()]);
     }
 
     // The candidates given up (whose point was rejected), for the serial pass

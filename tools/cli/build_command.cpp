@@ -1,5 +1,6 @@
 #include "build_command.hpp"
 
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -250,12 +251,14 @@ Plot start_plot(const std::string &script, const std::vector<std::string> &argum
     return p;
 }
 
-// Waits for a plot still running when the build fails, so that none
-// outlives the command (finish_plot marks a plot it waited for).
+// Stops and waits for a plot still running when the build fails, so that
+// none outlives the command (finish_plot marks a plot it waited for).
 struct PlotAwaited {
     const std::optional<Plot> &plot;
     ~PlotAwaited() {
-        if (plot && plot->pid > 0) waitpid(plot->pid, nullptr, 0);
+        if (!plot || plot->pid <= 0) return;
+        kill(plot->pid, SIGTERM);
+        waitpid(plot->pid, nullptr, 0);
     }
 };
 
@@ -400,7 +403,7 @@ int run_build(const BuildArgs &a) {
         written.push_back("quality.json");
         lap("quality.json");
         Plot histograms = start_plot("plot_quality.py", {out->staged("quality.json"), out->staged("quality.png")},
-                                           dir + "quality.png");
+                                     dir + "quality.png");
         (finish_plot(histograms) ? written : not_written).push_back("quality.png");
         (map && finish_plot(*map) ? written : not_written).push_back("mesh.png");
         lap("pictures");
