@@ -1,6 +1,7 @@
 #include "refine/surface.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <array>
 #include <deque>
@@ -645,6 +646,10 @@ TerritoryPlan plan_territories(Context &ctx, const tri::Triangulation &tri, cons
             work[t] = {tri::Triangulation::territory_key(centroid, layout), std::min(cells, 1e9)};
         }
     });
+    // Only the bad triangles count: the good ones and free slots (key ~0)
+    // would sort last and be skipped.
+    work.erase(std::remove_if(work.begin(), work.end(), [](const auto &w) { return w.first == ~uint32_t(0); }),
+               work.end());
     std::sort(work.begin(), work.end());
     TerritoryPlan plan;
     double expected = 0;  // vertices
@@ -652,7 +657,6 @@ TerritoryPlan plan_territories(Context &ctx, const tri::Triangulation &tri, cons
     double sum = 0, since_cut = 0;
     auto budget = [](double cells) { return static_cast<int32_t>(std::min(cells + 256, 1e8)); };
     for (const auto &w : work) {
-        if (w.first == ~uint32_t(0)) break;  // the good triangles and free slots, last
         const bool cut_due = sum >= expected * static_cast<double>(plan.cuts.size() + 1) / kTerritories;
         if (plan.cuts.size() + 1 < kTerritories && cut_due && (plan.cuts.empty() || w.first > plan.cuts.back())) {
             plan.cuts.push_back(w.first);
@@ -663,6 +667,17 @@ TerritoryPlan plan_territories(Context &ctx, const tri::Triangulation &tri, cons
     }
     plan.budget.push_back(budget(since_cut));
     return plan;
+}
+
+// Whether any live triangle is bad: territories would find nothing to do
+// otherwise, and opening them grows the triangulation's arrays.
+bool any_bad(Context &ctx, const tri::Triangulation &tri, const std::vector<uint8_t> &state) {
+    std::atomic<bool> found{false};
+    ctx.parallel_for(static_cast<int64_t>(state.size()), 1 << 16, [&](int64_t b, int64_t e) {
+        for (int64_t t = b; t < e && !found.load(std::memory_order_relaxed); ++t)
+            if ((state[t] & kBad) && !tri.is_free(static_cast<int32_t>(t))) found.store(true, std::memory_order_relaxed);
+    });
+    return found.load();
 }
 
 std::vector<int32_t> live_triangles(const tri::Triangulation &tri) {
@@ -743,6 +758,7 @@ void refine_in_territories(Context &ctx, tri::Triangulation &tri, const SpacingR
                            const SurfaceOptions &options, std::vector<uint8_t> &state,
                            GivenUp &given_up, int layout, SurfaceStats &stats) {
     ctx.progress("refine surface", 0.0);  // (a cancel point between layouts)
+    if (!any_bad(ctx, tri, state)) return;  // (a lattice start where the spacing is flat)
     const TerritoryPlan plan = plan_territories(ctx, tri, h, state, layout);
     std::vector<tri::Triangulation::Territory> territories =
         tri.open_territories(ctx, plan.cuts, plan.budget, stats.next_id, layout);
@@ -780,8 +796,11 @@ SurfaceStats refine_by_territories(Context &ctx, tri::Triangulation &tri, const 
     // tools/bench/HISTORY.md). When they are too few for territories (a
     // small mesh), the serial pass starts from the triangulation as it was
     // before them.
-    tri::Triangulation unseeded = tri;
-    const std::vector<int32_t> on_gamma_unseeded = options.on_gamma ? *options.on_gamma : std::vector<int32_t>{};
+    // (Seeds only add vertices: a mesh with enough already needs no copy.)
+    const bool enough_already = tri.vertex_count() >= kTerritories * kMinSeedsPerTerritory;
+    tri::Triangulation unseeded = enough_already ? tri::Triangulation{} : tri;
+    const std::vector<int32_t> on_gamma_unseeded =
+        options.on_gamma && !enough_already ? *options.on_gamma : std::vector<int32_t>{};
     SurfaceOptions seed_options = options;
     seed_options.rho = std::numeric_limits<double>::infinity();  // the size bound only
     const SpacingRadians seed_spacing = [&h](const Vec3 &p) { return kSeedSpacing * h(p); };
@@ -797,6 +816,7 @@ SurfaceStats refine_by_territories(Context &ctx, tri::Triangulation &tri, const 
             refine_in_territories(ctx, tri, h, options, state, given_up, layout, stats);
         all = live_triangles(tri);
     } else {
+        if (enough_already) fail(UM_ERR_INTERNAL, "refine surface: the seed pass took vertices out");
         tri = std::move(unseeded);
         if (options.on_gamma) *options.on_gamma = on_gamma_unseeded;
         stats = SurfaceStats{};
