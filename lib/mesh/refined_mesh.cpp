@@ -328,10 +328,10 @@ struct Undo {
     optim::OptimiseStats optimisation;
 };
 
-Undo set_aside(RefinedMesh &m) {
+Undo set_aside(Context &ctx, RefinedMesh &m) {
     // What can throw (the copies) before anything is moved out of m.
     Undo u;
-    u.tri = m.tri.snapshot();
+    u.tri = m.tri.snapshot(ctx);
     for (size_t v = 0; v < m.on_segment.size(); ++v)
         if (m.on_segment[v] >= 0) u.on_gamma.push_back({static_cast<int32_t>(v), m.on_segment[v]});
     u.refined_quality = m.refined_quality;
@@ -392,7 +392,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     // new triangle slots: their room first, while neither the undo nor the
     // optimiser's state is allocated.
     m.tri.reserve_extra(kOptimiseNewVertices, kOptimiseNewTriangles);
-    Undo undo = set_aside(m);
+    Undo undo = set_aside(ctx, m);
     try {
         m.refined_quality = before;
         m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o);

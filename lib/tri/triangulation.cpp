@@ -296,12 +296,20 @@ void Triangulation::reserve_extra(double vertices, double triangles) {
     grow(tris_, triangles), grow(mark_, triangles);
 }
 
-Triangulation::Snapshot Triangulation::snapshot() const {
+Triangulation::Snapshot Triangulation::snapshot(Context &ctx) const {
     Snapshot s;
-    s.q = q_, s.id = id_, s.vertex_tri = vertex_tri_, s.free = free_;
+    s.free = free_;
+    const int64_t nv = static_cast<int64_t>(q_.size()), nt = static_cast<int64_t>(tris_.size());
+    s.q.resize(q_.size()), s.id.resize(id_.size()), s.vertex_tri.resize(vertex_tri_.size());  // unwritten
     s.triangles.resize(tris_.size());
-    for (size_t t = 0; t < tris_.size(); ++t)
-        s.triangles[t] = {tris_[t].v[0], tris_[t].v[1], tris_[t].v[2]};
+    ctx.parallel_for(nv, 1 << 14, [&](int64_t b, int64_t e) {
+        std::copy(q_.begin() + b, q_.begin() + e, s.q.begin() + b);
+        std::copy(id_.begin() + b, id_.begin() + e, s.id.begin() + b);
+        std::copy(vertex_tri_.begin() + b, vertex_tri_.begin() + e, s.vertex_tri.begin() + b);
+    });
+    ctx.parallel_for(nt, 1 << 14, [&](int64_t b, int64_t e) {
+        for (int64_t t = b; t < e; ++t) s.triangles[t] = {tris_[t].v[0], tris_[t].v[1], tris_[t].v[2]};
+    });
     return s;
 }
 

@@ -142,9 +142,10 @@ public:
         HugePageVector<Vec3> q;
         UninitVector<int32_t> id, vertex_tri;
         std::vector<int32_t> free;
-        std::vector<std::array<int32_t, 3>> triangles;  // kNone for a free slot
+        UninitVector<std::array<int32_t, 3>> triangles;  // kNone for a free slot
     };
-    Snapshot snapshot() const;
+    // Copied in parallel (the copies' pages are first touched there too).
+    Snapshot snapshot(Context &ctx) const;
     void restore(Snapshot &&s);
     int32_t vertex_slots() const { return static_cast<int32_t>(q_.size()); }
     size_t vertex_capacity() const { return q_.capacity(); }

@@ -611,9 +611,10 @@ void spatial_reordering_keeps_the_triangulation(void **) {
 
 // A snapshot puts the triangulation back exactly: the same slots, triangles,
 // neighbours and incident triangles (star order), after moves, insertions
-// and removals.
+// and removals; taken on several threads (a mesh of more than two of its
+// copying chunks).
 void snapshot_restores_exactly(void **) {
-    tri::Triangulation t = build(test::random_points(5000, 31));
+    tri::Triangulation t = build(test::random_points(40000, 31));
     auto same = [](const tri::Triangulation &a, const tri::Triangulation &b) {
         if (a.triangle_slots() != b.triangle_slots() || a.vertex_slots() != b.vertex_slots()) return false;
         for (int32_t f = 0; f < a.triangle_slots(); ++f)
@@ -627,7 +628,9 @@ void snapshot_restores_exactly(void **) {
         return true;
     };
     const tri::Triangulation original = t;
-    tri::Triangulation::Snapshot s = t.snapshot();
+    Context ctx;
+    ctx.set_threads(3);
+    tri::Triangulation::Snapshot s = t.snapshot(ctx);
     std::mt19937_64 rng(9);
     for (int i = 0; i < 500; ++i) {
         const int32_t v = static_cast<int32_t>(rng() % 5000);
