@@ -211,27 +211,18 @@ void check_cross_references(const std::string &path, const MpasMesh &m) {
     }
 }
 
-// Positions finite, lengths and areas finite and > 0, kites finite: the
+// Every real value finite, and cell areas and cell distances > 0: the
 // component files (weights, grids, the river report) are computed from them.
 void check_values(const std::string &path, const MpasMesh &m) {
-    const struct {
-        const char *name;
-        const std::vector<double> &values;
-        bool positive;
-    } arrays[] = {{"xCell", m.x_cell, false},        {"yCell", m.y_cell, false},
-                  {"zCell", m.z_cell, false},        {"latCell", m.lat_cell, false},
-                  {"lonCell", m.lon_cell, false},    {"xVertex", m.x_vertex, false},
-                  {"yVertex", m.y_vertex, false},    {"zVertex", m.z_vertex, false},
-                  {"latVertex", m.lat_vertex, false}, {"lonVertex", m.lon_vertex, false},
-                  {"areaCell", m.area_cell, true},   {"areaTriangle", m.area_triangle, false},
-                  {"kiteAreasOnVertex", m.kite_areas_on_vertex, false},
-                  {"dcEdge", m.dc_edge, true},       {"dvEdge", m.dv_edge, false},
-                  {"angleEdge", m.angle_edge, false}};
-    for (const auto &a : arrays)
-        for (size_t i = 0; i < a.values.size(); ++i)
-            if (!std::isfinite(a.values[i]) || (a.positive && !(a.values[i] > 0)))
-                format_error(path, a.name, " value ", i + 1, " is ", a.values[i],
-                             a.positive ? ": expected a finite value > 0" : ": expected a finite value");
+    for (const MpasField &f : dual::mpas_fields(m)) {
+        if (f.kind != MpasKind::real) continue;
+        const bool positive = f.reals == &m.area_cell || f.reals == &m.dc_edge;
+        const std::vector<double> &values = *f.reals;
+        for (size_t i = 0; i < values.size(); ++i)
+            if (!std::isfinite(values[i]) || (positive && !(values[i] > 0)))
+                format_error(path, f.name, " value ", i + 1, " is ", values[i],
+                             positive ? ": expected a finite value > 0" : ": expected a finite value");
+    }
 }
 
 }  // namespace

@@ -407,8 +407,9 @@ static void bad_input_is_refused(void **state) {
     assert_int_equal(um_mpas_file_write_components(ctx, missing, dir), UM_ERR_IO);
     um_context_clear_error(ctx);
     assert_int_equal(um_mpas_file_write_components(NULL, garbage, dir), UM_ERR_NULL_ARGUMENT);
-    /* A mesh file whose lists disagree, or with a NaN area: refused, naming
-     * the variable; the cut would otherwise keep an edge without its cells. */
+    /* A mesh file whose lists disagree, or with a NaN area or TRSK weight
+     * (every real variable is checked): refused, naming the variable; the
+     * cut would otherwise keep an edge without its cells. */
     char good_dir[4096], good[4096];
     output_dir(good_dir, sizeof good_dir, "components_damaged");
     um_mesh *unified = unified_mesh(ctx, 900.0);
@@ -417,8 +418,8 @@ static void bad_input_is_refused(void **state) {
     snprintf(good, sizeof good, "%s/mesh.nc", good_dir);
     const struct {
         const char *variable, *expected;
-    } damages[] = {{"cellsOnEdge", "cellsOnEdge"}, {"areaCell", "areaCell"}};
-    for (int k = 0; k < 2; ++k) {
+    } damages[] = {{"cellsOnEdge", "cellsOnEdge"}, {"areaCell", "areaCell"}, {"weightsOnEdge", "weightsOnEdge"}};
+    for (int k = 0; k < 3; ++k) {
         char damaged[4096];
         snprintf(damaged, sizeof damaged, "%s/damaged_%d.nc", good_dir, k);
         copy_file(good, damaged);
