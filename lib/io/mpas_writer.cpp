@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cstring>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <filesystem>
 #include <system_error>
@@ -18,6 +19,7 @@
 #include "io/error_text.hpp"
 #include "io/nc_output.hpp"
 #include "io/netcdf_header.hpp"
+#include "io/direct_regions.hpp"
 #include "io/netcdf_lock.hpp"
 
 namespace um::io {
@@ -180,10 +182,11 @@ void define(const NcOutput &nc, const MpasMesh &m, const std::vector<MpasField> 
 // go through netCDF, under the netCDF lock.
 class ValueWriter {
 public:
-    // begins: each variable's offset in a classic file (unused through netCDF).
+    // begins: each variable's offset in a classic file (unused through
+    // netCDF); direct: its regions when written around the page cache.
     ValueWriter(const NcOutput &nc, const std::vector<int> &var_ids, bool through_netcdf,
-                std::vector<uint64_t> begins)
-        : nc_(nc), var_ids_(var_ids), through_netcdf_(through_netcdf), begins_(std::move(begins)) {}
+                std::vector<uint64_t> begins, DirectRegions *direct)
+        : nc_(nc), var_ids_(var_ids), through_netcdf_(through_netcdf), begins_(std::move(begins)), direct_(direct) {}
     bool through_netcdf() const { return through_netcdf_; }
 
     template <class T>
@@ -211,7 +214,9 @@ public:
                 std::memcpy(&bytes_[4 * i], &w, 4);
             }
         }
-        nc_.write_at(begins_[field] + first_row * width * sizeof(T), bytes_.data(), bytes_.size());
+        const uint64_t offset = begins_[field] + first_row * width * sizeof(T);
+        if (direct_) direct_->append(field, offset, bytes_.data(), bytes_.size());
+        else nc_.write_at(offset, bytes_.data(), bytes_.size());
     }
 
 private:
@@ -219,6 +224,7 @@ private:
     const std::vector<int> &var_ids_;
     bool through_netcdf_;
     std::vector<uint64_t> begins_;
+    DirectRegions *direct_;
     std::vector<unsigned char> bytes_;
 };
 
@@ -356,7 +362,17 @@ void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, 
         nc.close_netcdf();  // the header, with the variables' offsets
         offsets = classic_offsets(nc, fields);
     }
-    ValueWriter out(nc, var_ids, through_netcdf, offsets.begins);
+    std::unique_ptr<DirectRegions> direct;
+    if (!through_netcdf) {
+        std::vector<uint64_t> ends;
+        uint64_t total = 0;
+        for (size_t i = 0; i < fields.size(); ++i) {
+            ends.push_back(offsets.begins[i] + value_bytes(probe, fields[i]));
+            total += value_bytes(probe, fields[i]);
+        }
+        if (total >= options.direct_min_bytes) direct = std::make_unique<DirectRegions>(nc.file(), offsets.begins, ends);
+    }
+    ValueWriter out(nc, var_ids, through_netcdf, offsets.begins, direct.get());
     std::vector<ByteStream> hashes = value_hashes_for(probe, fields);
     FileState file{out, fields, hashes, {}};
     try {
@@ -386,6 +402,7 @@ void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, 
     const std::string id = file_id_of(probe.radius_m, fields, finish(hashes, probe, fields));
     if (!through_netcdf) {  // netCDF has closed the file: no lock for the flush
         lock.unlock();
+        if (direct) direct->check_complete();
         nc.write_at(offsets.file_id, id.data(), id.size());
         nc.commit();
         return;

@@ -4,7 +4,8 @@
 // attributes of MpasMeshConverter.x, and the unified tags (cellSide,
 // vertexSide) when the mesh has them. netCDF writes the header; a classic
 // file's values are written at the offsets that header gives them (netCDF
-// would read each region back first), a netCDF-4 file's through netCDF.
+// would read each region back first), around the page cache for a large
+// file; a netCDF-4 file's through netCDF.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +30,10 @@ struct MpasWriteOptions {
     uint64_t variable_limit = kOffset64VariableLimit;
     // Rows per block of the streamed writer (tests cut small meshes into many).
     int64_t block_rows = dual::kMpasBlockRows;
+    // A classic file with at least this many bytes of values is written
+    // around the page cache where the file system allows (io/direct_regions.hpp);
+    // a smaller one gains nothing from it and would wait on each write.
+    uint64_t direct_min_bytes = uint64_t(256) << 20;
 };
 
 // Writes m to path (created or overwritten; netCDF calls under the

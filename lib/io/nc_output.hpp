@@ -32,6 +32,7 @@ public:
     void close_netcdf();
     const std::string &temporary_path() const { return file_.temporary_path(); }
     void write_at(uint64_t offset, const void *data, size_t n) const { file_.write_at(offset, data, n); }
+    const ReplacingFile &file() const { return file_; }
     void commit() { file_.commit(); }
     // ReplacingFile::start_writeback: for a file written in many blocks.
     void start_writeback() const { file_.start_writeback(); }

@@ -1,0 +1,57 @@
+// Regions of a file being written, each front to back in pieces (an MPAS
+// variable's values, a block of rows at a time), around the page cache: the
+// whole 4 KiB blocks inside a region go to the device with O_DIRECT, from
+// a buffer of our own, and the partial blocks at its two ends through the
+// page cache. A file of gigabytes written through the page cache costs the
+// writing thread a copy of every byte into freshly allocated cache pages
+// (a quarter of the MPAS stage's processor time at 10 km, beside the
+// threads making the next block), fills the cache with pages nobody reads
+// and leaves them all for the final flush; written directly, the device
+// takes the bytes from our buffer while the thread waits without using a
+// processor. File systems without O_DIRECT (tmpfs, some network and FUSE
+// ones) refuse it when the file is opened or at the first write; the
+// writes then go through the page cache as before.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/replacing_file.hpp"
+
+namespace um::io {
+
+class DirectRegions {
+public:
+    // Region r is [begin[r], end[r]) of the file that `file` is writing
+    // (its temporary name is opened a second time, for O_DIRECT).
+    DirectRegions(const ReplacingFile &file, std::vector<uint64_t> begin, std::vector<uint64_t> end);
+    ~DirectRegions();
+    DirectRegions(const DirectRegions &) = delete;
+    DirectRegions &operator=(const DirectRegions &) = delete;
+
+    // Whether the file system took O_DIRECT (so far).
+    bool direct() const { return fd_ >= 0; }
+    // n bytes at `offset` of region r, where its last ones ended (the
+    // region's begin at first). Throws UM_ERR_IO naming the file.
+    void append(size_t r, uint64_t offset, const void *data, size_t n);
+    // Throws UM_ERR_INTERNAL unless every region was written to its end.
+    void check_complete() const;
+
+private:
+    static constexpr uint64_t kBlock = 4096;
+    void write_whole_blocks(uint64_t offset, const unsigned char *data, size_t n);
+
+    const ReplacingFile &file_;
+    std::vector<uint64_t> begin_, end_, next_;
+    // Per region, the bytes past its last whole block written (fewer than kBlock).
+    std::vector<std::vector<unsigned char>> carry_;
+    // 4 KiB-aligned, as O_DIRECT asks of the memory it reads.
+    std::unique_ptr<unsigned char, void (*)(void *)> staging_{nullptr, nullptr};
+    size_t staging_bytes_ = 0;
+    int fd_ = -1;
+};
+
+}  // namespace um::io
