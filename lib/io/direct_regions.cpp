@@ -49,20 +49,20 @@ void DirectRegions::append(size_t r, uint64_t offset, const void *data, size_t n
     if (fd_ < 0) return through_cache(n);
     if (at < first) through_cache(std::min<uint64_t>(n, first - at));
     if (n > 0 && at < last) {
-        // The carried bytes start at the last whole block written.
         std::vector<unsigned char> &carry = carry_[r];
         const size_t take = static_cast<size_t>(std::min<uint64_t>(n, last - at));
         const size_t total = carry.size() + take, whole = static_cast<size_t>(round_down(total, kBlock));
-        if (whole > 0) {
+        if (whole > 0) {  // the carry starts where the last whole block written ends
             if (staging_bytes_ < whole) {
                 void *memory = std::aligned_alloc(kBlock, whole);
                 if (!memory) throw std::bad_alloc();
                 staging_ = {static_cast<unsigned char *>(memory), std::free};
                 staging_bytes_ = whole;
             }
-            std::memcpy(staging_.get(), carry.data(), carry.size());
+            if (!carry.empty()) std::memcpy(staging_.get(), carry.data(), carry.size());
             std::memcpy(staging_.get() + carry.size(), p, whole - carry.size());
             write_whole_blocks(at - carry.size(), staging_.get(), whole);
+            if (fd_ < 0) flush_carries_but(r);  // refused just now: the other regions' carries too
         }
         const size_t kept = total - whole;  // the new carry: the last `kept` bytes of carry + p[0, take)
         std::vector<unsigned char> rest(kept);
@@ -95,18 +95,26 @@ void DirectRegions::write_whole_blocks(uint64_t offset, const unsigned char *dat
                 file_.write_at(offset + static_cast<uint64_t>(wrote), data + wrote, n - static_cast<size_t>(wrote));
                 return;
             }
-            file_.write_at(offset, data, n);  // reports the error (a full disk) naming the file
+            file_.write_at(offset, data, n);  // the same bytes through the cache: its error (a full disk) names the file
             return;
         }
         data += wrote, offset += static_cast<uint64_t>(wrote), n -= static_cast<size_t>(wrote);
     }
 }
 
+void DirectRegions::flush_carries_but(size_t r) {
+    for (size_t i = 0; i < carry_.size(); ++i)
+        if (i != r && !carry_[i].empty()) {
+            file_.write_at(next_[i] - carry_[i].size(), carry_[i].data(), carry_[i].size());
+            carry_[i].clear();
+        }
+}
+
 void DirectRegions::check_complete() const {
     for (size_t r = 0; r < begin_.size(); ++r)
         if (next_[r] != end_[r] || !carry_[r].empty())
-            fail(UM_ERR_INTERNAL, "DirectRegions: region ", r, " written to ", next_[r], " of [", begin_[r], ", ",
-                 end_[r], ")");
+            fail(UM_ERR_INTERNAL, "DirectRegions: region ", r, " [", begin_[r], ", ", end_[r], ") has bytes up to ",
+                 next_[r], ", ", carry_[r].size(), " of them not written");
 }
 
 }  // namespace um::io

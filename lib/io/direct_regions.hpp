@@ -3,12 +3,12 @@
 // whole 4 KiB blocks inside a region go to the device with O_DIRECT, from
 // a buffer of our own, and the partial blocks at its two ends through the
 // page cache. A file of gigabytes written through the page cache costs the
-// writing thread a copy of every byte into freshly allocated cache pages
-// (a quarter of the MPAS stage's processor time at 10 km, beside the
-// threads making the next block), fills the cache with pages nobody reads
-// and leaves them all for the final flush; written directly, the device
-// takes the bytes from our buffer while the thread waits without using a
-// processor. File systems without O_DIRECT (tmpfs, some network and FUSE
+// writing thread the allocation of a fresh cache page for every 4 KiB and
+// the copy into it (a quarter of the MPAS stage's processor time at 10 km,
+// beside the threads making the next block), fills the cache with pages
+// nobody reads and leaves them all for the final flush; written directly,
+// the device takes the bytes from one reused buffer of ours while the
+// thread waits without using a processor. File systems without O_DIRECT (tmpfs, some network and FUSE
 // ones) refuse it when the file is opened or at the first write; the
 // writes then go through the page cache as before.
 #pragma once
@@ -32,10 +32,9 @@ public:
     DirectRegions(const DirectRegions &) = delete;
     DirectRegions &operator=(const DirectRegions &) = delete;
 
-    // Whether the file system took O_DIRECT (so far).
-    bool direct() const { return fd_ >= 0; }
     // n bytes at `offset` of region r, where its last ones ended (the
-    // region's begin at first). Throws UM_ERR_IO naming the file.
+    // region's begin at first). Throws UM_ERR_IO naming the file (a write
+    // that failed), UM_ERR_INTERNAL for bytes out of order, bad_alloc.
     void append(size_t r, uint64_t offset, const void *data, size_t n);
     // Throws UM_ERR_INTERNAL unless every region was written to its end.
     void check_complete() const;
@@ -43,6 +42,8 @@ public:
 private:
     static constexpr uint64_t kBlock = 4096;
     void write_whole_blocks(uint64_t offset, const unsigned char *data, size_t n);
+    // After O_DIRECT was refused: the carries of every region but r through the cache.
+    void flush_carries_but(size_t r);
 
     const ReplacingFile &file_;
     std::vector<uint64_t> begin_, end_, next_;

@@ -25,7 +25,9 @@
 #include "dual/mpas_source.hpp"
 #include "features/network.hpp"
 #include "hfun/spacing.hpp"
+#include "io/direct_regions.hpp"
 #include "io/mpas_writer.hpp"
+#include "io/replacing_file.hpp"
 #include "mesh/refined_mesh.hpp"
 #include "support/point_sets.hpp"
 #include "tri/triangulation.hpp"
@@ -765,6 +767,51 @@ void large_variables_give_cdf5(void **) {
     std::remove(path.c_str());
 }
 
+// Every byte of every region lands where it belongs whatever the layout:
+// regions smaller than a block, inside one block, aligned or not at either
+// end, some empty, gaps between them; pieces from 1 byte to several blocks,
+// the regions' pieces interleaved (each region front to back).
+void direct_regions_write_every_byte(void **) {
+    std::mt19937_64 rng(17);
+    for (int round = 0; round < 20; ++round) {
+        std::vector<uint64_t> begin, end;
+        uint64_t at = rng() % 5000;
+        for (int r = 0; r < 12; ++r) {
+            at += (rng() % 3 == 0) ? rng() % 9000 : 0;  // a gap or none
+            if (rng() % 4 == 0) at = (at + 4095) / 4096 * 4096;  // an aligned begin
+            const uint64_t sizes[] = {0, 1, 7, 4095, 4096, 4097, 8192, 30000, 100000};
+            begin.push_back(at);
+            at += sizes[rng() % 9];
+            end.push_back(at);
+        }
+        std::string expected(at + 100, '\0');
+        for (char &c : expected) c = static_cast<char>(rng());
+        const std::string path = output_path("test_dual_direct_regions.bin");
+        {
+            io::ReplacingFile file(path, "test file");
+            io::DirectRegions regions(file, begin, end);
+            std::vector<uint64_t> next = begin;
+            for (bool left = true; left;) {
+                left = false;
+                for (size_t r = 0; r < begin.size(); ++r) {
+                    if (next[r] == end[r]) continue;
+                    const uint64_t piece = std::min<uint64_t>(end[r] - next[r], 1 + rng() % (rng() % 2 ? 13 : 20000));
+                    regions.append(r, next[r], expected.data() + next[r], piece);
+                    next[r] += piece, left = true;
+                }
+            }
+            regions.check_complete();
+            file.write_at(at, expected.data() + at, 100);  // the end of the file, as the header is written
+            file.commit();
+        }
+        const std::string got = file_bytes(path);
+        assert_int_equal(got.size(), expected.size());
+        for (size_t r = 0; r < begin.size(); ++r)
+            assert_true(got.compare(begin[r], end[r] - begin[r], expected, begin[r], end[r] - begin[r]) == 0);
+        std::remove(path.c_str());
+    }
+}
+
 void write_errors_name_the_file(void **) {
     auto pts = test::icosahedral_points(1);
     MpasMesh m = staggered(triangulate(pts, nullptr));
@@ -792,6 +839,7 @@ int main() {
         cmocka_unit_test(netcdf_round_trip),
         cmocka_unit_test(streamed_file_matches_whole_mesh),
         cmocka_unit_test(large_variables_give_cdf5),
+        cmocka_unit_test(direct_regions_write_every_byte),
         cmocka_unit_test(write_errors_name_the_file),
     };
     return cmocka_run_group_tests_name("dual", tests, nullptr, nullptr);
