@@ -147,4 +147,15 @@ void reset_on_huge_pages(HugePageVector<T> &v, bool on_huge_pages) {
     HugePageVector<T>(HugePageAllocator<T>(on_huge_pages)).swap(v);
 }
 
+// Empties v and sizes it to n values, unwritten, on huge pages when it fills
+// one: advised before the first touch, which is what places the pages, so
+// that the parallel loop that first writes it takes the page faults.
+template <class T>
+void size_on_huge_pages(HugePageVector<T> &v, size_t n) {
+    reset_on_huge_pages(v, n * sizeof(T) >= kHugePageMinBytes);
+    v.reserve(n);
+    advise_huge_pages(v.data(), v.capacity() * sizeof(T));
+    v.resize(n);
+}
+
 }  // namespace um

@@ -6,7 +6,6 @@
 
 #include "core/buffer.hpp"
 #include "core/error.hpp"
-#include "core/huge_pages.hpp"
 #include "core/radix_sort.hpp"
 #include "dual/mpas_mesh.hpp"
 #include "dual/spherical.hpp"
@@ -32,15 +31,6 @@ int local_index(const tri::Triangulation &tri, int32_t t, int32_t v) {
 void check_links(const std::atomic<bool> &broken) {
     if (broken.load())
         fail(UM_ERR_INTERNAL, "MPAS mesh: the triangulation's neighbour links are inconsistent");
-}
-
-// v sized to n values (unwritten), on huge pages from 2 MiB on.
-template <class T>
-void size_on_huge_pages(HugePageVector<T> &v, size_t n) {
-    reset_on_huge_pages(v, n * sizeof(T) >= kHugePageMinBytes);
-    v.reserve(n);
-    advise_huge_pages(v.data(), n * sizeof(T));
-    v.resize(n);
 }
 
 // Positions 0..n-1 sorted along the Hilbert curve of position(i), ties by i:

@@ -216,7 +216,7 @@ public:
         }
         const uint64_t offset = begins_[field] + first_row * width * sizeof(T);
         if (direct_) direct_->append(field, offset, bytes_.data(), bytes_.size());
-        else nc_.write_at(offset, bytes_.data(), bytes_.size());
+        else nc_.file().write_at(offset, bytes_.data(), bytes_.size());
     }
 
 private:
@@ -403,7 +403,7 @@ void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, 
     if (!through_netcdf) {  // netCDF has closed the file: no lock for the flush
         lock.unlock();
         if (direct) direct->check_complete();
-        nc.write_at(offsets.file_id, id.data(), id.size());
+        nc.file().write_at(offsets.file_id, id.data(), id.size());
         nc.commit();
         return;
     }

@@ -3,7 +3,7 @@
 // renames it into place, and without that the destructor aborts it and
 // removes the temporary file only. A writer that puts a classic file's
 // values at their offsets itself ends netCDF's part with close_netcdf(),
-// writes with write_at() and then commit()s. Callers hold the NetcdfLock
+// writes through file() and then commit()s. Callers hold the NetcdfLock
 // while netCDF is called.
 #pragma once
 
@@ -31,7 +31,7 @@ public:
     // leaving the file under its temporary name.
     void close_netcdf();
     const std::string &temporary_path() const { return file_.temporary_path(); }
-    void write_at(uint64_t offset, const void *data, size_t n) const { file_.write_at(offset, data, n); }
+    // The file itself (ReplacingFile::write_at), after close_netcdf().
     const ReplacingFile &file() const { return file_; }
     void commit() { file_.commit(); }
     // ReplacingFile::start_writeback: for a file written in many blocks.

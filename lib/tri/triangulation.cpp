@@ -59,10 +59,7 @@ Triangulation::BuildRoom &Triangulation::reserve_build(int64_t n) {
     const size_t max_triangles = 2 * (static_cast<size_t>(n) + kVirtual);
     room_.close();
     // On huge pages when they fill one: only a build from many points.
-    reset_on_huge_pages(tris_, max_triangles * sizeof(Tri) >= kHugePageMinBytes);
-    tris_.reserve(max_triangles);
-    advise_huge_pages(tris_.data(), tris_.capacity() * sizeof(Tri));
-    tris_.resize(max_triangles);
+    size_on_huge_pages(tris_, max_triangles);
     room_.begin_ = room_.next_ = reinterpret_cast<unsigned char *>(tris_.data());
     room_.end_ = room_.begin_ + max_triangles * sizeof(Tri);
     room_.n_ = n;

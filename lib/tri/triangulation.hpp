@@ -590,8 +590,8 @@ void Triangulation::prepare(Context &ctx, int64_t n, DirectionFn direction, cons
         advise_huge_pages(values.data(), values.capacity() * sizeof(values[0]));
         values.resize(slots);
     };
-    reset_on_huge_pages(q_, slots * sizeof(Vec3) >= kHugePageMinBytes);  // as the triangles (reserve_build)
-    size_for_gather(q_), size_for_gather(id_), size_for_gather(key_), size_for_gather(vertex_tri_);
+    size_on_huge_pages(q_, slots);  // as the triangles (reserve_build)
+    size_for_gather(id_), size_for_gather(key_), size_for_gather(vertex_tri_);
     std::fill_n(key_.begin(), kVirtual, ~uint32_t(0));  // the virtual vertices: owned by no region
     std::fill_n(vertex_tri_.begin(), kVirtual, kNone);
     double largest = 1.0;  // the longest lifted point (the virtual ones are tiny)

@@ -363,6 +363,15 @@ static void spacing_callback_failure_names_the_point(void **state) {
     assert_null(m);
     assert_non_null(strstr(um_context_last_error(ctx), "spacing"));
     assert_non_null(strstr(um_context_last_error(ctx), "lat"));
+    /* The same point named for any number of threads. */
+    char first[1024];
+    snprintf(first, sizeof first, "%s", um_context_last_error(ctx));
+    for (int32_t threads = 1; threads <= 3; threads += 2) {
+        assert_int_equal(um_context_set_threads(ctx, threads), UM_OK);
+        assert_int_equal(um_mesh_refine(ctx, h, NULL, NULL, &m), UM_ERR_NONFINITE_INPUT);
+        assert_string_equal(um_context_last_error(ctx), first);
+    }
+    assert_int_equal(um_context_set_threads(ctx, 0), UM_OK);
     um_spacing_destroy(h);
 }
 
