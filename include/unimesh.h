@@ -415,7 +415,18 @@ enum {
      * ocean mesh (cellOceanMask 1) whatever its side, even where that leaves
      * edges below the time-step floor: the quality report lists them as
      * exceptions ("ocean_floor": "kept_open"). */
-    UM_FEATURE_PASSAGE = 6
+    UM_FEATURE_PASSAGE = 6,
+    /* A closed ring bounding a regional mesh (at least 3 points). With any
+     * domain ring the mesh is regional: its cells are those inside the
+     * domain, a point being inside when an odd number of rings enclose it
+     * (a ring encloses the smaller of the two regions it bounds: a ring
+     * inside another is a hole). The boundary conforms to the rings as a
+     * coastline does; outside them the mesh is a coarse cover, growing from
+     * the boundary's spacing at 1/4 km per km to 1000 km, that no output
+     * holds (section "Regional meshes" below). Rings may cross the
+     * antimeridian and hold a pole, but must not cross themselves or each
+     * other (UM_ERR_INPUT from um_mesh_refine). */
+    UM_FEATURE_DOMAIN = 7
 };
 
 UM_API um_status um_features_create(um_context *ctx, um_features **out);
@@ -439,7 +450,7 @@ UM_API um_status um_features_add(um_features *f, int64_t n_points, const double 
  * their members, each position of a Point or MultiPoint a part of one point
  * (which only a passage may be). Per feature:
  *   kind    the string property kind_property (NULL = "kind"): "coastline",
- *           "lake", "river", "watershed", "other" or "passage"
+ *           "lake", "river", "watershed", "other", "passage" or "domain"
  *           (case-insensitive); a
  *           missing or other value takes default_kind (0 = such a feature is
  *           an error, UM_ERR_INPUT);
@@ -731,6 +742,36 @@ UM_API um_status um_mesh_quality_summary(const um_mesh *m, const char *metric, d
                                          double *p1, double *mean, double *max);
 UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
                                         int64_t *not_well_centred);
+
+/* --------------------------------------------------------- Regional meshes */
+
+/* Features holding UM_FEATURE_DOMAIN rings make um_mesh_refine build a
+ * regional mesh. Its edges are straight in longitude and latitude, as
+ * GeoJSON draws them (divided into great arcs of at most 0.25 degrees), so a
+ * box of longitudes and latitudes is that box; a ring that crosses itself or
+ * another is refused (UM_ERR_INPUT), as is a domain holding fewer than 7
+ * cells at the spacing ("it must be larger than the spacing"). The mesh's
+ * boundary conforms to the rings the way it conforms to a coastline (the
+ * restricted edges and their alpha/beta bounds; ring vertices slide along
+ * the rings in the optimisation). The triangulation still covers the sphere:
+ * outside the domain a coarse cover, growing from the boundary's spacing at
+ * 1/4 km per km to 1000 km, which costs about the perimeter over the spacing
+ * in cells (10 to 15 % more than the domain holds at 30 km); the counts and
+ * copies of um_mesh_counts, um_mesh_copy_vertices, um_mesh_copy_triangles
+ * and the other um_mesh_copy_* of the triangulation include it.
+ * The MPAS mesh (um_mesh_write_mpas, um_mesh_mpas_dimensions,
+ * um_mesh_copy_mpas_*) holds the domain only: the cells inside the domain
+ * whose neighbours are all inside or on a ring (each cell then lies within
+ * the domain), cut as MPAS-Tools culls cells (0 for the missing neighbour in
+ * cellsOnCell, cellsOnEdge, cellsOnVertex; boundaryVertex 1), plus the
+ * limited-area layers bdyMaskCell (7 on cells with a missing neighbour, 6
+ * on their neighbours, ... down to 1, 0 inside: MPAS-Atmosphere's
+ * specified zone 6-7 and relaxation zone 1-5), bdyMaskEdge and
+ * bdyMaskVertex (the least of their cells'). It is made whole in memory
+ * (about 1.6 kB per cell of the triangulation while it is cut), not
+ * streamed. The quality report counts the domain's cells and the triangles
+ * and edges between them only. Not made for regional meshes yet
+ * (UM_ERR_USAGE): um_mesh_write_jigsaw and um_mesh_write_components. */
 
 /* -------------------------------------------------------------- MPAS output */
 

@@ -101,6 +101,7 @@ module unimesh_cint
   integer(c_int32_t), parameter :: UM_FEATURE_WATERSHED = 4
   integer(c_int32_t), parameter :: UM_FEATURE_OTHER = 5
   integer(c_int32_t), parameter :: UM_FEATURE_PASSAGE = 6
+  integer(c_int32_t), parameter :: UM_FEATURE_DOMAIN = 7
 
   ! --------------------------------------------------------------------- mesh
   integer(c_int32_t), parameter :: UM_SIDE_OCEAN = 0

@@ -95,7 +95,7 @@ UM_API um_status um_features_read_geojson(um_features *f, const char *path,
     if (default_kind != 0 && !um::features::is_kind(default_kind))
         fail(UM_ERR_INVALID_ARGUMENT, "default_kind = ", default_kind,
              " is neither 0 (unknown kinds are errors) nor a feature kind "
-             "(UM_FEATURE_COASTLINE = 1 to UM_FEATURE_PASSAGE = 6)");
+             "(UM_FEATURE_COASTLINE = 1 to UM_FEATURE_DOMAIN = 7)");
     if (kind_property && kind_property[0] == '\0')
         fail(UM_ERR_INVALID_ARGUMENT, "kind_property is empty (NULL means \"kind\")");
     um::io::GeojsonOptions options;

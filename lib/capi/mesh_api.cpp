@@ -25,9 +25,14 @@ um::Context *state_or_null(const um_mesh *m) {
 const um::quality::Report &quality_of(const um_mesh *m) {
     if (!m->quality) {
         const um::refine::SpacingRadians h = um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m);
-        um::quality::Report r = um::quality::measure(*m->context, m->mesh.tri, h, &m->mesh.on_segment);
-        r.ocean = um::quality::measure_ocean_edges(*m->context, m->mesh.tri, h, m->mesh.ocean_cells(),
-                                                   m->mesh.ocean_floor, m->mesh.coastline_contacts());
+        const std::vector<uint8_t> region = m->mesh.regional() ? m->mesh.region_cells() : std::vector<uint8_t>{};
+        const std::vector<uint8_t> *cells = m->mesh.regional() ? &region : nullptr;
+        um::quality::Report r = um::quality::measure(*m->context, m->mesh.tri, h, &m->mesh.on_segment, cells);
+        std::vector<uint8_t> ocean = m->mesh.ocean_cells();
+        if (cells)
+            for (size_t v = 0; v < ocean.size(); ++v) ocean[v] = region[v] ? ocean[v] : 0;
+        r.ocean = um::quality::measure_ocean_edges(*m->context, m->mesh.tri, h, ocean, m->mesh.ocean_floor,
+                                                   m->mesh.coastline_contacts());
         if (m->mesh.gamma)
             r.coastline = um::quality::measure_coastline_fidelity(m->mesh.tri, m->mesh.restricted, m->mesh.coastline_arcs(),
                                                                   h, m->mesh.boundary_beta);
@@ -95,11 +100,11 @@ UM_API um_status um_mesh_optimise(um_mesh *m, const um_options *options) {
     try {
         um::mesh::optimise_mesh(*m->context, m->mesh, opts, &before);
     } catch (...) {
-        if (m->mesh.vertex_count() == 0) m->quality.reset(), m->mpas.reset();
+        if (m->mesh.vertex_count() == 0) m->quality.reset(), m->release_staggered();
         throw;
     }
     m->quality.reset();
-    m->mpas.reset();
+    m->release_staggered();
     return UM_OK;
     UM_API_END(state_or_null(m))
 }

@@ -46,6 +46,14 @@ um::dual::MpasField field_of(const um::dual::MpasMesh &probe, const char *name, 
 template <class Put>
 void copy_variable(const um_mesh *m, const char *name, int32_t type, int64_t capacity, const void *out, Put put) {
     require_pointer(name, "name");
+    if (m->mesh.regional()) {  // held whole: one block
+        const um::dual::MpasMesh &whole = m->regional_staggered();
+        const um::dual::MpasField f = field_of(whole, name, type);
+        check_capacity(capacity, f.rows(whole) * f.columns(whole), name);
+        require_pointer(out, "out");
+        put(f, f.rows(whole) * f.columns(whole), 0);
+        return;
+    }
     const um::dual::MpasSource &source = m->staggered();
     um::dual::MpasMesh probe = source.probe(*m->context);
     const um::dual::MpasField f = field_of(probe, name, type);
@@ -71,7 +79,7 @@ UM_API um_status um_mesh_mpas_dimensions(const um_mesh *m, int64_t *n_cells, int
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
-    const um::dual::MpasMesh mpas = m->staggered().shape();
+    const um::dual::MpasMesh mpas = m->mesh.regional() ? m->regional_staggered() : m->staggered().shape();
     if (n_cells) *n_cells = mpas.n_cells;
     if (n_edges) *n_edges = mpas.n_edges;
     if (n_vertices) *n_vertices = mpas.n_vertices;
@@ -86,11 +94,12 @@ UM_API um_status um_mesh_mpas_variable(const um_mesh *m, const char *name, int32
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
     require_pointer(name, "name");
-    const um::dual::MpasMesh probe = m->staggered().probe(*m->context);
-    const um::dual::MpasField f = field_of(probe, name, 0);
+    const um::dual::MpasMesh probe = m->mesh.regional() ? um::dual::MpasMesh{} : m->staggered().probe(*m->context);
+    const um::dual::MpasMesh &fields = m->mesh.regional() ? m->regional_staggered() : probe;
+    const um::dual::MpasField f = field_of(fields, name, 0);
     if (type) *type = f.kind == um::dual::MpasKind::real ? UM_MPAS_REAL : UM_MPAS_INT;
-    if (n_rows) *n_rows = f.rows(probe);
-    if (n_columns) *n_columns = f.columns(probe);
+    if (n_rows) *n_rows = f.rows(fields);
+    if (n_columns) *n_columns = f.columns(fields);
     return UM_OK;
     UM_API_END(mesh_context(m))
 }
@@ -135,6 +144,9 @@ UM_API um_status um_mesh_write_jigsaw(const um_mesh *m, const char *path) {
     const MeshInUse in_use(m);
     require_pointer(path, "path");
     if (path[0] == '\0') fail(UM_ERR_INVALID_ARGUMENT, "path is empty");
+    if (m->mesh.regional())
+        fail(UM_ERR_USAGE, "the JIGSAW mesh of a regional mesh is not written yet (its triangulation covers "
+                                 "the sphere beyond the domain): write its MPAS mesh");
     um::io::write_jigsaw_mesh(m->mesh, path);
     return UM_OK;
     UM_API_END(mesh_context(m))
@@ -144,7 +156,7 @@ UM_API um_status um_mesh_release_mpas(um_mesh *m) {
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
-    m->mpas.reset();
+    m->release_staggered();
     return UM_OK;
     UM_API_END(mesh_context(m))
 }
@@ -160,6 +172,12 @@ UM_API um_status um_mesh_write_mpas_as(const um_mesh *m, const char *path, int32
              " is not UM_MPAS_FILE_AUTO (0) or UM_MPAS_FILE_NETCDF4 (1)");
     um::Context &ctx = *m->context;
     ctx.progress("MPAS mesh", 0.0);
+    um::io::MpasWriteOptions options;
+    if (format == UM_MPAS_FILE_NETCDF4) options.format = um::io::MpasFileFormat::netcdf4;
+    if (m->mesh.regional()) {  // cut from the whole sphere's staggered mesh, in memory
+        um::io::write_mpas_mesh(m->regional_staggered(), path, options);
+        return UM_OK;
+    }
     // Streamed: the file is written a block of rows at a time from the
     // numbering, so the staggered mesh is never held whole.
     // The copy-out's source when there is one, else one for this file
@@ -169,8 +187,6 @@ UM_API um_status um_mesh_write_mpas_as(const um_mesh *m, const char *path, int32
                      "the MPAS mesh file");
     std::unique_ptr<um::dual::MpasSource> own;
     if (!m->mpas) own = std::make_unique<um::dual::MpasSource>(ctx, m->mesh);
-    um::io::MpasWriteOptions options;
-    if (format == UM_MPAS_FILE_NETCDF4) options.format = um::io::MpasFileFormat::netcdf4;
     um::io::write_mpas_mesh(ctx, own ? *own : *m->mpas, path, options);
     return UM_OK;
     UM_API_END(mesh_context(m))

@@ -32,9 +32,9 @@ namespace {
 // The side tags: flag attributes as CF's flag_values / flag_meanings.
 constexpr int32_t kSideFlags[3] = {UM_SIDE_OCEAN, UM_SIDE_LAND, UM_SIDE_COASTAL};
 constexpr const char *kSideMeanings = "ocean land coastal";
-constexpr int32_t kFeatureFlags[6] = {0, UM_FEATURE_COASTLINE, UM_FEATURE_LAKE, UM_FEATURE_RIVER,
-                                      UM_FEATURE_WATERSHED, UM_FEATURE_OTHER};
-constexpr const char *kFeatureMeanings = "none coastline lake river watershed other";
+constexpr int32_t kFeatureFlags[7] = {0, UM_FEATURE_COASTLINE, UM_FEATURE_LAKE, UM_FEATURE_RIVER,
+                                      UM_FEATURE_WATERSHED, UM_FEATURE_OTHER, UM_FEATURE_DOMAIN};
+constexpr const char *kFeatureMeanings = "none coastline lake river watershed other domain";
 constexpr int32_t kRiverFlags[4] = {kNotRiver, kRouted, kOutlet, kInland};
 constexpr const char *kRiverMeanings = "none routed outlet inland";
 
@@ -122,6 +122,15 @@ std::vector<MpasField> mpas_fields(const MpasMesh &m) {
         field.flag_values = kSideFlags, field.n_flags = 3, field.flag_meanings = kSideMeanings;
         return field;
     };
+    if (!m.bdy_mask_cell.empty()) {
+        f.push_back(integer("bdyMaskCell", {D::nCells}, m.bdy_mask_cell, N,
+                            "limited-area boundary layer of the cell: 7 on the boundary, 6 next, ... 1, "
+                            "0 in the interior"));
+        f.push_back(integer("bdyMaskEdge", {D::nEdges}, m.bdy_mask_edge, N,
+                            "the least bdyMaskCell of the edge's cells"));
+        f.push_back(integer("bdyMaskVertex", {D::nVertices}, m.bdy_mask_vertex, N,
+                            "the least bdyMaskCell of the vertex's cells"));
+    }
     if (!m.cell_side.empty())
         f.push_back(side("cellSide", D::nCells, m.cell_side,
                          "side of the closed coastlines of the cell generator"));
@@ -139,7 +148,7 @@ std::vector<MpasField> mpas_fields(const MpasMesh &m) {
         MpasField kind = integer("edgeFeatureKind", {D::nEdges}, m.edge_feature_kind, N,
                                  "feature whose segment the edge's dual (the cell face) crosses: "
                                  "the edge is a restricted edge of that feature");
-        kind.flag_values = kFeatureFlags, kind.n_flags = 6, kind.flag_meanings = kFeatureMeanings;
+        kind.flag_values = kFeatureFlags, kind.n_flags = 7, kind.flag_meanings = kFeatureMeanings;
         f.push_back(kind);
         f.push_back(integer("edgeFeatureId", {D::nEdges}, m.edge_feature_id, N,
                             "id of the feature part the edge's dual crosses, -1 where none"));

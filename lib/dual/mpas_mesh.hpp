@@ -77,6 +77,10 @@ struct MpasMesh {
     std::vector<int32_t> cells_on_vertex, edges_on_vertex;
     std::vector<double> area_triangle, kite_areas_on_vertex;
     std::vector<int32_t> boundary_vertex;  // 1 where a cell of the vertex is missing (a cut mesh)
+    // A regional mesh's limited-area layers (empty otherwise): per cell 7 on
+    // the boundary (a neighbour missing), 6 beside those, ... 1, then 0;
+    // per edge and vertex the least of its cells' values.
+    std::vector<int32_t> bdy_mask_cell, bdy_mask_edge, bdy_mask_vertex;
 
     // Where each element came from: the mesh vertex (index into the vertex
     // numbering given) of each cell, the triangle of each MPAS vertex.

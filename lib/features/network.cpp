@@ -11,7 +11,7 @@ namespace um::features {
 
 namespace {
 
-constexpr const char *kKindNames[] = {"coastline", "lake", "river", "watershed", "other", "passage"};
+constexpr const char *kKindNames[] = {"coastline", "lake", "river", "watershed", "other", "passage", "domain"};
 
 bool equal_ascii_nocase(std::string_view a, std::string_view b) {
     if (a.size() != b.size()) return false;
@@ -103,7 +103,7 @@ public:
                      " is not 0 or 1");
             if (!is_kind(in_.kind[p]))
                 fail(UM_ERR_INVALID_ARGUMENT, "kind[", p, "] = ", in_.kind[p],
-                     " is not a feature kind (UM_FEATURE_COASTLINE = 1 to UM_FEATURE_PASSAGE = 6)");
+                     " is not a feature kind (UM_FEATURE_COASTLINE = 1 to UM_FEATURE_DOMAIN = 7)");
         }
     }
 
@@ -147,6 +147,10 @@ public:
                  point_allowed ? "a passage needs at least 1"
                  : in_.kind[p] == static_cast<int32_t>(Kind::passage) ? "a closed passage needs at least 2"
                                                                         : "a line needs at least 2");
+        if (in_.kind[p] == static_cast<int32_t>(Kind::domain) && (!closed || kept < 3))
+            fail(UM_ERR_INPUT, place(p, -1, -1), " is a domain ring but ",
+                 closed ? concat("has ", kept, " distinct points: a ring needs at least 3")
+                        : std::string("is open: a domain is bounded by closed rings"));
         for (int64_t k = 1; k < kept; ++k) {
             size_t a = start + k - 1, b = start + k;
             if (antipodal(out.lon[a], out.lat[a], out.points[a], out.lon[b], out.lat[b],
@@ -265,7 +269,7 @@ void append(std::vector<T> &to, const std::vector<T> &from) {
 }  // namespace
 
 bool is_kind(int32_t value) {
-    return value >= static_cast<int32_t>(Kind::coastline) && value <= static_cast<int32_t>(Kind::passage);
+    return value >= static_cast<int32_t>(Kind::coastline) && value <= static_cast<int32_t>(Kind::domain);
 }
 
 const char *kind_name(Kind kind) {
@@ -274,7 +278,7 @@ const char *kind_name(Kind kind) {
 }
 
 bool kind_from_name(std::string_view name, Kind &kind) {
-    for (int32_t k = 1; k <= static_cast<int32_t>(Kind::passage); ++k)
+    for (int32_t k = 1; k <= static_cast<int32_t>(Kind::domain); ++k)
         if (equal_ascii_nocase(name, kKindNames[k - 1])) {
             kind = static_cast<Kind>(k);
             return true;
@@ -329,28 +333,28 @@ double Network::segment_length(int64_t s) const {
     return geom::arc_length(segment_a(s), segment_b(s));
 }
 
-Network parts_of_kind(const Network &net, Kind kind, bool keep, std::vector<int64_t> *source_parts) {
-    std::vector<double> lon, lat;
-    std::vector<int64_t> offsets{0};
-    std::vector<int32_t> closed, kinds, ids;
-    if (source_parts) source_parts->clear();
-    for (int64_t index = 0; index < net.part_count(); ++index) {
-        const Part &p = net.part(index);
-        if ((p.kind == kind) != keep) continue;
-        if (source_parts) source_parts->push_back(index);
-        for (int64_t i = p.first_point; i < p.first_point + p.n_points; ++i)
-            lon.push_back(net.lon_deg(i)), lat.push_back(net.lat_deg(i));
-        offsets.push_back(static_cast<int64_t>(lon.size()));
-        closed.push_back(p.closed), kinds.push_back(static_cast<int32_t>(p.kind)), ids.push_back(p.id);
-    }
+Network PartsCopy::network() const {
     Network out;
     if (closed.empty()) return out;
     PartsInput in;
     in.n_points = static_cast<int64_t>(lon.size()), in.lon_deg = lon.data(), in.lat_deg = lat.data();
     in.n_parts = static_cast<int64_t>(closed.size()), in.part_offsets = offsets.data();
     in.closed = closed.data(), in.kind = kinds.data(), in.part_id = ids.data();
-    out.add(in);  // already checked and cleaned: the same parts again
+    out.add(in);  // checked and cleaned already: the same parts again
     return out;
+}
+
+Network parts_of_kind(const Network &net, Kind kind, bool keep, std::vector<int64_t> *source_parts) {
+    PartsCopy copy;
+    if (source_parts) source_parts->clear();
+    for (int64_t index = 0; index < net.part_count(); ++index) {
+        const Part &p = net.part(index);
+        if ((p.kind == kind) != keep) continue;
+        if (source_parts) source_parts->push_back(index);
+        for (int64_t i = p.first_point; i < p.first_point + p.n_points; ++i) copy.add_point(net.lon_deg(i), net.lat_deg(i));
+        copy.end_part(p);
+    }
+    return copy.network();
 }
 
 geom::ArcTree segment_arc_tree(const Network *net) {

@@ -38,10 +38,13 @@ using geom::Vec3;
 // The values of UM_FEATURE_* in unimesh.h.
 // A passage is not part of Gamma: a line (or a point: a part of one point)
 // across which the ocean mesh is kept open (split off before refinement).
-enum class Kind : int32_t { coastline = 1, lake = 2, river = 3, watershed = 4, other = 5, passage = 6 };
+// A domain ring is a closed ring bounding a regional mesh (features/domain.hpp):
+// part of Gamma (the mesh's boundary conforms to it), and nothing is kept
+// outside the region its rings enclose.
+enum class Kind : int32_t { coastline = 1, lake = 2, river = 3, watershed = 4, other = 5, passage = 6, domain = 7 };
 
 bool is_kind(int32_t value);
-// "coastline", "lake", "river", "watershed", "other", "passage".
+// "coastline", "lake", "river", "watershed", "other", "passage", "domain".
 const char *kind_name(Kind kind);
 // The kind of one of those names (ASCII case-insensitive); false if none.
 bool kind_from_name(std::string_view name, Kind &kind);
@@ -133,6 +136,21 @@ private:
     std::vector<double> part_length_;
     std::vector<int32_t> segment_part_;
     double total_length_ = 0;
+};
+
+// A network made from parts of others (checked and cleaned already): points
+// appended one at a time, each part ended with the kind, closure and id it
+// keeps.
+struct PartsCopy {
+    std::vector<double> lon, lat;
+    std::vector<int64_t> offsets{0};
+    std::vector<int32_t> closed, kinds, ids;
+    void add_point(double lon_deg, double lat_deg) { lon.push_back(lon_deg), lat.push_back(lat_deg); }
+    void end_part(const Part &like) {
+        offsets.push_back(static_cast<int64_t>(lon.size()));
+        closed.push_back(like.closed), kinds.push_back(static_cast<int32_t>(like.kind)), ids.push_back(like.id);
+    }
+    Network network() const;
 };
 
 // The parts of `net` of kind `kind` (keep) or every other part (!keep), as a

@@ -8,6 +8,7 @@
 #include "core/text.hpp"
 #include "dual/mpas_mesh.hpp"
 #include "dual/mpas_source.hpp"
+#include "hfun/region_cover.hpp"
 #include "refine/boundary.hpp"
 #include "refine/lattice.hpp"
 #include "refine/relax.hpp"
@@ -176,6 +177,18 @@ void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
     }
 }
 
+// A regional mesh needs a cell with its neighbours inside the domain.
+constexpr int64_t kMinRegionCells = 7;
+
+void require_region_cells(const RefinedMesh &m) {
+    const std::vector<uint8_t> kept = m.region_cells();
+    const int64_t cells = std::count(kept.begin(), kept.end(), uint8_t(1));
+    if (cells >= kMinRegionCells) return;
+    const double km = m.radius_m / 1000.0;
+    fail(UM_ERR_INPUT, "the domain (", m.domain->area() * km * km, " km^2) holds ", cells,
+         " cells at this spacing: it must be larger than the spacing (at least ", kMinRegionCells, " cells)");
+}
+
 // The triangulation the refinement starts from: the icosahedron, with the
 // geodesic lattice of the spacing where the spacing is flat
 // (refine::background_lattice) unless the options say no. A spacing as
@@ -183,9 +196,10 @@ void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
 // world's coastlines) leaves the lattice too few points away from them to
 // surround the centre: then the icosahedron, which always does.
 tri::Triangulation starting_triangulation(Context &ctx, const refine::SpacingRadians &hr,
-                                          const geom::ArcTree &arcs, bool lattice_allowed) {
+                                          const geom::ArcTree &arcs, bool lattice_allowed,
+                                          const features::Domain *domain) {
     if (!lattice_allowed) return refine::icosahedron(ctx);
-    const std::vector<geom::Vec3> points = refine::background_lattice(ctx, hr, arcs);
+    const std::vector<geom::Vec3> points = refine::background_lattice(ctx, hr, arcs, domain);
     tri::Triangulation tri;
     try {
         tri.build(ctx, static_cast<int64_t>(points.size()), [&](int64_t i) { return points[i]; }, nullptr);
@@ -244,18 +258,27 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
                         std::shared_ptr<const features::Network> gamma, const Options &options) {
     const double radius_m = options.real(UM_OPT_SPHERE_RADIUS);
     h = mesh_spacing(ctx, std::move(h), options.real(UM_OPT_SPACING_GRADIENT), radius_m);
+    RefinedMesh m;
+    m.radius_m = radius_m;
+    split_passages(m, std::move(gamma));
+    if (m.gamma && std::any_of(m.gamma->parts().begin(), m.gamma->parts().end(),
+                               [](const features::Part &p) { return p.kind == features::Kind::domain; })) {
+        m.gamma = std::make_shared<const features::Network>(features::with_domain_rings_traced(*m.gamma));
+        auto domain = std::make_shared<const features::Domain>(*m.gamma);
+        if (!domain->empty()) {
+            m.domain = domain;
+            h = hfun::make_region_cover(std::move(h), std::move(domain), radius_m / 1000.0);
+        }
+    }
     if (ctx.memory_cap() > 0) {
         // Refused up front, before any work, when the cap cannot hold it.
         const int64_t cells = estimated_cells(ctx, *h);
         ctx.check_memory(cells * kRefineBytesPerCell, concat("a mesh of about ", cells, " cells").c_str());
     }
-    RefinedMesh m;
-    m.radius_m = radius_m;
-    split_passages(m, std::move(gamma));
     m.spacing = std::move(h);
     const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
     const geom::ArcTree arcs = features::segment_arc_tree(m.gamma.get());
-    m.tri = starting_triangulation(ctx, hr, arcs, options.integer(UM_OPT_REFINE_LATTICE) != 0);
+    m.tri = starting_triangulation(ctx, hr, arcs, options.integer(UM_OPT_REFINE_LATTICE) != 0, m.domain.get());
     int32_t next_id = m.tri.vertex_slots();
     refine::BoundaryOptions bo;
     bo.alpha = options.real(UM_OPT_REFINE_ALPHA);
@@ -307,6 +330,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     ctx.progress("refine tags", 0.0);  // (not from the optimisation's finish: its stage is "optimise")
     finish(ctx, m, arcs);
     m.filtered = refine::count_bad(m.tri, m.restricted, hr, bo);
+    if (m.domain) require_region_cells(m);
     return m;
 }
 
@@ -371,7 +395,10 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     ctx.check_memory(m.vertex_count() * (m.gamma ? kOptimiseBytesPerCell : kOptimiseUniformBytesPerCell),
                      concat("optimising a mesh of ", m.vertex_count(), " cells").c_str());
     const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
-    const quality::Report before = refined_quality ? *refined_quality : quality::measure(ctx, m.tri, hr, &m.on_segment);
+    const std::vector<uint8_t> region = m.regional() && !refined_quality ? m.region_cells() : std::vector<uint8_t>{};
+    const quality::Report before = refined_quality ? *refined_quality
+                                                   : quality::measure(ctx, m.tri, hr, &m.on_segment,
+                                                                      region.empty() ? nullptr : &region);
     optim::OptimiseOptions o;
     o.outer_iterations = static_cast<int>(options.integer(UM_OPT_OPTIM_OUTER_ITERATIONS));
     o.inner_iterations = static_cast<int>(options.integer(UM_OPT_OPTIM_INNER_ITERATIONS));
@@ -402,6 +429,34 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
         put_back(m, std::move(undo));
         throw;
     }
+}
+
+std::vector<uint8_t> RefinedMesh::region_cells() const {
+    const int32_t n = tri.vertex_slots();
+    std::vector<uint8_t> kept(static_cast<size_t>(n), 0);
+    if (!domain) {
+        for (int32_t v = 0; v < n; ++v) kept[v] = tri.in_triangulation(v);
+        return kept;
+    }
+    // 1 inside, 2 on a ring, 0 outside (or no vertex).
+    enum : uint8_t { kOutside = 0, kInside = 1, kOnRing = 2 };
+    std::vector<uint8_t> where(static_cast<size_t>(n), kOutside);
+    for (int32_t v = 0; v < n; ++v) {
+        if (!tri.in_triangulation(v)) continue;
+        const int32_t s = static_cast<size_t>(v) < on_segment.size() ? on_segment[v] : -1;
+        where[v] = domain->is_ring_segment(s) ? kOnRing : domain->contains(tri.direction(v)) ? kInside : kOutside;
+    }
+    // A cell beside one outside reaches beyond the ring (where the ring's
+    // vertices leave a gap): the cells kept are bounded by inside and ring
+    // vertices only, so that each lies within the domain.
+    for (int32_t v = 0; v < n; ++v) {
+        if (where[v] != kInside) continue;
+        bool enclosed = true;
+        for (int32_t t : tri.star(v))
+            for (int k = 0; k < 3; ++k) enclosed = enclosed && where[tri.vertex(t, k)] != kOutside;
+        kept[v] = enclosed;
+    }
+    return kept;
 }
 
 std::vector<uint8_t> RefinedMesh::ocean_cells() const {

@@ -10,6 +10,7 @@
 
 #include "core/context.hpp"
 #include "core/options.hpp"
+#include "features/domain.hpp"
 #include "features/network.hpp"
 #include "hfun/spacing.hpp"
 #include "optim/optimise.hpp"
@@ -28,6 +29,10 @@ struct RefinedMesh {
     // The caller's passages (UM_FEATURE_PASSAGE parts, split off Gamma): where
     // the ocean mesh is kept open. May be null.
     std::shared_ptr<const features::Network> passages;
+    // The region of a regional mesh (the domain rings of gamma); null for a
+    // mesh of the whole sphere. The triangulation still covers the sphere
+    // (hfun/region_cover.hpp); region_cells() says which cells are the mesh's.
+    std::shared_ptr<const features::Domain> domain;
     // Per part of gamma, its index among the caller's features (empty: the
     // same index, when no passage was split off).
     std::vector<int64_t> features_part;
@@ -54,6 +59,11 @@ struct RefinedMesh {
     optim::OptimiseStats optimisation;
 
     int64_t vertex_count() const { return static_cast<int64_t>(slot_of_vertex.size()); }
+    bool regional() const { return domain != nullptr; }
+    // Per vertex slot, 1 when its cell is in the mesh: every vertex of a
+    // global mesh; in a regional one those inside the domain but not on its
+    // rings (their cells straddle the boundary).
+    std::vector<uint8_t> region_cells() const;
     // The index among the caller's features of the part of Gamma segment s.
     int64_t features_part_of_segment(int64_t s) const {
         const int64_t p = gamma->segment_part(s);

@@ -352,7 +352,7 @@ constexpr std::array<Metric, 9> kEdgeSlots = {
 }  // namespace
 
 Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
-               const std::vector<int32_t> *on_segment) {
+               const std::vector<int32_t> *on_segment, const std::vector<uint8_t> *cells) {
     Report r;
     Summary *const summary[kMetrics] = {&r.area_length,      &r.primal_dual,        &r.angle_min,
                                         &r.angle_max,        &r.spacing_ratio,      &r.dual_edge_offset,
@@ -364,12 +364,18 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
         }
         return false;
     };
+    auto kept = [&](int32_t v) { return !cells || (*cells)[v] != 0; };
+    auto kept_triangle = [&](int32_t t) {
+        return !tri.is_free(t) && kept(tri.vertex(t, 0)) && kept(tri.vertex(t, 1)) && kept(tri.vertex(t, 2));
+    };
     // Every edge once, from its triangle of the smaller number.
-    auto counted = [&](int32_t t, int k) { return tri.neighbour(t, k) > t; };
+    auto counted = [&](int32_t t, int k) {
+        return tri.neighbour(t, k) > t && kept(tri.vertex(t, (k + 1) % 3)) && kept(tri.vertex(t, (k + 2) % 3));
+    };
     const int32_t n = tri.triangle_slots();
     auto triangle_values = [&](int64_t i, Counts &c, auto &&emit) {
         const int32_t t = static_cast<int32_t>(i);
-        if (tri.is_free(t)) return;
+        if (!kept_triangle(t)) return;
         const TriangleQuality q = triangle_quality(tri, t);
         emit(kAreaLength, q.area_length), emit(kPrimalDual, q.primal_dual);
         emit(kAngleMin, q.angle_min), emit(kAngleMax, q.angle_max);
@@ -398,7 +404,8 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
     };
     summarise(ctx, n, kEdgeSlots, edge_values, summary);
     auto cell_values = [&](int64_t v, Counts &, auto &&emit) {
-        if (tri.in_triangulation(static_cast<int32_t>(v))) emit(0, centroid_offset(tri, static_cast<int32_t>(v)));
+        if (tri.in_triangulation(static_cast<int32_t>(v)) && kept(static_cast<int32_t>(v)))
+            emit(0, centroid_offset(tri, static_cast<int32_t>(v)));
     };
     summarise(ctx, tri.vertex_slots(), std::array<Metric, 1>{kCentroidOffset}, cell_values, summary);
     return r;

@@ -115,9 +115,11 @@ Report::CoastlineFidelity measure_coastline_fidelity(const tri::Triangulation &t
 // Every metric over the live triangles, edges and cells (in parallel; the
 // same result for any thread count). h may be empty: then h_r and dcEdge / h
 // are not computed. on_segment: per vertex slot its segment of Gamma or -1
-// (null: no vertex on Gamma).
+// (null: no vertex on Gamma). cells (per vertex slot, null: all) restricts
+// the report to a regional mesh's cells: the triangles and edges all of
+// whose vertices are among them.
 Report measure(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
-               const std::vector<int32_t> *on_segment = nullptr);
+               const std::vector<int32_t> *on_segment = nullptr, const std::vector<uint8_t> *cells = nullptr);
 
 // The report as JSON text (for quality.json): an object whose lines after
 // the first start with `indent` (to nest it in another report), with

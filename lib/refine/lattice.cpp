@@ -25,8 +25,15 @@ constexpr int kProbes = 6;                // around each lattice point, at dista
 constexpr double kGammaClearance = 1.0;   // in units of h0
 constexpr const char *kStage = "refine lattice";  // progress (the spacing may be a slow callback)
 
-double coarsest_spacing(Context &ctx, const SpacingRadians &h) {
-    const std::vector<Vec3> samples = geodesic_lattice(kSampleFrequency);
+// Over the sphere, or over the samples inside the domain (at least the cap's
+// centre, for a domain between the samples).
+double coarsest_spacing(Context &ctx, const SpacingRadians &h, const features::Domain *domain) {
+    std::vector<Vec3> samples = geodesic_lattice(kSampleFrequency);
+    if (domain) {
+        samples.erase(std::remove_if(samples.begin(), samples.end(), [&](const Vec3 &p) { return !domain->contains(p); }),
+                      samples.end());
+        samples.push_back(domain->cap_centre());
+    }
     std::vector<double> value(samples.size());
     ctx.parallel_for_with_heartbeat(kStage, static_cast<int64_t>(samples.size()), 16, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) value[i] = h(samples[i]);
@@ -50,19 +57,26 @@ bool flat_around(const SpacingRadians &h, const Vec3 &p, double h0) {
 
 }  // namespace
 
-std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, const geom::ArcTree &gamma) {
-    const double h0 = coarsest_spacing(ctx, h);
+std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, const geom::ArcTree &gamma,
+                                     const features::Domain *domain) {
+    const double h0 = coarsest_spacing(ctx, h, domain);
     // No larger lattice than one triangulation build takes (above that, 1.48
     // km uniform and finer, the refinement starts from the icosahedron).
-    const int64_t n = lattice_frequency(h0, int64_t{1} << tri::kBrioIndexBits);
+    int64_t n = lattice_frequency(h0, int64_t{1} << tri::kBrioIndexBits);
+    if (domain) {
+        const double needed = domain->area() / (0.8660254037844386 * h0 * h0);
+        if (10.0 * n * n > std::max(kRegionalLatticeRatio * needed, double(kRegionalLatticeFloor))) n = 0;
+    }
     std::vector<Vec3> points = relaxed_geodesic_lattice(ctx, std::max<int64_t>(n, 1));
     std::vector<uint8_t> keep(points.size(), 0);
     ctx.parallel_for_with_heartbeat(kStage, static_cast<int64_t>(points.size()), 16, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
+            if (domain && i >= 12 && !domain->contains(points[i])) continue;  // not kept: the cover's
             double d = 1e300;
             if (gamma.size() > 0) gamma.nearest(points[i], &d);
             const bool near_gamma = d < kGammaClearance * h0;
-            const bool flat = n > 0 && !(i >= 12 && near_gamma) && flat_around(h, points[i], h0);
+            const bool flat = n > 0 && !(i >= 12 && near_gamma) && (!domain || domain->contains(points[i])) &&
+                              flat_around(h, points[i], h0);
             // A corner stays where the lattice does not reach (the
             // icosahedron's start there), unless the lattice has a band
             // along Gamma there.

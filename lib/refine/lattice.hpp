@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/context.hpp"
+#include "features/domain.hpp"
 #include "geom/arc_tree.hpp"
 #include "geom/sphere.hpp"
 #include "refine/geodesic_lattice.hpp"
@@ -26,6 +27,15 @@ int64_t lattice_frequency(double spacing, int64_t max_points);
 // refined regions), the rest being the frontal refinement's. Only the
 // corners when no lattice point qualifies or the lattice would exceed 2^31
 // points.
-std::vector<geom::Vec3> background_lattice(Context &ctx, const SpacingRadians &h, const geom::ArcTree &gamma);
+//
+// With a domain (a regional mesh): h0 is the coarsest spacing inside it,
+// and only lattice points inside it are kept (and the corners outside, for
+// the cover); no lattice when the whole sphere's would hold more than
+// kRegionalLatticeRatio times the points the domain needs and over
+// kRegionalLatticeFloor points (a small fine domain: it is generated whole).
+constexpr double kRegionalLatticeRatio = 20;
+constexpr int64_t kRegionalLatticeFloor = int64_t(1) << 21;
+std::vector<geom::Vec3> background_lattice(Context &ctx, const SpacingRadians &h, const geom::ArcTree &gamma,
+                                           const features::Domain *domain = nullptr);
 
 }  // namespace um::refine

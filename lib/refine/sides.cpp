@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "features/domain.hpp"
+
 namespace um::refine {
 
 using geom::Vec3;
@@ -26,33 +28,8 @@ int crossings(const geom::ArcTree &coast, const Vec3 &a, const Vec3 &b) {
 
 bool is_land(const features::Network &net, const Vec3 &x) {
     bool land = false;
-    for (int64_t p = 0; p < net.part_count(); ++p) {
-        const features::Part &part = net.part(p);
-        if (!is_closed_coastline(part)) continue;
-        const int64_t s0 = part.first_segment, s1 = s0 + part.n_segments;
-        // The fan of signed triangles from any apex sums, modulo 4 pi, to the
-        // area of the region on the ring's left: in (0, 2 pi) the left region
-        // is the smaller one.
-        double sum = 0;
-        const Vec3 apex = net.segment_a(s0);
-        for (int64_t s = s0; s < s1; ++s)
-            sum += geom::signed_triangle_area(apex, net.segment_a(s), net.segment_b(s));
-        const bool left_is_smaller = sum > 0 && sum < 2 * M_PI;
-        // x is on the left when the arc from x to a point just left of the
-        // first segment crosses the ring an even number of times.
-        const Vec3 a = net.segment_a(s0), b = net.segment_b(s0);
-        const Vec3 mid = geom::normalized(a + b);
-        const Vec3 left = geom::normalized(geom::cross(a, b));  // the pole of a -> b: its left
-        const double offset = 1e-3 * geom::arc_length(a, b);
-        const Vec3 r = geom::normalized(std::cos(offset) * mid + std::sin(offset) * left);
-        int n = 0;
-        for (int64_t s = s0; s < s1; ++s) {
-            Vec3 c;
-            if (geom::arc_intersection(x, r, net.segment_a(s), net.segment_b(s), c, 0.0)) ++n;
-        }
-        const bool x_left = n % 2 == 0;
-        if (x_left == left_is_smaller) land = !land;
-    }
+    for (int64_t p = 0; p < net.part_count(); ++p)
+        if (is_closed_coastline(net.part(p)) && features::ring_encloses(net, p, x)) land = !land;
     return land;
 }
 

@@ -124,9 +124,9 @@ static void bad_input_is_rejected_and_changes_nothing(void **state) {
     RESET(), lon[1] = 180, lat[1] = 0; /* antipodal to point 0 */
     assert_int_equal(ADD(), UM_ERR_DEGENERATE_INPUT);
     expect_message(ctx, "lon_deg/lat_deg[1] (part 0 (part_id 101), its point 1) = (180, 0) is antipodal");
-    RESET(), kind[1] = 7;
+    RESET(), kind[1] = 8;
     assert_int_equal(ADD(), UM_ERR_INVALID_ARGUMENT);
-    expect_message(ctx, "kind[1] = 7 is not a feature kind");
+    expect_message(ctx, "kind[1] = 8 is not a feature kind");
     RESET(), kind[0] = 0;
     assert_int_equal(ADD(), UM_ERR_INVALID_ARGUMENT);
     expect_message(ctx, "kind[0] = 0");
@@ -280,8 +280,8 @@ static void read_geojson_errors(void **state) {
     assert_int_equal(um_features_read_geojson(f, TEST_DATA("unknown_kind.geojson"), NULL, UM_FEATURE_OTHER), UM_OK);
     assert_int_equal(um_features_read_geojson(f, NULL, NULL, 0), UM_ERR_NULL_ARGUMENT);
     expect_message(ctx, "path is NULL");
-    assert_int_equal(um_features_read_geojson(f, TEST_DATA("feature.geojson"), NULL, 7), UM_ERR_INVALID_ARGUMENT);
-    expect_message(ctx, "default_kind = 7");
+    assert_int_equal(um_features_read_geojson(f, TEST_DATA("feature.geojson"), NULL, 8), UM_ERR_INVALID_ARGUMENT);
+    expect_message(ctx, "default_kind = 8");
     assert_int_equal(um_features_read_geojson(f, TEST_DATA("feature.geojson"), NULL, -1), UM_ERR_INVALID_ARGUMENT);
     expect_message(ctx, "default_kind = -1");
     assert_int_equal(um_features_read_geojson(f, TEST_DATA("feature.geojson"), "", 0), UM_ERR_INVALID_ARGUMENT);

@@ -227,8 +227,8 @@ void bad_values_are_rejected_with_their_place(void **) {
     // Unknown kinds and closed flags.
     assert_int_equal(add(net, {line({0, 0, 1, 1}, 0, 0)}, &m), UM_ERR_INVALID_ARGUMENT);
     assert_true(contains(m, "kind[0] = 0"));
-    assert_int_equal(add(net, {line({0, 0, 1, 1}), line({0, 0, 1, 1}, 0, 7)}, &m), UM_ERR_INVALID_ARGUMENT);
-    assert_true(contains(m, "kind[1] = 7"));
+    assert_int_equal(add(net, {line({0, 0, 1, 1}), line({0, 0, 1, 1}, 0, 8)}, &m), UM_ERR_INVALID_ARGUMENT);
+    assert_true(contains(m, "kind[1] = 8"));
     assert_int_equal(add(net, {line({0, 0, 1, 1}, 2)}, &m), UM_ERR_INVALID_ARGUMENT);
     assert_true(contains(m, "closed[0] = 2"));
     assert_int_equal(net.part_count(), 0);
@@ -329,8 +329,9 @@ void kind_names(void **) {
     assert_string_equal(features::kind_name(Kind::river), "river");
     assert_true(features::is_kind(UM_FEATURE_COASTLINE) && features::is_kind(UM_FEATURE_OTHER));
     assert_true(features::kind_from_name("Passage", k) && k == Kind::passage);
-    assert_true(features::is_kind(UM_FEATURE_PASSAGE));
-    assert_false(features::is_kind(0) || features::is_kind(7));
+    assert_true(features::is_kind(UM_FEATURE_PASSAGE) && features::is_kind(UM_FEATURE_DOMAIN));
+    assert_true(features::kind_from_name("domain", k) && k == Kind::domain);
+    assert_false(features::is_kind(0) || features::is_kind(8));
 }
 
 // --------------------------------------------------------------- GeoJSON

@@ -89,19 +89,21 @@ int32_t kind_code(const std::string &name) {
     throw Failure{"--kind " + name + ": not coastline, lake, river, watershed, other or passage"};
 }
 
-// The features of a --passages file: passages, whatever else the file holds
-// is refused (a coastline there would silently become part of the mesh).
-void add_passages(um_context *ctx, um_features *f, const std::string &path) {
+// The features of a --passages or --domain file (flag): all of one kind,
+// whatever else the file holds is refused (a coastline there would silently
+// become part of the mesh).
+void add_parts_of_kind(um_context *ctx, um_features *f, const std::string &flag, const std::string &path,
+                       int32_t kind_code, const char *kind_name) {
     int64_t before = 0, after = 0;
     um_features_counts(f, &before, nullptr, nullptr);
-    check(um_features_read_geojson(f, path.c_str(), nullptr, UM_FEATURE_PASSAGE), ctx, "--passages " + path);
+    check(um_features_read_geojson(f, path.c_str(), nullptr, kind_code), ctx, flag + " " + path);
     um_features_counts(f, &after, nullptr, nullptr);
     std::vector<int32_t> kind(static_cast<size_t>(after)), id(static_cast<size_t>(after));
-    check(um_features_copy_parts(f, nullptr, nullptr, kind.data(), id.data(), after), ctx, "--passages " + path);
+    check(um_features_copy_parts(f, nullptr, nullptr, kind.data(), id.data(), after), ctx, flag + " " + path);
     for (int64_t p = before; p < after; ++p)
-        if (kind[p] != UM_FEATURE_PASSAGE)
-            throw Failure{"--passages " + path + ": the feature of id " + std::to_string(id[p]) +
-                          " has a kind other than \"passage\"; give it with --geometry"};
+        if (kind[p] != kind_code)
+            throw Failure{flag + " " + path + ": the feature of id " + std::to_string(id[p]) + " has a kind other than \"" +
+                          kind_name + "\"; give it with --geometry"};
 }
 
 um_spacing *make_spacing(um_context *ctx, const BuildArgs &a) {
@@ -298,6 +300,7 @@ std::optional<Plot> start_map(const BuildArgs &a, const std::string &mesh_nc, co
     }
     std::vector<std::string> arguments{mesh_nc, png};
     arguments.insert(arguments.end(), a.geometry.begin(), a.geometry.end());
+    arguments.insert(arguments.end(), a.domain.begin(), a.domain.end());
     return start_plot("plot_mesh.py", arguments, shown);
 }
 
@@ -315,6 +318,10 @@ int run_build(const BuildArgs &a) {
         if (a.components && a.mpas_format != "auto")
             throw Failure{"--mpas-format " + a.mpas_format +
                           " with --components: the component files are written in the automatic format only"};
+        if (!a.domain.empty() && (a.components || a.jigsaw))
+            throw Failure{std::string("--domain with ") + (a.components ? "--components" : "--jigsaw") +
+                          ": not made for regional meshes yet (mesh.nc, graph.info, quality.json, the pictures "
+                          "and --vtu are)"};
         if (!a.spacing_file.empty()) {  // before any thread of ours exists: the probe forks
             const std::string refused = crash_reading_spacing_file(a.spacing_file, memory_cap_bytes(a.memory_cap),
                                                                    trial_read_seconds(a.spacing_file));
@@ -330,12 +337,13 @@ int run_build(const BuildArgs &a) {
         if (a.spacing_gradient_given)  // the library names a value out of range (or NaN)
             check(um_options_set_double(opts, UM_OPT_SPACING_GRADIENT, a.spacing_gradient), ctx, "--spacing-gradient");
         h = make_spacing(ctx, a);
-        if (!a.geometry.empty() || !a.passages.empty()) {
+        if (!a.geometry.empty() || !a.passages.empty() || !a.domain.empty()) {
             check(um_features_create(ctx, &f), ctx, "features");
             for (const auto &g : a.geometry)
                 check(um_features_read_geojson(f, g.c_str(), nullptr, kind_code(a.default_kind)), ctx,
                       "--geometry " + g);
-            for (const auto &p : a.passages) add_passages(ctx, f, p);
+            for (const auto &p : a.passages) add_parts_of_kind(ctx, f, "--passages", p, UM_FEATURE_PASSAGE, "passage");
+            for (const auto &d : a.domain) add_parts_of_kind(ctx, f, "--domain", d, UM_FEATURE_DOMAIN, "domain");
         }
         std::unique_ptr<OutputSet> out;
         try {
@@ -415,9 +423,16 @@ int run_build(const BuildArgs &a) {
 
         int64_t nv = 0, nt = 0, nr = 0, nf = 0;
         um_mesh_counts(m, &nv, &nt, &nr, &nf);
-        std::printf("mesh: %lld cells, %lld triangles, %lld restricted edges (%lld left coarser "
+        std::string region;
+        if (!a.domain.empty()) {  // mesh.nc's cells; the counts are the whole triangulation's
+            int64_t cells = 0;
+            check(um_mesh_mpas_dimensions(m, &cells, nullptr, nullptr, nullptr), ctx, "the regional mesh");
+            region = " (" + std::to_string(nv) + " with the cover outside the domain)";
+            nv = cells;
+        }
+        std::printf("mesh: %lld cells%s, %lld triangles, %lld restricted edges (%lld left coarser "
                     "than the features); refined in %.2f s, optimised in %.2f s\n",
-                    (long long)nv, (long long)nt, (long long)nr, (long long)nf, refine_s,
+                    (long long)nv, region.c_str(), (long long)nt, (long long)nr, (long long)nf, refine_s,
                     a.no_optimise ? 0.0 : optimise_s);
         print_quality(a.no_optimise ? "refined" : "optimised", ctx, m);
         std::string times;

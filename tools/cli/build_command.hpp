@@ -9,6 +9,8 @@
 struct BuildArgs {
     std::vector<std::string> geometry;  // GeoJSON files
     std::vector<std::string> passages;  // GeoJSON files of passages (UM_FEATURE_PASSAGE)
+    // GeoJSON files of the rings of a regional mesh's domain (UM_FEATURE_DOMAIN).
+    std::vector<std::string> domain;
     // The kind of a GeoJSON feature without a "kind" property (coastline,
     // lake, river, watershed or other); "" = such a feature is an error.
     std::string default_kind;

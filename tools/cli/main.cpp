@@ -55,6 +55,10 @@ int main(int argc, char **argv) {
                       "GeoJSON lines or points across which the ocean mesh is kept open (critical "
                       "passages; a feature's kind must be \"passage\" or absent); repeatable")
         ->check(CLI::ExistingFile);
+    build->add_option("--domain", b.domain,
+                      "GeoJSON polygons bounding a regional mesh: only the cells inside them are written "
+                      "(a feature's kind must be \"domain\" or absent); repeatable")
+        ->check(CLI::ExistingFile);
     build->add_option("--kind,--default-kind", b.default_kind,
                       "kind of a GeoJSON feature without a \"kind\" property: coastline, lake, river, "
                       "watershed, other or passage (default: such a feature is an error)");

@@ -116,6 +116,7 @@ class FeatureKind(enum.IntEnum):
     WATERSHED = 4
     OTHER = 5
     PASSAGE = 6  # not Gamma: a line or point where the ocean mesh is kept open
+    DOMAIN = 7  # a closed ring bounding a regional mesh
 
 
 class Side(enum.IntEnum):

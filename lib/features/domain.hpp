@@ -1,0 +1,93 @@
+// The region of a regional mesh: the closed Kind::domain rings of Gamma. A
+// point is inside when an odd number of rings enclose it, a ring enclosing
+// the smaller of the two regions it bounds (the rule the land/ocean sides use
+// for coastlines, refine/sides.hpp): a ring inside another is a hole, and a
+// ring may cross the antimeridian or hold a pole. Rings must not cross
+// themselves or each other.
+//
+// Inside tests are local: the side of the nearest ring segment, which the
+// region holds on one side all along a ring (found once per ring by the
+// parity rule), so a test costs one nearest-arc query.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <memory>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "features/network.hpp"
+#include "geom/arc_tree.hpp"
+
+namespace um::features {
+
+// Domain rings are drawn as GeoJSON draws lines: straight in longitude and
+// latitude (the shorter way round in longitude), so that a box of
+// longitudes and latitudes is that box. net with each domain ring's
+// segments longer than kDomainStepDeg (in either coordinate) divided along
+// those lines; the other parts as they are (the same part indices).
+constexpr double kDomainStepDeg = 0.25;
+Network with_domain_rings_traced(const Network &net);
+
+// Whether closed part p of net encloses x: x lies in the smaller of the two
+// regions the ring bounds. O(segments of p).
+bool ring_encloses(const Network &net, int64_t p, const Vec3 &x);
+
+class Domain {
+public:
+    // The domain of net's Kind::domain parts (none: empty(), the whole
+    // sphere). Throws UM_ERR_INPUT naming the parts and segments where two
+    // segments of the rings cross (touching at a shared point included),
+    // other than consecutive segments of one ring at their shared point.
+    explicit Domain(const Network &net);
+
+    bool empty() const { return arcs_.size() == 0; }
+    // Whether unit point x is inside (always, when empty). A point on a ring
+    // may be either.
+    bool contains(const Vec3 &x) const;
+    // Arc distance (radians) from unit point x to the nearest ring.
+    double distance(const Vec3 &x) const;
+    // Both with one search for the nearest ring segment.
+    bool locate(const Vec3 &x, double *distance) const;
+    // Whether x lies in a cell of longitude and latitude (kMemoDeg square)
+    // that is wholly inside, farther from the rings than its size: most of
+    // a domain's points, answered without a search (the answer for each
+    // cell is found on first use and kept; a pure function of the cell, so
+    // the same on every thread). False means "search".
+    bool deep_inside(const Vec3 &x) const;
+    // The centre of a cap holding every ring.
+    const Vec3 &cap_centre() const { return cap_centre_; }
+    // A lower bound of distance(x) from the cap around the rings (no
+    // search): 0 when the rings do not fit in a cap smaller than a hemisphere.
+    double distance_at_least(const Vec3 &x) const {
+        return cap_radius_ < M_PI / 2 ? std::max(0.0, geom::arc_length(x, cap_centre_) - cap_radius_) : 0.0;
+    }
+    // The domain's area (steradians, the unit sphere's 4 pi when empty).
+    double area() const { return area_; }
+    // Whether segment s of net is of a domain ring.
+    bool is_ring_segment(int64_t s) const {
+        return s >= 0 && static_cast<size_t>(s) < ring_segment_.size() && ring_segment_[s];
+    }
+
+private:
+    // Whether x is on the left of ring arc i (seen from outside the sphere),
+    // judged at the point of the arc nearest to x: an end shared with the
+    // next or previous arc is judged by both, as the corner turns.
+    bool left_of(int32_t i, const Vec3 &x) const;
+
+    geom::ArcTree arcs_;                 // the domain segments, in network order
+    std::vector<int32_t> ring_of_arc_;   // per arc: its ring (index among the domain rings)
+    std::vector<int32_t> next_, prev_;   // per arc: the arcs after and before it on its ring
+    std::vector<uint8_t> inside_on_left_;  // per ring: the domain lies on its left
+    std::vector<uint8_t> ring_segment_;    // per network segment
+    double area_ = 4 * M_PI;
+    static constexpr double kMemoDeg = 0.25;
+    static constexpr int kMemoLon = 1440, kMemoLat = 720;
+    mutable std::unique_ptr<std::atomic<uint8_t>[]> memo_;  // per cell: 0 not known, 1 deep inside, 2 not
+    // A cap holding every ring (and so the domain, when it is smaller than a hemisphere).
+    Vec3 cap_centre_{0, 0, 1};
+    double cap_radius_ = M_PI;
+};
+
+}  // namespace um::features

@@ -1,0 +1,255 @@
+// Engine tests: regional meshes (issue "Regional meshes and the WGS84
+// ellipsoid", item 1): the domain rule (features/domain.hpp), the spacing of
+// the cover outside it (hfun/region_cover.hpp), and the MPAS mesh of a
+// regional mesh with its boundary layers (components/regional.hpp).
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstddef>
+#include <csetjmp>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "components/regional.hpp"
+#include "core/error.hpp"
+#include "core/options.hpp"
+#include "features/domain.hpp"
+#include "hfun/region_cover.hpp"
+#include "mesh/refined_mesh.hpp"
+#include "quality/metrics.hpp"
+
+// cmocka last: it defines a fail() macro.
+extern "C" {
+#include <cmocka.h>
+}
+
+using namespace um;
+using features::Kind;
+using features::Network;
+using geom::Vec3;
+
+namespace {
+
+struct Ring {
+    std::vector<double> lon, lat;
+    int32_t closed = 1;
+    Kind kind = Kind::domain;
+};
+
+// The rings through Network::add; UM_OK or the status it threw.
+um_status add(Network &net, const std::vector<Ring> &rings, std::string *message = nullptr) {
+    std::vector<double> lon, lat;
+    std::vector<int64_t> offsets{0};
+    std::vector<int32_t> closed, kind;
+    for (const Ring &r : rings) {
+        lon.insert(lon.end(), r.lon.begin(), r.lon.end());
+        lat.insert(lat.end(), r.lat.begin(), r.lat.end());
+        offsets.push_back(static_cast<int64_t>(lon.size()));
+        closed.push_back(r.closed), kind.push_back(static_cast<int32_t>(r.kind));
+    }
+    features::PartsInput in;
+    in.n_points = static_cast<int64_t>(lon.size()), in.lon_deg = lon.data(), in.lat_deg = lat.data();
+    in.n_parts = static_cast<int64_t>(rings.size()), in.part_offsets = offsets.data();
+    in.closed = closed.data(), in.kind = kind.data();
+    try {
+        net.add(in);
+        return UM_OK;
+    } catch (const Error &e) {
+        if (message) *message = e.what();
+        return e.status();
+    }
+}
+
+// A box of longitudes and latitudes (lon1 may exceed 180 or be below lon0:
+// the ring goes east from lon0 to lon1).
+Ring box(double lon0, double lon1, double lat0, double lat1) {
+    return Ring{{lon0, lon1, lon1, lon0}, {lat0, lat0, lat1, lat1}};
+}
+
+Vec3 at(double lon, double lat) { return geom::unit_from_lonlat_deg(lon, lat); }
+
+features::Domain domain_of(const std::vector<Ring> &rings) {
+    Network net;
+    assert_int_equal(add(net, rings), UM_OK);
+    return features::Domain(features::with_domain_rings_traced(net));
+}
+
+// A box across the antimeridian, with a hole: the parity rule, and edges
+// along parallels (a great arc from (160, 20) to (-160, 20) bulges to 20.6).
+void a_dateline_box_with_a_hole(void **) {
+    const features::Domain d = domain_of({box(160, -160, -20, 20), box(170, 175, -5, 5)});
+    assert_false(d.empty());
+    assert_true(d.contains(at(180, 0)));
+    assert_true(d.contains(at(-170, 19.9)));
+    assert_false(d.contains(at(180, 20.3)));   // inside the great arc, outside the parallel
+    assert_false(d.contains(at(172, 0)));      // the hole
+    assert_false(d.contains(at(150, 0)));
+    assert_false(d.contains(at(0, 0)));
+    assert_true(d.contains(at(176, 0)));
+    // The area: the box's band less the hole's, as parallels bound them.
+    auto band = [](double dlon, double lat0, double lat1) {
+        return dlon * M_PI / 180 * (std::sin(lat1 * M_PI / 180) - std::sin(lat0 * M_PI / 180));
+    };
+    const double expected = band(40, -20, 20) - band(5, -5, 5);
+    assert_true(std::fabs(d.area() - expected) < 1e-4 * expected);
+    assert_true(std::fabs(d.distance(at(180, 21)) - M_PI / 180) < 1e-3);
+}
+
+// A ring around a pole encloses the cap (the smaller side), whichever way
+// it is given.
+void a_ring_around_a_pole(void **) {
+    for (bool reversed : {false, true}) {
+        Ring r{{0, 90, 180, -90}, {70, 70, 70, 70}};
+        if (reversed) std::reverse(r.lon.begin(), r.lon.end());
+        const features::Domain d = domain_of({r});
+        assert_true(d.contains(at(0, 89)));
+        assert_true(d.contains(at(45, 70.5)));  // a parallel, not the chords between the corners
+        assert_false(d.contains(at(45, 69.5)));
+        assert_false(d.contains(at(0, -89)));
+    }
+}
+
+void crossing_open_and_short_rings_are_refused(void **) {
+    std::string message;
+    {
+        Network net;
+        assert_int_equal(add(net, {Ring{{0, 10, 0, 10}, {0, 10, 10, 0}}}), UM_OK);  // a bow tie
+        try {
+            features::Domain d(net);
+            fail_msg("a ring crossing itself was taken");
+        } catch (const Error &e) {
+            assert_int_equal(e.status(), UM_ERR_INPUT);
+            assert_non_null(std::strstr(e.what(), "crosses its segment"));
+        }
+    }
+    {
+        Network net;
+        assert_int_equal(add(net, {box(0, 10, 0, 10), box(5, 15, 5, 15)}), UM_OK);
+        try {
+            features::Domain d(net);
+            fail_msg("two crossing rings were taken");
+        } catch (const Error &e) {
+            assert_int_equal(e.status(), UM_ERR_INPUT);
+            assert_non_null(std::strstr(e.what(), "crosses domain ring 1"));
+        }
+    }
+    Network net;
+    Ring open = box(0, 10, 0, 10);
+    open.closed = 0;
+    assert_int_equal(add(net, {open}, &message), UM_ERR_INPUT);
+    assert_non_null(std::strstr(message.c_str(), "is open"));
+    assert_int_equal(add(net, {Ring{{0, 10}, {0, 0}}}, &message), UM_ERR_INPUT);
+    assert_non_null(std::strstr(message.c_str(), "at least 3"));
+    assert_int_equal(net.part_count(), 0);
+}
+
+// Inside: the caller's spacing; outside: growing at kCoverRate to kCoverKm;
+// smallest_in_cap a lower bound of the values in the cap.
+void the_cover_grows_away_from_the_domain(void **) {
+    auto d = std::make_shared<const features::Domain>(domain_of({box(-40, 0, 10, 50)}));
+    const hfun::SpacingPtr h = hfun::make_region_cover(hfun::make_constant(30), d);
+    assert_true(h->km_at(at(-20, 30)) == 30);
+    const double d_km = d->distance(at(10, 30)) * hfun::kEarthRadiusKm;
+    assert_true(std::fabs(h->km_at(at(10, 30)) - (30 + hfun::kCoverRate * d_km)) < 1e-9);
+    assert_true(h->km_at(at(140, -30)) == hfun::kCoverKm);
+    for (const Vec3 &c : {at(5, 30), at(30, 30), at(-20, 55), at(100, 0)}) {
+        const double r = 0.05, bound = h->smallest_in_cap(c, r, 1e9);
+        for (int k = 0; k < 64; ++k) {
+            const double a = 2 * M_PI * k / 64;
+            const Vec3 t = geom::normalized(geom::cross(c, Vec3{0, 0, 1}));
+            const Vec3 u = geom::cross(c, t);
+            const Vec3 p = geom::normalized(std::cos(r) * c + std::sin(r) * (std::cos(a) * t + std::sin(a) * u));
+            assert_true(bound <= h->km_at(p) * (1 + 1e-12));
+        }
+    }
+}
+
+std::shared_ptr<Network> rings_network(const std::vector<Ring> &rings) {
+    auto net = std::make_shared<Network>();
+    assert_int_equal(add(*net, rings), UM_OK);
+    return net;
+}
+
+// The dateline box at 150 km: every cell inside, the layers, no obtuse
+// triangle, and the same mesh on one and two threads.
+void a_regional_mesh_of_a_dateline_box(void **) {
+    std::vector<dual::MpasMesh> meshes;
+    for (int threads : {1, 2}) {
+        Context ctx;
+        ctx.set_threads(threads);
+        Options options;
+        mesh::RefinedMesh m = mesh::refine_mesh(ctx, hfun::make_constant(150), rings_network({box(160, -160, -20, 20)}), options);
+        assert_true(m.regional());
+        mesh::optimise_mesh(ctx, m, options, nullptr);
+        meshes.push_back(components::regional_mpas_mesh(ctx, m));
+        const std::vector<uint8_t> cells = m.region_cells();
+        const quality::Report r = quality::measure(ctx, m.tri, mesh::spacing_radians(*m.spacing, m.radius_m),
+                                                   &m.on_segment, &cells);
+        assert_true(r.triangles > 0);
+        assert_int_equal(r.obtuse, 0);
+    }
+    const dual::MpasMesh &mpas = meshes[0];
+    print_message("dateline box at 150 km: %d cells\n", mpas.n_cells);
+    // 1.94e7 km^2 / (0.866 * 150^2 km^2) = 995 cells, less the rings' and the gaps'.
+    assert_true(mpas.n_cells > 700 && mpas.n_cells < 1100);
+    const features::Domain d = domain_of({box(160, -160, -20, 20)});
+    for (int32_t c = 0; c < mpas.n_cells; ++c)
+        assert_true(d.contains((1 / mpas.radius_m) * Vec3{mpas.x_cell[c], mpas.y_cell[c], mpas.z_cell[c]}));
+    for (int32_t v = 0; v < mpas.n_vertices; ++v)
+        assert_true(d.contains((1 / mpas.radius_m) * Vec3{mpas.x_vertex[v], mpas.y_vertex[v], mpas.z_vertex[v]}));
+    // Layers: 7 exactly where a neighbour is missing; neighbours one apart
+    // (or both interior); every layer present.
+    std::vector<int> per_layer(8, 0);
+    const size_t w = static_cast<size_t>(mpas.max_edges);
+    for (int32_t c = 0; c < mpas.n_cells; ++c) {
+        const int32_t layer = mpas.bdy_mask_cell[c];
+        ++per_layer[layer];
+        bool missing = false;
+        for (int32_t j = 0; j < mpas.n_edges_on_cell[c]; ++j) {
+            const int32_t n = mpas.cells_on_cell[c * w + j];
+            if (n == dual::kNone) {
+                missing = true;
+                continue;
+            }
+            assert_true(std::abs(layer - mpas.bdy_mask_cell[n]) <= 1);
+        }
+        assert_true(missing == (layer == components::kBoundaryLayers));
+    }
+    for (int k = 0; k <= 7; ++k) assert_true(per_layer[k] > 0);
+    for (int32_t e = 0; e < mpas.n_edges; ++e) {
+        const int32_t c1 = mpas.cells_on_edge[2 * e], c2 = mpas.cells_on_edge[2 * e + 1];
+        const int32_t least = std::min(c1 == dual::kNone ? 7 : mpas.bdy_mask_cell[c1], c2 == dual::kNone ? 7 : mpas.bdy_mask_cell[c2]);
+        assert_int_equal(mpas.bdy_mask_edge[e], least);
+    }
+    assert_true(mpas.base_cell.empty());
+    const dual::MpasMesh &other = meshes[1];
+    assert_int_equal(mpas.n_cells, other.n_cells);
+    assert_true(mpas.x_cell == other.x_cell && mpas.cells_on_cell == other.cells_on_cell &&
+                mpas.weights_on_edge == other.weights_on_edge && mpas.bdy_mask_cell == other.bdy_mask_cell);
+}
+
+void a_domain_smaller_than_the_spacing_is_refused(void **) {
+    Context ctx;
+    try {
+        mesh::refine_mesh(ctx, hfun::make_constant(100), rings_network({box(10, 10.5, 10, 10.5)}), Options{});
+        fail_msg("a domain of half a degree was meshed at 100 km");
+    } catch (const Error &e) {
+        assert_int_equal(e.status(), UM_ERR_INPUT);
+        assert_non_null(std::strstr(e.what(), "larger than the spacing"));
+    }
+}
+
+}  // namespace
+
+int main() {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(a_dateline_box_with_a_hole),
+        cmocka_unit_test(a_ring_around_a_pole),
+        cmocka_unit_test(crossing_open_and_short_rings_are_refused),
+        cmocka_unit_test(the_cover_grows_away_from_the_domain),
+        cmocka_unit_test(a_regional_mesh_of_a_dateline_box),
+        cmocka_unit_test(a_domain_smaller_than_the_spacing_is_refused),
+    };
+    return cmocka_run_group_tests(tests, nullptr, nullptr);
+}
