@@ -349,6 +349,47 @@ static void bad_input(void **state) {
     um_spacing_destroy(h);
 }
 
+/* A regional mesh through the C ABI: a domain ring across the antimeridian;
+ * its MPAS mesh holds the cells inside only, with the boundary layers, and
+ * what is not made for regional meshes yet says so. */
+static void regional_mesh(void **state) {
+    um_context *ctx = *state;
+    const double lon[4] = {150, -150, -150, 150}, lat[4] = {-30, -30, 30, 30};
+    const int64_t offsets[2] = {0, 4};
+    const int32_t closed = 1, kind = UM_FEATURE_DOMAIN;
+    um_features *f = NULL;
+    um_spacing *h = NULL;
+    um_mesh *m = NULL;
+    assert_int_equal(um_features_create(ctx, &f), UM_OK);
+    assert_int_equal(um_features_add(f, 4, lon, lat, 1, offsets, &closed, &kind, NULL), UM_OK);
+    assert_int_equal(um_spacing_create_constant(ctx, 300.0, &h), UM_OK);
+    assert_int_equal(um_mesh_refine(ctx, h, f, NULL, &m), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, NULL), UM_OK);
+    int64_t nv = 0, cells = 0, edges = 0, vertices = 0, max_edges = 0;
+    assert_int_equal(um_mesh_counts(m, &nv, NULL, NULL, NULL), UM_OK);
+    assert_int_equal(um_mesh_mpas_dimensions(m, &cells, &edges, &vertices, &max_edges), UM_OK);
+    assert_true(cells > 100 && cells < nv);
+    double *lat_cell = malloc(cells * sizeof(double)), *lon_cell = malloc(cells * sizeof(double));
+    int32_t *layer = malloc(cells * sizeof(int32_t));
+    assert_int_equal(um_mesh_copy_mpas_real(m, "latCell", lat_cell, cells), UM_OK);
+    assert_int_equal(um_mesh_copy_mpas_real(m, "lonCell", lon_cell, cells), UM_OK);
+    assert_int_equal(um_mesh_copy_mpas_int(m, "bdyMaskCell", 0, layer, cells), UM_OK);
+    int per_layer[8] = {0};
+    for (int64_t c = 0; c < cells; ++c) {
+        const double east = fmod(lon_cell[c] / DEG + 360.0, 360.0);
+        assert_true(fabs(lat_cell[c] / DEG) < 30 && east > 150 && east < 210);
+        assert_true(layer[c] >= 0 && layer[c] <= 7);
+        ++per_layer[layer[c]];
+    }
+    for (int k = 0; k < 8; ++k) assert_true(per_layer[k] > 0);
+    assert_int_equal(um_mesh_write_jigsaw(m, "regional.msh"), UM_ERR_USAGE);
+    assert_non_null(strstr(um_context_last_error(ctx), "regional"));
+    free(lat_cell), free(lon_cell), free(layer);
+    um_mesh_destroy(m);
+    um_spacing_destroy(h);
+    um_features_destroy(f);
+}
+
 static double nan_south(void *user, double lon, double lat) {
     (void)user, (void)lon;
     return lat < -60 ? NAN : 900.0;
@@ -514,6 +555,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(coastlines_at_continental_spacings, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(midatlantic_full_resolution, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(bad_input, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(regional_mesh, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(spacing_callback_failure_names_the_point, setup_context,
                                         teardown_context),
         cmocka_unit_test_setup_teardown(a_slow_spacing_callback_can_cancel_the_optimisation, setup_context, teardown_context),

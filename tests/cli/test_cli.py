@@ -185,6 +185,13 @@ class Build(unittest.TestCase):
                 # no more than globally (at 30 km the Atlantic has 0.005 %).
                 self.assertLessEqual(report["obtuse_triangles"], 0.001 * report["triangles"] if extra else 0)
                 self.assertTrue(os.path.getsize(os.path.join(out, "mesh.vtu")) > 0)
+            # The case file's key.
+            case = os.path.join(folder, "case.toml")
+            with open(case, "w") as f:
+                f.write('domain = ["pacific.geojson"]\nspacing_km = 240\nout = "from_case"\n')
+            r = run("build", "--case", case)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("with the cover outside the domain", r.stdout)
             # What is not made for regional meshes yet, and a domain file of
             # other kinds, are refused.
             r = run("build", "--spacing-km", "120", "--domain", domain, "--jigsaw", "--out", out)

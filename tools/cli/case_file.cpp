@@ -46,29 +46,32 @@ std::string option_text(const toml::node &node, const std::string &key) {
     throw CaseError{"options." + key + " must be a number or a boolean" + where(node)};
 }
 
+// The array of file names under key (relative to the case file's folder)
+// into files, unless the flag was given.
+void file_list(const toml::table &t, const std::string &key, const fs::path &folder, bool given,
+               std::vector<std::string> &files) {
+    const toml::node *g = t.get(key);
+    if (!g || given) return;
+    const toml::array *list = g->as_array();
+    if (!list) throw CaseError{"'" + key + "' must be an array of file names" + where(*g)};
+    files.clear();
+    for (const toml::node &item : *list) files.push_back(resolve(folder, string_value(item, key)));
+}
+
 void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given, BuildArgs &a) {
-    static const std::set<std::string> known = {"geometry", "passages", "kind", "spacing_km", "spacing_file",
+    static const std::set<std::string> known = {"geometry", "passages", "domain", "kind", "spacing_km", "spacing_file",
                                                 "spacing_preset", "threads", "optimise", "vtu", "jigsaw", "components",
                                                 "mpas_format", "out", "options"};
     for (const auto &[key, node] : t) {
         const std::string k(key.str());
         if (!known.count(k))
             throw CaseError{"unknown key '" + k + "'" + where(node) +
-                            "; known: geometry, passages, kind, spacing_km, spacing_file, spacing_preset, threads, "
+                            "; known: geometry, passages, domain, kind, spacing_km, spacing_file, spacing_preset, threads, "
                             "optimise, vtu, jigsaw, components, mpas_format, out, [options]"};
     }
-    if (const toml::node *g = t.get("geometry"); g && !given.geometry) {
-        const toml::array *list = g->as_array();
-        if (!list) throw CaseError{"'geometry' must be an array of file names" + where(*g)};
-        a.geometry.clear();
-        for (const toml::node &item : *list) a.geometry.push_back(resolve(folder, string_value(item, "geometry")));
-    }
-    if (const toml::node *g = t.get("passages"); g && !given.passages) {
-        const toml::array *list = g->as_array();
-        if (!list) throw CaseError{"'passages' must be an array of file names" + where(*g)};
-        a.passages.clear();
-        for (const toml::node &item : *list) a.passages.push_back(resolve(folder, string_value(item, "passages")));
-    }
+    file_list(t, "geometry", folder, given.geometry, a.geometry);
+    file_list(t, "passages", folder, given.passages, a.passages);
+    file_list(t, "domain", folder, given.domain, a.domain);
     if (const toml::node *n = t.get("kind"); n && !given.kind) a.default_kind = string_value(*n, "kind");
     if (!given.spacing) {
         if (const toml::node *n = t.get("spacing_km")) {

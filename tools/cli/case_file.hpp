@@ -3,6 +3,7 @@
 //
 //   geometry = ["coast.geojson", "rivers.geojson"]  # paths relative to the case file
 //   passages = ["straits.geojson"]  # passages kept open in the ocean mesh (as --passages)
+//   domain = ["box.geojson"]   # the rings of a regional mesh (as --domain)
 //   kind = "coastline"         # of features without a "kind" property (as --kind)
 //   spacing_km = 60            # or spacing_file = "cellWidth.nc", or spacing_preset = "EC60to30"
 //   threads = 0                # 0 = all cores
@@ -21,7 +22,7 @@
 
 // Which flags the command line gave (those keep their values).
 struct GivenFlags {
-    bool geometry = false, passages = false, kind = false, spacing = false, threads = false, no_optimise = false, out = false,
+    bool geometry = false, passages = false, domain = false, kind = false, spacing = false, threads = false, no_optimise = false, out = false,
          vtu = false, jigsaw = false, components = false, mpas_format = false;
 };
 

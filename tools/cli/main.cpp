@@ -125,6 +125,7 @@ int main(int argc, char **argv) {
             GivenFlags given;
             given.geometry = build->count("--geometry") > 0;
             given.passages = build->count("--passages") > 0;
+            given.domain = build->count("--domain") > 0;
             given.kind = build->count("--kind") > 0;
             given.spacing = build->count("--spacing-km") + build->count("--spacing-file") +
                                 build->count("--spacing-preset") > 0;

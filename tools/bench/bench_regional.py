@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""The regional benchmark: what a regional mesh (`unimesh build --domain`)
+costs per cell against a global mesh of the same spacing, each run in a
+process of its own with the command line's default outputs. Cases, at the
+spacing H (default 30 km, 2 threads):
+
+    global           uniform H over the sphere
+    atlantic         the North Atlantic box (lon -80..-5, lat 10..65), uniform H
+    pacific          a box across the antimeridian (lon 160..-160, lat -20..20)
+    global coast     the shipped coastlines (data/coast_global_l.geojson) at H
+    atlantic coast   the North Atlantic box with the same coastlines
+
+For each it prints the cells of mesh.nc (and of the whole triangulation,
+with the cover outside the domain), the refinement, optimisation and MPAS
+stage in seconds, the wall time, and the mesh's time (refine + optimise) and
+the wall per cell of mesh.nc, with their ratio to the global case of the same
+features.
+
+    cmake --build build --target unimesh_cli
+    tools/bench/bench_regional.py [--km 30] [--threads 2] [--cases atlantic,pacific]
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+COAST = os.path.join(ROOT, "data", "coast_global_l.geojson")
+BOXES = {"atlantic": [[-80, 10], [-5, 10], [-5, 65], [-80, 65], [-80, 10]],
+         "pacific": [[160, -20], [-160, -20], [-160, 20], [160, 20], [160, -20]]}
+CASES = {"global": (None, False), "atlantic": ("atlantic", False), "pacific": ("pacific", False),
+         "global coast": (None, True), "atlantic coast": ("atlantic", True)}
+
+
+def run_case(cli, km, threads, box, coast, folder):
+    args = [cli, "build", "--spacing-km", str(km), "--threads", str(threads), "--out", os.path.join(folder, "out")]
+    if box:
+        domain = os.path.join(folder, box + ".geojson")
+        with open(domain, "w") as f:
+            json.dump({"type": "Feature", "properties": {"kind": "domain"},
+                       "geometry": {"type": "Polygon", "coordinates": [BOXES[box]]}}, f)
+        args += ["--domain", domain]
+    if coast:
+        args += ["--geometry", COAST]
+    start = time.monotonic()
+    r = subprocess.run(args, capture_output=True, text=True)
+    wall = time.monotonic() - start
+    if r.returncode != 0:
+        return {"error": r.stderr.strip().splitlines()[-1] if r.stderr.strip() else f"exit {r.returncode}"}
+    mesh = re.search(r"^mesh: (\d+) cells(?: \((\d+) with the cover outside the domain\))?.*"
+                     r"refined in ([\d.]+) s, optimised in ([\d.]+) s", r.stdout, re.M)
+    mpas = re.search(r"MPAS mesh ([\d.]+) s", r.stdout)
+    cells = int(mesh.group(1))
+    return {"cells": cells, "all": int(mesh.group(2) or cells), "refine": float(mesh.group(3)),
+            "optimise": float(mesh.group(4)), "mpas": float(mpas.group(1)), "wall": wall}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--cli", default=os.path.join(ROOT, "build", "tools", "unimesh"))
+    parser.add_argument("--km", type=float, default=30)
+    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--cases", default=",".join(CASES), help="comma-separated: " + ", ".join(CASES))
+    args = parser.parse_args()
+    if not os.access(args.cli, os.X_OK):
+        sys.exit(f"bench_regional: no command line at {args.cli} (cmake --build build --target unimesh_cli)")
+    km = int(args.km) if args.km == int(args.km) else args.km
+    results = {}
+    for name in args.cases.split(","):
+        box, coast = CASES[name]
+        print(f"bench_regional: {name} at {km} km ...", file=sys.stderr, flush=True)
+        with tempfile.TemporaryDirectory() as folder:
+            results[name] = run_case(args.cli, km, args.threads, box, coast, folder)
+    print(f"regional against global meshes at {km} km, {args.threads} threads")
+    print("| case | cells | with the cover | refine | optimise | MPAS | wall | mesh per cell | wall per cell |")
+    print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+    for name, r in results.items():
+        if "error" in r:
+            print(f"| {name} | {r['error']} | | | | | | | |")
+            continue
+        mesh_us = 1e6 * (r["refine"] + r["optimise"]) / r["cells"]
+        wall_us = 1e6 * r["wall"] / r["cells"]
+        base = results.get("global coast" if "coast" in name else "global")
+        ratio = lambda mine, key: (f" ({mine / key(base):.1f}x)"
+                                   if base and "error" not in base and base is not r else "")
+        mesh_of = lambda b: 1e6 * (b["refine"] + b["optimise"]) / b["cells"]
+        wall_of = lambda b: 1e6 * b["wall"] / b["cells"]
+        print(f"| {name} | {r['cells']:,} | {r['all']:,} | {r['refine']:.2f} s | {r['optimise']:.2f} s | "
+              f"{r['mpas']:.2f} s | {r['wall']:.2f} s | {mesh_us:.1f} us{ratio(mesh_us, mesh_of)} | "
+              f"{wall_us:.1f} us{ratio(wall_us, wall_of)} |")
+
+
+if __name__ == "__main__":
+    main()
