@@ -748,7 +748,10 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
 /* Features holding UM_FEATURE_DOMAIN rings make um_mesh_refine build a
  * regional mesh. Its edges are straight in longitude and latitude, as
  * GeoJSON draws them (divided into great arcs of at most 0.25 degrees), so a
- * box of longitudes and latitudes is that box; a ring that crosses itself or
+ * box of longitudes and latitudes is that box; each edge goes the shorter
+ * way round in longitude (160 to -160 crosses the antimeridian, as 160 to
+ * 200 does), so an edge of 180 degrees of longitude or more needs points
+ * between (a ring around a pole: points along its parallel); a ring that crosses itself or
  * another is refused (UM_ERR_INPUT), as is a domain holding fewer than 7
  * cells at the spacing ("it must be larger than the spacing"). The mesh's
  * boundary conforms to the rings the way it conforms to a coastline (the

@@ -49,9 +49,13 @@ void copy_variable(const um_mesh *m, const char *name, int32_t type, int64_t cap
     if (m->mesh.regional()) {  // held whole: one block
         const um::dual::MpasMesh &whole = m->regional_staggered();
         const um::dual::MpasField f = field_of(whole, name, type);
-        check_capacity(capacity, f.rows(whole) * f.columns(whole), name);
+        const int64_t values = f.rows(whole) * f.columns(whole);
+        check_capacity(capacity, values, name);
         require_pointer(out, "out");
-        put(f, f.rows(whole) * f.columns(whole), 0);
+        const size_t have = f.reals ? f.reals->size() : f.ints ? f.ints->size() : size_t(values);
+        if (have < static_cast<size_t>(values))
+            fail(UM_ERR_INTERNAL, "MPAS mesh: ", name, " has ", have, " values, not ", values);
+        put(f, values, 0);
         return;
     }
     const um::dual::MpasSource &source = m->staggered();
@@ -79,7 +83,9 @@ UM_API um_status um_mesh_mpas_dimensions(const um_mesh *m, int64_t *n_cells, int
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
-    const um::dual::MpasMesh mpas = m->mesh.regional() ? m->regional_staggered() : m->staggered().shape();
+    um::dual::MpasMesh shape;
+    if (!m->mesh.regional()) shape = m->staggered().shape();
+    const um::dual::MpasMesh &mpas = m->mesh.regional() ? m->regional_staggered() : shape;
     if (n_cells) *n_cells = mpas.n_cells;
     if (n_edges) *n_edges = mpas.n_edges;
     if (n_vertices) *n_vertices = mpas.n_vertices;

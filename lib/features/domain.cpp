@@ -81,7 +81,7 @@ bool ring_encloses(const Network &net, int64_t p, const Vec3 &x) {
 }
 
 Domain::Domain(const Network &net) {
-    std::vector<int64_t> rings, segment_of_arc;
+    std::vector<int64_t> rings;
     std::vector<geom::ArcTree::Arc> arcs;
     ring_segment_.assign(static_cast<size_t>(net.segment_count()), 0);
     for (int64_t p = 0; p < net.part_count(); ++p) {
@@ -93,7 +93,6 @@ Domain::Domain(const Network &net) {
         for (int32_t k = 0; k < n; ++k) {
             const int64_t s = part.first_segment + k;
             arcs.push_back({net.segment_a(s), net.segment_b(s)});
-            segment_of_arc.push_back(s);
             ring_of_arc_.push_back(ring);
             next_.push_back(first + (k + 1) % n);
             prev_.push_back(first + (k + n - 1) % n);
@@ -114,12 +113,11 @@ Domain::Domain(const Network &net) {
             Vec3 c;
             if (!geom::arc_intersection(a.a, a.b, b.a, b.b, c, 0.0)) return;
             const int64_t pi = rings[ring_of_arc_[i]], pj = rings[ring_of_arc_[j]];
-            const Part &qi = net.part(pi), &qj = net.part(pj);
-            fail(UM_ERR_INPUT, "domain ring ", pi, " (id ", qi.id, ") segment ", segment_of_arc[i] - qi.first_segment,
-                 pi == pj ? concat(" crosses its segment ", segment_of_arc[j] - qj.first_segment)
-                          : concat(" crosses domain ring ", pj, " (id ", qj.id, ") segment ",
-                                   segment_of_arc[j] - qj.first_segment),
-                 ": domain rings must not cross themselves or each other");
+            double lon, lat;
+            geom::lonlat_deg_from_unit(c, lon, lat);
+            fail(UM_ERR_INPUT, "domain ring ", pi, " (id ", net.part(pi).id, ")",
+                 pi == pj ? std::string(" crosses itself") : concat(" crosses domain ring ", pj, " (id ", net.part(pj).id, ")"),
+                 " at lon ", lon, ", lat ", lat, ": domain rings must not cross themselves or each other");
         });
     }
 

@@ -23,8 +23,10 @@
 namespace um::features {
 
 // Domain rings are drawn as GeoJSON draws lines: straight in longitude and
-// latitude (the shorter way round in longitude), so that a box of
-// longitudes and latitudes is that box. net with each domain ring's
+// latitude, so that a box of longitudes and latitudes is that box. Each edge
+// goes the shorter way round in longitude (160 to -160 crosses the
+// antimeridian, as 160 to 200 does): an edge of 180 degrees or more of
+// longitude needs points between. net with each domain ring's
 // segments longer than kDomainStepDeg (in either coordinate) divided along
 // those lines; the other parts as they are (the same part indices).
 constexpr double kDomainStepDeg = 0.25;

@@ -234,9 +234,9 @@ void merge(Stream &a, const Stream &s) {
 
 // What the triangle pass counts besides its metrics.
 struct Counts {
-    int64_t triangles = 0, obtuse = 0, not_well_centred = 0, not_well_centred_off_gamma = 0;
+    int64_t triangles = 0, edges = 0, obtuse = 0, not_well_centred = 0, not_well_centred_off_gamma = 0;
     void operator+=(const Counts &c) {
-        triangles += c.triangles, obtuse += c.obtuse, not_well_centred += c.not_well_centred;
+        triangles += c.triangles, edges += c.edges, obtuse += c.obtuse, not_well_centred += c.not_well_centred;
         not_well_centred_off_gamma += c.not_well_centred_off_gamma;
     }
 };
@@ -375,22 +375,25 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
     const int32_t n = tri.triangle_slots();
     auto triangle_values = [&](int64_t i, Counts &c, auto &&emit) {
         const int32_t t = static_cast<int32_t>(i);
-        if (!kept_triangle(t)) return;
-        const TriangleQuality q = triangle_quality(tri, t);
-        emit(kAreaLength, q.area_length), emit(kPrimalDual, q.primal_dual);
-        emit(kAngleMin, q.angle_min), emit(kAngleMax, q.angle_max);
+        if (tri.is_free(t)) return;
+        // Every edge between kept cells, whichever of its triangles is kept.
         for (int k = 0; k < 3 && h; ++k) {
             if (!counted(t, k)) continue;
             const Vec3 a = tri.direction(tri.vertex(t, (k + 1) % 3)), b = tri.direction(tri.vertex(t, (k + 2) % 3));
             emit(kSpacingRatio + k, geom::arc_length(a, b) / h(geom::normalized(a + b)));
         }
+        for (int k = 0; k < 3; ++k) c.edges += counted(t, k);
+        if (!kept_triangle(t)) return;
+        const TriangleQuality q = triangle_quality(tri, t);
+        emit(kAreaLength, q.area_length), emit(kPrimalDual, q.primal_dual);
+        emit(kAngleMin, q.angle_min), emit(kAngleMax, q.angle_max);
         ++c.triangles, c.obtuse += q.angle_max > 90, c.not_well_centred += !q.well_centred;
         c.not_well_centred_off_gamma += !q.well_centred && off_gamma(t);
     };
     const Counts c = summarise(ctx, n, kTriangleSlots, triangle_values, summary);
     r.triangles = c.triangles, r.obtuse = c.obtuse, r.not_well_centred = c.not_well_centred;
     r.not_well_centred_off_gamma = c.not_well_centred_off_gamma;
-    r.edges = 3 * r.triangles / 2;
+    r.edges = c.edges;
     auto edge_values = [&](int64_t i, Counts &, auto &&emit) {
         const int32_t t = static_cast<int32_t>(i);
         if (tri.is_free(t)) return;

@@ -25,14 +25,15 @@ constexpr int kProbes = 6;                // around each lattice point, at dista
 constexpr double kGammaClearance = 1.0;   // in units of h0
 constexpr const char *kStage = "refine lattice";  // progress (the spacing may be a slow callback)
 
-// Over the sphere, or over the samples inside the domain (at least the cap's
-// centre, for a domain between the samples).
+// Over the sphere, or over the samples inside the domain (and the cap's
+// centre when inside); 0 (no lattice) when none is.
 double coarsest_spacing(Context &ctx, const SpacingRadians &h, const features::Domain *domain) {
     std::vector<Vec3> samples = geodesic_lattice(kSampleFrequency);
     if (domain) {
         samples.erase(std::remove_if(samples.begin(), samples.end(), [&](const Vec3 &p) { return !domain->contains(p); }),
                       samples.end());
-        samples.push_back(domain->cap_centre());
+        if (domain->contains(domain->cap_centre())) samples.push_back(domain->cap_centre());
+        if (samples.empty()) return 0;  // a domain between the samples: no lattice
     }
     std::vector<double> value(samples.size());
     ctx.parallel_for_with_heartbeat(kStage, static_cast<int64_t>(samples.size()), 16, [&](int64_t b, int64_t e) {

@@ -196,7 +196,7 @@ class Build(unittest.TestCase):
             # other kinds, are refused.
             r = run("build", "--spacing-km", "120", "--domain", domain, "--jigsaw", "--out", out)
             self.assertNotEqual(r.returncode, 0)
-            self.assertIn("--domain with --jigsaw: not made for regional meshes yet", r.stderr)
+            self.assertIn("domain rings with --jigsaw: not made for regional meshes yet", r.stderr)
             r = run("build", "--spacing-km", "120", "--domain", COAST, "--out", out)
             self.assertNotEqual(r.returncode, 0)
             self.assertIn("--domain " + COAST + ": the feature of id", r.stderr)

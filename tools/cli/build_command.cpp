@@ -106,6 +106,14 @@ void add_parts_of_kind(um_context *ctx, um_features *f, const std::string &flag,
                           kind_name + "\"; give it with --geometry"};
 }
 
+bool holds_domain(um_context *ctx, um_features *f) {
+    int64_t parts = 0;
+    um_features_counts(f, &parts, nullptr, nullptr);
+    std::vector<int32_t> kind(static_cast<size_t>(parts));
+    check(um_features_copy_parts(f, nullptr, nullptr, kind.data(), nullptr, parts), ctx, "features");
+    return std::find(kind.begin(), kind.end(), UM_FEATURE_DOMAIN) != kind.end();
+}
+
 um_spacing *make_spacing(um_context *ctx, const BuildArgs &a) {
     um_spacing *h = nullptr;
     const bool km = !std::isnan(a.spacing_km);
@@ -158,9 +166,15 @@ double diagnostic(const std::string &json, const char *member, const char *key) 
 }
 
 void print_quality(const char *what, um_context *ctx, um_mesh *m) {
-    int64_t nt = 0, obtuse = 0, bad = 0;
-    um_mesh_counts(m, nullptr, &nt, nullptr, nullptr);
+    int64_t obtuse = 0, bad = 0;
     um_mesh_quality_counts(m, &obtuse, &bad);
+    const std::string json = quality_json(ctx, m);
+    // The report's triangles (its first member: the mesh's own, not the
+    // refined mesh's): a regional mesh's domain only.
+    double nt = 0;
+    const std::string first = "{\n  \"triangles\": ";
+    if (json.compare(0, first.size(), first) == 0)
+        std::from_chars(json.data() + first.size(), json.data() + json.size(), nt);
     double qt_min = 0, qt_mean = 0, qp_min = 0, qp_mean = 0, amax = 0;
     um_mesh_quality_summary(m, "area_length_ratio", &qt_min, nullptr, &qt_mean, nullptr);
     um_mesh_quality_summary(m, "primal_dual", &qp_min, nullptr, &qp_mean, nullptr);
@@ -169,9 +183,8 @@ void print_quality(const char *what, um_context *ctx, um_mesh *m) {
                 "max angle %.1f deg; %lld obtuse triangles (%.3f %%), %lld not containing their "
                 "orthocentre\n",
                 what, qt_min, qt_mean, qp_min, qp_mean, amax, (long long)obtuse,
-                100.0 * double(obtuse) / double(nt > 0 ? nt : 1), (long long)bad);
+                100.0 * double(obtuse) / (nt > 0 ? nt : 1.0), (long long)bad);
     // What certifies the mesh for the MPAS operators (unimesh.h, um_mesh_quality_json).
-    const std::string json = quality_json(ctx, m);
     auto d = [&](const char *member, const char *key) { return diagnostic(json, member, key); };
     std::printf("%-9s operator diagnostics: centroid offset rms %.3g max %.3g; dual-edge offset rms %.3g "
                 "max %.3g; primal-edge offset rms %.3g max %.3g; dcEdge/h min %.3f max %.3f mean %.3f "
@@ -318,10 +331,6 @@ int run_build(const BuildArgs &a) {
         if (a.components && a.mpas_format != "auto")
             throw Failure{"--mpas-format " + a.mpas_format +
                           " with --components: the component files are written in the automatic format only"};
-        if (!a.domain.empty() && (a.components || a.jigsaw))
-            throw Failure{std::string("--domain with ") + (a.components ? "--components" : "--jigsaw") +
-                          ": not made for regional meshes yet (mesh.nc, graph.info, quality.json, the pictures "
-                          "and --vtu are)"};
         if (!a.spacing_file.empty()) {  // before any thread of ours exists: the probe forks
             const std::string refused = crash_reading_spacing_file(a.spacing_file, memory_cap_bytes(a.memory_cap),
                                                                    trial_read_seconds(a.spacing_file));
@@ -345,6 +354,12 @@ int run_build(const BuildArgs &a) {
             for (const auto &p : a.passages) add_parts_of_kind(ctx, f, "--passages", p, UM_FEATURE_PASSAGE, "passage");
             for (const auto &d : a.domain) add_parts_of_kind(ctx, f, "--domain", d, UM_FEATURE_DOMAIN, "domain");
         }
+        // Domain rings (from --domain or a --geometry file's "domain" kind) make the mesh regional.
+        const bool regional = f && holds_domain(ctx, f);
+        if (regional && (a.components || a.jigsaw))
+            throw Failure{std::string("domain rings with ") + (a.components ? "--components" : "--jigsaw") +
+                          ": not made for regional meshes yet (mesh.nc, graph.info, quality.json, the pictures "
+                          "and --vtu are)"};
         std::unique_ptr<OutputSet> out;
         try {
             out = std::make_unique<OutputSet>(a.out_dir);
@@ -424,7 +439,7 @@ int run_build(const BuildArgs &a) {
         int64_t nv = 0, nt = 0, nr = 0, nf = 0;
         um_mesh_counts(m, &nv, &nt, &nr, &nf);
         std::string region;
-        if (!a.domain.empty()) {  // mesh.nc's cells; the counts are the whole triangulation's
+        if (regional) {  // mesh.nc's cells; the counts are the whole triangulation's
             int64_t cells = 0;
             check(um_mesh_mpas_dimensions(m, &cells, nullptr, nullptr, nullptr), ctx, "the regional mesh");
             region = " (" + std::to_string(nv) + " with the cover outside the domain)";
