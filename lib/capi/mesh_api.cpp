@@ -25,7 +25,7 @@ um::Context *state_or_null(const um_mesh *m) {
 const um::quality::Report &quality_of(const um_mesh *m) {
     if (!m->quality) {
         const um::refine::SpacingRadians h = um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m);
-        const std::vector<uint8_t> region = m->mesh.regional() ? m->mesh.region_cells() : std::vector<uint8_t>{};
+        const std::vector<uint8_t> region = m->mesh.regional() ? m->mesh.region_cells(*m->context) : std::vector<uint8_t>{};
         const std::vector<uint8_t> *cells = m->mesh.regional() ? &region : nullptr;
         um::quality::Report r = um::quality::measure(*m->context, m->mesh.tri, h, &m->mesh.on_segment, cells);
         std::vector<uint8_t> ocean = m->mesh.ocean_cells();

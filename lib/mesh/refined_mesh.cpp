@@ -180,8 +180,8 @@ void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
 // A regional mesh needs a cell with its neighbours inside the domain.
 constexpr int64_t kMinRegionCells = 7;
 
-void require_region_cells(const RefinedMesh &m) {
-    const std::vector<uint8_t> kept = m.region_cells();
+void require_region_cells(Context &ctx, const RefinedMesh &m) {
+    const std::vector<uint8_t> kept = m.region_cells(ctx);
     const int64_t cells = std::count(kept.begin(), kept.end(), uint8_t(1));
     if (cells >= kMinRegionCells) return;
     const double km = m.radius_m / 1000.0;
@@ -330,7 +330,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     ctx.progress("refine tags", 0.0);  // (not from the optimisation's finish: its stage is "optimise")
     finish(ctx, m, arcs);
     m.filtered = refine::count_bad(m.tri, m.restricted, hr, bo);
-    if (m.domain) require_region_cells(m);
+    if (m.domain) require_region_cells(ctx, m);
     return m;
 }
 
@@ -395,7 +395,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     ctx.check_memory(m.vertex_count() * (m.gamma ? kOptimiseBytesPerCell : kOptimiseUniformBytesPerCell),
                      concat("optimising a mesh of ", m.vertex_count(), " cells").c_str());
     const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
-    const std::vector<uint8_t> region = m.regional() && !refined_quality ? m.region_cells() : std::vector<uint8_t>{};
+    const std::vector<uint8_t> region = m.regional() && !refined_quality ? m.region_cells(ctx) : std::vector<uint8_t>{};
     const quality::Report before = refined_quality ? *refined_quality
                                                    : quality::measure(ctx, m.tri, hr, &m.on_segment,
                                                                       region.empty() ? nullptr : &region);
@@ -425,13 +425,14 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
         m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o);
         m.optimised = true, m.ocean_floor = o.ocean_floor;
         finish(ctx, m, features::segment_arc_tree(m.gamma.get()));
+        if (m.domain) require_region_cells(ctx, m);  // (the mesh is put back if not)
     } catch (...) {
         put_back(m, std::move(undo));
         throw;
     }
 }
 
-std::vector<uint8_t> RefinedMesh::region_cells() const {
+std::vector<uint8_t> RefinedMesh::region_cells(Context &ctx) const {
     const int32_t n = tri.vertex_slots();
     std::vector<uint8_t> kept(static_cast<size_t>(n), 0);
     if (!domain) {
@@ -441,11 +442,14 @@ std::vector<uint8_t> RefinedMesh::region_cells() const {
     // 1 inside, 2 on a ring, 0 outside (or no vertex).
     enum : uint8_t { kOutside = 0, kInside = 1, kOnRing = 2 };
     std::vector<uint8_t> where(static_cast<size_t>(n), kOutside);
-    for (int32_t v = 0; v < n; ++v) {
-        if (!tri.in_triangulation(v)) continue;
-        const int32_t s = static_cast<size_t>(v) < on_segment.size() ? on_segment[v] : -1;
-        where[v] = domain->is_ring_segment(s) ? kOnRing : domain->contains(tri.direction(v)) ? kInside : kOutside;
-    }
+    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            const int32_t v = static_cast<int32_t>(i);
+            if (!tri.in_triangulation(v)) continue;
+            const int32_t s = static_cast<size_t>(v) < on_segment.size() ? on_segment[v] : -1;
+            where[v] = domain->is_ring_segment(s) ? kOnRing : domain->contains(tri.direction(v)) ? kInside : kOutside;
+        }
+    });
     // A cell beside one outside reaches beyond the ring (where the ring's
     // vertices leave a gap): the cells kept are bounded by inside and ring
     // vertices only, so that each lies within the domain.

@@ -63,7 +63,7 @@ struct RefinedMesh {
     // Per vertex slot, 1 when its cell is in the mesh: every vertex of a
     // global mesh; in a regional one those inside the domain but not on its
     // rings (their cells straddle the boundary).
-    std::vector<uint8_t> region_cells() const;
+    std::vector<uint8_t> region_cells(Context &ctx) const;
     // The index among the caller's features of the part of Gamma segment s.
     int64_t features_part_of_segment(int64_t s) const {
         const int64_t p = gamma->segment_part(s);

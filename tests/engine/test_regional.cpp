@@ -183,7 +183,7 @@ void a_regional_mesh_of_a_dateline_box(void **) {
         assert_true(m.regional());
         mesh::optimise_mesh(ctx, m, options, nullptr);
         meshes.push_back(components::regional_mpas_mesh(ctx, m));
-        const std::vector<uint8_t> cells = m.region_cells();
+        const std::vector<uint8_t> cells = m.region_cells(ctx);
         const quality::Report r = quality::measure(ctx, m.tri, mesh::spacing_radians(*m.spacing, m.radius_m),
                                                    &m.on_segment, &cells);
         assert_true(r.triangles > 0);
