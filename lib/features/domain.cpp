@@ -200,10 +200,4 @@ bool Domain::deep_inside(const Vec3 &x) const {
     return state == 1;
 }
 
-double Domain::distance(const Vec3 &x) const {
-    double d = 0;
-    if (!empty()) arcs_.nearest(x, &d);
-    return d;
-}
-
 }  // namespace um::features

@@ -48,9 +48,8 @@ public:
     // Whether unit point x is inside (always, when empty). A point on a ring
     // may be either.
     bool contains(const Vec3 &x) const;
-    // Arc distance (radians) from unit point x to the nearest ring.
-    double distance(const Vec3 &x) const;
-    // Both with one search for the nearest ring segment.
+    // contains(x), and the arc distance (radians) from x to the nearest ring
+    // into *distance (when not null), with one search for the nearest segment.
     bool locate(const Vec3 &x, double *distance) const;
     // Whether x lies in a cell of longitude and latitude (kMemoDeg square)
     // that is wholly inside, farther from the rings than its size: most of

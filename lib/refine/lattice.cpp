@@ -76,7 +76,7 @@ std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, cons
             double d = 1e300;
             if (gamma.size() > 0) gamma.nearest(points[i], &d);
             const bool near_gamma = d < kGammaClearance * h0;
-            const bool flat = n > 0 && !(i >= 12 && near_gamma) && (!domain || domain->contains(points[i])) &&
+            const bool flat = n > 0 && !(i >= 12 && near_gamma) && (!domain || i >= 12 || domain->contains(points[i])) &&
                               flat_around(h, points[i], h0);
             // A corner stays where the lattice does not reach (the
             // icosahedron's start there), unless the lattice has a band

@@ -12,6 +12,7 @@
 #include "features/network.hpp"
 #include "geom/sphere.hpp"
 #include "io/geojson.hpp"
+#include "support/feature_parts.hpp"
 
 // cmocka last: it defines a fail() macro.
 extern "C" {
@@ -28,42 +29,8 @@ namespace {
 constexpr double kEarthKm = 6371.0088;  // the radius the data README measures with
 constexpr double kDeg = M_PI / 180.0;
 
-// One part for a batch, in the caller's terms.
-struct LinePart {
-    std::vector<double> lon, lat;
-    int32_t closed = 0;
-    int32_t kind = UM_FEATURE_OTHER;
-    int32_t id = 0;
-};
-
-// Adds the parts through Network::add; returns the status (UM_OK or the
-// thrown one) and the message.
-um_status add(Network &net, const std::vector<LinePart> &parts, std::string *message = nullptr,
-              bool with_ids = true) {
-    std::vector<double> lon, lat;
-    std::vector<int64_t> offsets{0};
-    std::vector<int32_t> closed, kind, id;
-    for (const auto &p : parts) {
-        lon.insert(lon.end(), p.lon.begin(), p.lon.end());
-        lat.insert(lat.end(), p.lat.begin(), p.lat.end());
-        offsets.push_back(static_cast<int64_t>(lon.size()));
-        closed.push_back(p.closed), kind.push_back(p.kind), id.push_back(p.id);
-    }
-    features::PartsInput in;
-    in.n_points = static_cast<int64_t>(lon.size());
-    in.lon_deg = lon.data(), in.lat_deg = lat.data();
-    in.n_parts = static_cast<int64_t>(parts.size());
-    in.part_offsets = offsets.data();
-    in.closed = closed.data(), in.kind = kind.data();
-    in.part_id = with_ids ? id.data() : nullptr;
-    try {
-        net.add(in);
-    } catch (const Error &e) {
-        if (message) *message = e.what();
-        return e.status();
-    }
-    return UM_OK;
-}
+using testing::add;
+using testing::LinePart;
 
 LinePart line(std::vector<double> lonlat, int32_t closed = 0, int32_t kind = UM_FEATURE_OTHER,
               int32_t id = 0) {

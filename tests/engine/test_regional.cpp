@@ -18,6 +18,7 @@
 #include "hfun/region_cover.hpp"
 #include "mesh/refined_mesh.hpp"
 #include "quality/metrics.hpp"
+#include "support/feature_parts.hpp"
 
 // cmocka last: it defines a fail() macro.
 extern "C" {
@@ -31,47 +32,27 @@ using geom::Vec3;
 
 namespace {
 
-struct Ring {
-    std::vector<double> lon, lat;
-    int32_t closed = 1;
-    Kind kind = Kind::domain;
-};
+using Ring = testing::LinePart;
 
-// The rings through Network::add; UM_OK or the status it threw.
-um_status add(Network &net, const std::vector<Ring> &rings, std::string *message = nullptr) {
-    std::vector<double> lon, lat;
-    std::vector<int64_t> offsets{0};
-    std::vector<int32_t> closed, kind;
-    for (const Ring &r : rings) {
-        lon.insert(lon.end(), r.lon.begin(), r.lon.end());
-        lat.insert(lat.end(), r.lat.begin(), r.lat.end());
-        offsets.push_back(static_cast<int64_t>(lon.size()));
-        closed.push_back(r.closed), kind.push_back(static_cast<int32_t>(r.kind));
-    }
-    features::PartsInput in;
-    in.n_points = static_cast<int64_t>(lon.size()), in.lon_deg = lon.data(), in.lat_deg = lat.data();
-    in.n_parts = static_cast<int64_t>(rings.size()), in.part_offsets = offsets.data();
-    in.closed = closed.data(), in.kind = kind.data();
-    try {
-        net.add(in);
-        return UM_OK;
-    } catch (const Error &e) {
-        if (message) *message = e.what();
-        return e.status();
-    }
+// The rings through Network::add, each with its index for its id.
+um_status add_rings(Network &net, const std::vector<Ring> &rings, std::string *message = nullptr) {
+    return testing::add(net, rings, message, false);
 }
+
+// A closed domain ring.
+Ring ring(std::vector<double> lon, std::vector<double> lat) { return Ring{std::move(lon), std::move(lat), 1, UM_FEATURE_DOMAIN}; }
 
 // A box of longitudes and latitudes (lon1 may exceed 180 or be below lon0:
 // the ring goes east from lon0 to lon1).
 Ring box(double lon0, double lon1, double lat0, double lat1) {
-    return Ring{{lon0, lon1, lon1, lon0}, {lat0, lat0, lat1, lat1}};
+    return ring({lon0, lon1, lon1, lon0}, {lat0, lat0, lat1, lat1});
 }
 
 Vec3 at(double lon, double lat) { return geom::unit_from_lonlat_deg(lon, lat); }
 
 features::Domain domain_of(const std::vector<Ring> &rings) {
     Network net;
-    assert_int_equal(add(net, rings), UM_OK);
+    assert_int_equal(add_rings(net, rings), UM_OK);
     return features::Domain(features::with_domain_rings_traced(net));
 }
 
@@ -93,14 +74,16 @@ void a_dateline_box_with_a_hole(void **) {
     };
     const double expected = band(40, -20, 20) - band(5, -5, 5);
     assert_true(std::fabs(d.area() - expected) < 1e-4 * expected);
-    assert_true(std::fabs(d.distance(at(180, 21)) - M_PI / 180) < 1e-3);
+    double to_ring = 0;
+    d.locate(at(180, 21), &to_ring);
+    assert_true(std::fabs(to_ring - M_PI / 180) < 1e-3);
 }
 
 // A ring around a pole encloses the cap (the smaller side), whichever way
 // it is given.
 void a_ring_around_a_pole(void **) {
     for (bool reversed : {false, true}) {
-        Ring r{{0, 90, 180, -90}, {70, 70, 70, 70}};
+        Ring r = ring({0, 90, 180, -90}, {70, 70, 70, 70});
         if (reversed) std::reverse(r.lon.begin(), r.lon.end());
         const features::Domain d = domain_of({r});
         assert_true(d.contains(at(0, 89)));
@@ -114,7 +97,7 @@ void crossing_open_and_short_rings_are_refused(void **) {
     std::string message;
     {
         Network net;
-        assert_int_equal(add(net, {Ring{{0, 10, 0, 10}, {0, 10, 10, 0}}}), UM_OK);  // a bow tie
+        assert_int_equal(add_rings(net, {ring({0, 10, 0, 10}, {0, 10, 10, 0})}), UM_OK);  // a bow tie
         try {
             features::Domain d(net);
             fail_msg("a ring crossing itself was taken");
@@ -125,7 +108,7 @@ void crossing_open_and_short_rings_are_refused(void **) {
     }
     {
         Network net;
-        assert_int_equal(add(net, {box(0, 10, 0, 10), box(5, 15, 5, 15)}), UM_OK);
+        assert_int_equal(add_rings(net, {box(0, 10, 0, 10), box(5, 15, 5, 15)}), UM_OK);
         try {
             features::Domain d(net);
             fail_msg("two crossing rings were taken");
@@ -137,9 +120,9 @@ void crossing_open_and_short_rings_are_refused(void **) {
     Network net;
     Ring open = box(0, 10, 0, 10);
     open.closed = 0;
-    assert_int_equal(add(net, {open}, &message), UM_ERR_INPUT);
+    assert_int_equal(add_rings(net, {open}, &message), UM_ERR_INPUT);
     assert_non_null(std::strstr(message.c_str(), "is open"));
-    assert_int_equal(add(net, {Ring{{0, 10}, {0, 0}}}, &message), UM_ERR_INPUT);
+    assert_int_equal(add_rings(net, {ring({0, 10}, {0, 0})}, &message), UM_ERR_INPUT);
     assert_non_null(std::strstr(message.c_str(), "at least 3"));
     assert_int_equal(net.part_count(), 0);
 }
@@ -150,7 +133,9 @@ void the_cover_grows_away_from_the_domain(void **) {
     auto d = std::make_shared<const features::Domain>(domain_of({box(-40, 0, 10, 50)}));
     const hfun::SpacingPtr h = hfun::make_region_cover(hfun::make_constant(30), d);
     assert_true(h->km_at(at(-20, 30)) == 30);
-    const double d_km = d->distance(at(10, 30)) * hfun::kEarthRadiusKm;
+    double to_ring = 0;
+    d->locate(at(10, 30), &to_ring);
+    const double d_km = to_ring * hfun::kEarthRadiusKm;
     assert_true(std::fabs(h->km_at(at(10, 30)) - (30 + hfun::kCoverRate * d_km)) < 1e-9);
     assert_true(h->km_at(at(140, -30)) == hfun::kCoverKm);
     for (const Vec3 &c : {at(5, 30), at(30, 30), at(-20, 55), at(100, 0)}) {
@@ -167,7 +152,7 @@ void the_cover_grows_away_from_the_domain(void **) {
 
 std::shared_ptr<Network> rings_network(const std::vector<Ring> &rings) {
     auto net = std::make_shared<Network>();
-    assert_int_equal(add(*net, rings), UM_OK);
+    assert_int_equal(add_rings(*net, rings), UM_OK);
     return net;
 }
 
