@@ -227,8 +227,11 @@ typedef struct um_options um_options;
  * gives its type, bounds and default. */
 typedef int32_t um_option;
 enum {
-    /* sphere */
-    UM_OPT_SPHERE_RADIUS = 1,          /* real, m; default 6371220 (E3SM SHR_CONST_REARTH) */
+    /* the surface: a sphere, or an ellipsoid ("Surfaces" below) */
+    UM_OPT_SPHERE_RADIUS = 1,          /* real, m; default 6371220 (E3SM SHR_CONST_REARTH); an
+                                          ellipsoid's semi-major axis a when the flattening > 0 */
+    UM_OPT_SURFACE_FLATTENING = 2,     /* real in [0, 0.02]; default 0 (a sphere). WGS84:
+                                          sphere_radius 6378137, flattening 1/298.257223563 */
     /* refinement (paper section 5) */
     UM_OPT_REFINE_ALPHA = 100,         /* real; edge/size bound, default 4/3 */
     UM_OPT_REFINE_BETA = 101,          /* real; Hausdorff bound eps < beta*h, default 1/5 */
@@ -743,6 +746,31 @@ UM_API um_status um_mesh_quality_summary(const um_mesh *m, const char *metric, d
 UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
                                         int64_t *not_well_centred);
 
+/* ---------------------------------------------------------------- Surfaces */
+
+/* With UM_OPT_SURFACE_FLATTENING f > 0, um_mesh_refine meshes the ellipsoid
+ * of semi-major axis a = UM_OPT_SPHERE_RADIUS and flattening f (WGS84: a =
+ * 6378137 m, f = 1/298.257223563; f at most 0.02) instead of the sphere.
+ * Longitudes and latitudes (features, spacing grids and callbacks) are
+ * geodetic; spacing in km is geodesic km on the ellipsoid. The
+ * triangulation is the same lifted hull of unit directions, each direction
+ * standing for the ellipsoid point along it (DESIGN.md section 3);
+ * um_mesh_copy_vertices gives the vertices' geodetic lon/lat. The radial map is conformal to within f^2, so the quality metrics (all
+ * ratios of lengths and angles) are the ellipsoid's to that accuracy.
+ * Distances inside the spacing kinds (feature-distance ramps, the gradient
+ * limit) are measured at geodetic lon/lat on the sphere of radius a: within
+ * 2f of geodesic.
+ * Outputs: MPAS assumes a sphere, so the MPAS mesh (file and copy-out) puts
+ * every cell, edge and vertex at the geodetic lat/lon of its ellipsoid
+ * point on the sphere of the ellipsoid's authalic radius (sphere_radius;
+ * the cells' areas add up to the ellipsoid's area), the power diagram of
+ * the generators so placed (orthogonal, every length, area and weight of
+ * that sphere); the file's global attributes surface = "ellipsoid",
+ * ellipsoid_semi_major_axis, ellipsoid_flattening and surface_note say so.
+ * The JIGSAW file and the CLI's VTU files put their points on the
+ * ellipsoid. With f = 0 (the default) every result is bit for bit the
+ * sphere's. */
+
 /* --------------------------------------------------------- Regional meshes */
 
 /* Features holding UM_FEATURE_DOMAIN rings make um_mesh_refine build a
@@ -792,7 +820,8 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * k x n_e from verticesOnEdge(e,1) to (e,2); signed geodesic areas and kites;
  * TRSK weightsOnEdge (Thuburn et al. 2009); exact angleEdge; lat/lon in
  * radians, longitudes in (-pi, pi]; lengths in m and areas in m^2 on the
- * sphere of radius UM_OPT_SPHERE_RADIUS given to um_mesh_refine;
+ * sphere of radius UM_OPT_SPHERE_RADIUS given to um_mesh_refine (an
+ * ellipsoid's authalic radius: "Surfaces" above);
  * meshDensity = (min h / h)^4 from the spacing h the mesh was refined to, at
  * the generators (the minimum over the cells). Unified tags: cellSide (per
  * cell) and vertexSide (per vertex), UM_SIDE_* values with flag_values /

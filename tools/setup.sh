@@ -12,7 +12,7 @@ build_dir=${BUILD_DIR:-$root/build}
 # Why each package is here: see README.md, "Dependencies".
 packages=(
   build-essential cmake ninja-build pkg-config gfortran
-  libtbb-dev libnetcdf-dev nlohmann-json3-dev
+  libtbb-dev libnetcdf-dev libgeographiclib-dev nlohmann-json3-dev
   libcmocka-dev libcli11-dev libtomlplusplus-dev
   python3 python3-numpy python3-netcdf4 python3-matplotlib python3-pip python3-setuptools python3-wheel
   libcgal-dev libqhull-dev libgmp-dev libmpfr-dev

@@ -72,6 +72,7 @@ module unimesh_cint
 
   ! ------------------------------------------------------------------ options
   integer(c_int32_t), parameter :: UM_OPT_SPHERE_RADIUS = 1
+  integer(c_int32_t), parameter :: UM_OPT_SURFACE_FLATTENING = 2
   integer(c_int32_t), parameter :: UM_OPT_REFINE_ALPHA = 100
   integer(c_int32_t), parameter :: UM_OPT_REFINE_BETA = 101
   integer(c_int32_t), parameter :: UM_OPT_REFINE_RHO = 102

@@ -143,8 +143,7 @@ UM_API um_status um_mesh_copy_vertices(const um_mesh *m, double *lon_deg, double
     require_pointer(lon_deg, "lon_deg");
     require_pointer(lat_deg, "lat_deg");
     for (int64_t i = 0; i < m->mesh.vertex_count(); ++i)
-        um::geom::lonlat_deg_from_unit(m->mesh.tri.direction(m->mesh.slot_of_vertex[i]), lon_deg[i],
-                                       lat_deg[i]);
+        m->mesh.surface.geodetic(m->mesh.tri.direction(m->mesh.slot_of_vertex[i]), lon_deg[i], lat_deg[i]);
     return UM_OK;
     UM_API_END(state_or_null(m))
 }

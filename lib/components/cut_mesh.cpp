@@ -156,6 +156,7 @@ MpasMesh cut_mesh(Context &ctx, const MpasMesh &base, const std::vector<uint8_t>
     if (k.cells.size() == 0) fail(UM_ERR_INTERNAL, "cut_mesh: no cell to keep");
     MpasMesh m;
     m.radius_m = base.radius_m;
+    m.ellipsoid_a_m = base.ellipsoid_a_m, m.ellipsoid_f = base.ellipsoid_f;
     cut_cells(base, k, m);
     cut_edges(base, k, m);
     cut_vertices(base, k, m);

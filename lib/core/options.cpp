@@ -6,6 +6,7 @@
 
 #include "core/earth.hpp"
 #include "core/error.hpp"
+#include "geom/surface.hpp"
 #include "optim/defaults.hpp"
 #include "refine/bounds.hpp"
 
@@ -18,6 +19,7 @@ constexpr double kBig = 1e300;
 // One row per option: the only place an option is declared.
 const OptionSpec kSpecs[] = {
     {UM_OPT_SPHERE_RADIUS, "sphere_radius", UM_OPTION_TYPE_REAL, 1e-3, 1e12, kEarthRadiusKm * 1000},
+    {UM_OPT_SURFACE_FLATTENING, "surface_flattening", UM_OPTION_TYPE_REAL, 0.0, geom::Surface::kMaxFlattening, 0.0},
     {UM_OPT_REFINE_ALPHA, "refine_alpha", UM_OPTION_TYPE_REAL, 1.0, 4.0, refine::kDefaultAlpha},
     {UM_OPT_REFINE_BETA, "refine_beta", UM_OPTION_TYPE_REAL, 1e-3, 1.0, refine::kDefaultBeta},
     {UM_OPT_REFINE_RHO, "refine_rho", UM_OPTION_TYPE_REAL, 1.0, 10.0, refine::kDefaultRho},

@@ -106,10 +106,25 @@ bool walk_ring(const tri::Triangulation &tri, int32_t s, Walk &walk) {
     return true;
 }
 
+// A copy of tri with each point at the geodetic lon/lat of its surface
+// point on the unit sphere, keeping its weight.
+std::unique_ptr<tri::Triangulation> points_on_sphere(Context &ctx, const tri::Triangulation &tri,
+                                                     const geom::Surface &surface) {
+    auto copy = std::make_unique<tri::Triangulation>(tri);
+    ctx.parallel_for(tri.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
+        for (int32_t v = static_cast<int32_t>(b); v < e; ++v)
+            if (tri.in_triangulation(v))
+                copy->set_lifted(v, geom::norm(tri.lifted(v)) * surface.sphere_unit(tri.direction(v)));
+    });
+    return copy;
+}
+
 }  // namespace
 
-MpasLayout::MpasLayout(Context &ctx, const tri::Triangulation &tri, std::vector<int32_t> slot_of_vertex)
+MpasLayout::MpasLayout(Context &ctx, const tri::Triangulation &tri, std::vector<int32_t> slot_of_vertex,
+                       const geom::Surface &surface)
     : tri_(&tri) {
+    if (!surface.is_sphere()) tri_ = (on_sphere_ = points_on_sphere(ctx, tri, surface)).get();
     // nEdges = 3 nTriangles / 2 is the largest count; every index is int32.
     if (int64_t(tri.triangle_count()) * 3 / 2 > kMaxIndex)
         fail(UM_ERR_LIMIT, "MPAS mesh: ", tri.triangle_count(),

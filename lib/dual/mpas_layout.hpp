@@ -8,11 +8,13 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/context.hpp"
 #include "core/uninit_vector.hpp"
 #include "geom/sphere.hpp"
+#include "geom/surface.hpp"
 #include "tri/triangulation.hpp"
 
 namespace um::dual {
@@ -41,7 +43,13 @@ public:
     // triangulation's vertices); empty = every vertex in slot order. Throws
     // um::Error on a numbering that does not match, broken neighbour links,
     // counts beyond int32 (UM_ERR_LIMIT). Keeps a reference to tri.
-    MpasLayout(Context &ctx, const tri::Triangulation &tri, std::vector<int32_t> slot_of_vertex);
+    // surface: what the directions stand for. On an ellipsoid the layout
+    // holds a copy of tri with each point moved to its geodetic lon/lat on
+    // the unit sphere (same weights, same triangles), and every position
+    // below is of that copy: the staggered mesh is then the power diagram on
+    // the sphere MPAS assumes, orthogonal by construction.
+    MpasLayout(Context &ctx, const tri::Triangulation &tri, std::vector<int32_t> slot_of_vertex,
+               const geom::Surface &surface = geom::Surface::sphere(1.0));
 
     const tri::Triangulation &tri() const { return *tri_; }
     int32_t n_cells() const { return static_cast<int32_t>(cell_slot_.size()); }
@@ -79,6 +87,7 @@ private:
     // filled on one thread with 4 KiB pages, their first touches (page
     // faults and memset) were two thirds of the layout's time at 10 km.
     const tri::Triangulation *tri_;
+    std::unique_ptr<tri::Triangulation> on_sphere_;  // an ellipsoid mesh's copy (tri_ points to it)
     HugePageVector<int32_t> cell_vertex_, cell_slot_, cell_of_slot_;
     HugePageVector<int32_t> vertex_tri_, vertex_of_tri_;
     HugePageVector<int64_t> edge_half_;     // edge -> 3 * lower triangle slot + k

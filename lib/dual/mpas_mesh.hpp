@@ -34,6 +34,7 @@
 
 #include "core/context.hpp"
 #include "geom/sphere.hpp"
+#include "geom/surface.hpp"
 #include "tri/triangulation.hpp"
 
 namespace um::mesh {
@@ -55,6 +56,12 @@ constexpr int64_t kMpasBytesPerCell = 1600;
 
 struct MpasMesh {
     double radius_m = 0;
+    // A mesh made on an ellipsoid (f > 0; 0 for a sphere): its semi-major
+    // axis and flattening. MPAS assumes a sphere: the positions are the
+    // ellipsoid points' geodetic lon/lat on the sphere of radius_m (the
+    // ellipsoid's authalic radius), every length, area and weight computed
+    // on that sphere.
+    double ellipsoid_a_m = 0, ellipsoid_f = 0;
     int32_t n_cells = 0, n_edges = 0, n_vertices = 0;
     int32_t max_edges = 0;  // max nEdgesOnCell; edgesOnEdge rows have 2 * max_edges
 
@@ -119,6 +126,9 @@ struct MpasMeshInput {
     // vertex i. Empty = every slot in the triangulation, in slot order.
     std::vector<int32_t> slot_of_vertex;
     double radius_m = 0;
+    // What the triangulation's directions stand for: on an ellipsoid, each
+    // position is placed at its geodetic lon/lat on the sphere of radius_m.
+    geom::Surface surface = geom::Surface::sphere(1.0);
     // Optional spacing per mesh vertex (km, finite and > 0): meshDensity =
     // (min h / h)^4 as MPAS-Tools' inject_meshDensity (the minimum taken over
     // the cells); empty = 1.0 everywhere.

@@ -40,14 +40,20 @@ void check_input(const tri::Triangulation &tri, const MpasLayout &layout, const 
 MpasMeshInput input_of(Context &ctx, const mesh::RefinedMesh &refined) {
     MpasMeshInput input;
     input.slot_of_vertex = refined.slot_of_vertex;
-    input.radius_m = refined.radius_m;
+    const geom::Surface &surface = refined.surface;
+    input.surface = surface;
+    input.radius_m = surface.is_sphere() ? refined.radius_m : surface.authalic_radius_m();
     if (refined.spacing) {
         // The spacing the mesh was refined to, at the generators, for meshDensity
-        // (check_input refuses values that are not finite and > 0).
+        // (check_input refuses values that are not finite and > 0); on an
+        // ellipsoid the geodesic km it stands for (hfun/on_ellipsoid.hpp).
         input.cell_width_km.resize(input.slot_of_vertex.size());
         ctx.parallel_for(refined.vertex_count(), 1024, [&](int64_t b, int64_t e) {
-            for (int64_t i = b; i < e; ++i)
-                input.cell_width_km[i] = refined.spacing->km_at(refined.tri.direction(input.slot_of_vertex[i]));
+            for (int64_t i = b; i < e; ++i) {
+                const geom::Vec3 u = refined.tri.direction(input.slot_of_vertex[i]);
+                const double km = refined.spacing->km_at(u);
+                input.cell_width_km[i] = surface.is_sphere() ? km : km * (surface.radius_along(u) / surface.a());
+            }
         });
     }
     return input;
@@ -155,7 +161,8 @@ std::vector<uint8_t> river_crossings(Context &ctx, const MpasLayout &layout, con
 // The input is taken by value and its arrays moved (8 + 4 bytes per cell,
 // held while the mesh's own are).
 MpasSource::MpasSource(Context &ctx, const tri::Triangulation &tri, MpasMeshInput input)
-    : layout_(ctx, tri, std::move(input.slot_of_vertex)), radius_m_(input.radius_m) {
+    : layout_(ctx, tri, std::move(input.slot_of_vertex), input.surface), radius_m_(input.radius_m),
+      surface_(input.surface) {
     check_input(tri, layout_, input);
     cell_width_km_ = std::move(input.cell_width_km);
     if (!cell_width_km_.empty()) min_width_km_ = *std::min_element(cell_width_km_.begin(), cell_width_km_.end());
@@ -212,6 +219,7 @@ MpasSource::~MpasSource() = default;
 MpasMesh MpasSource::shape() const {
     MpasMesh m;
     m.radius_m = radius_m_;
+    if (!surface_.is_sphere()) m.ellipsoid_a_m = surface_.a(), m.ellipsoid_f = surface_.f();
     m.n_cells = layout_.n_cells(), m.n_edges = layout_.n_edges(), m.n_vertices = layout_.n_vertices();
     m.max_edges = layout_.max_edges();
     return m;

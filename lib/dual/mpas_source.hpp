@@ -67,6 +67,7 @@ private:
 
     MpasLayout layout_;
     double radius_m_;
+    geom::Surface surface_;
     std::vector<double> cell_width_km_;  // per mesh vertex; empty: meshDensity 1
     double min_width_km_ = 0;
     std::unique_ptr<Tags> tags_;

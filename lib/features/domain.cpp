@@ -61,7 +61,7 @@ Network with_domain_rings_traced(const Network &net) {
         }
         copy.end_part(p);
     }
-    return copy.network();
+    return copy.network(net.flattening());
 }
 
 bool ring_encloses(const Network &net, int64_t p, const Vec3 &x) {

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "geom/surface.hpp"
 
 namespace um::features {
 
@@ -61,8 +62,8 @@ struct Staged {
 
 class BatchChecker {
 public:
-    BatchChecker(const PartsInput &in, const Locator &where, int64_t first_part)
-        : in_(in), where_(where), first_part_(first_part) {}
+    BatchChecker(const PartsInput &in, const Locator &where, int64_t first_part, double flattening)
+        : in_(in), where_(where), first_part_(first_part), surface_(geom::Surface::ellipsoid(1.0, flattening)) {}
 
     void check_counts(int64_t points_before, int64_t parts_before) const {
         if (in_.n_points < 0)
@@ -125,7 +126,7 @@ public:
         std::vector<int64_t> source;
         source.reserve(static_cast<size_t>(n));
         for (int64_t i = 0; i < n; ++i) {
-            Vec3 u = geom::unit_from_lonlat_deg(lon[i], lat[i]);
+            Vec3 u = surface_.direction(lon[i], lat[i]);
             if (!source.empty() &&
                 same_point(lon[i], lat[i], u, out.lon.back(), out.lat.back(), out.points.back()))
                 continue;
@@ -259,6 +260,7 @@ private:
     const PartsInput &in_;
     const Locator &where_;
     int64_t first_part_;
+    geom::Surface surface_;
 };
 
 template <class T>
@@ -292,7 +294,7 @@ bool same_point(double lon1, double lat1, const Vec3 &u1, double lon2, double la
 }
 
 void Network::add(const PartsInput &in, const Locator &where) {
-    BatchChecker checker(in, where, part_count());
+    BatchChecker checker(in, where, part_count(), flattening_);
     checker.check_counts(point_count(), part_count());
     checker.check_layout();
 
@@ -333,8 +335,8 @@ double Network::segment_length(int64_t s) const {
     return geom::arc_length(segment_a(s), segment_b(s));
 }
 
-Network PartsCopy::network() const {
-    Network out;
+Network PartsCopy::network(double flattening) const {
+    Network out(flattening);
     if (closed.empty()) return out;
     PartsInput in;
     in.n_points = static_cast<int64_t>(lon.size()), in.lon_deg = lon.data(), in.lat_deg = lat.data();
@@ -354,7 +356,16 @@ Network parts_of_kind(const Network &net, Kind kind, bool keep, std::vector<int6
         for (int64_t i = p.first_point; i < p.first_point + p.n_points; ++i) copy.add_point(net.lon_deg(i), net.lat_deg(i));
         copy.end_part(p);
     }
-    return copy.network();
+    return copy.network(net.flattening());
+}
+
+Network on_ellipsoid(const Network &net, double flattening) {
+    PartsCopy copy;
+    for (const Part &p : net.parts()) {
+        for (int64_t i = p.first_point; i < p.first_point + p.n_points; ++i) copy.add_point(net.lon_deg(i), net.lat_deg(i));
+        copy.end_part(p);
+    }
+    return copy.network(flattening);
 }
 
 geom::ArcTree segment_arc_tree(const Network *net) {

@@ -90,6 +90,12 @@ public:
     static constexpr int64_t kMaxPoints = 2147483647 - 1;
     static constexpr int64_t kMaxParts = 2147483647 - 1;
 
+    // Points are the directions of their geodetic lon/lat on an ellipsoid of
+    // this flattening (geom/surface.hpp; 0, the default: a sphere).
+    Network() = default;
+    explicit Network(double flattening) : flattening_(flattening) {}
+    double flattening() const { return flattening_; }
+
     // Validates and cleans the batch and appends it. All-or-nothing: if it
     // throws, the network is unchanged. `where` names places in messages
     // (default: "part p", "part p, point i", "... longitude/latitude").
@@ -130,6 +136,7 @@ public:
     double total_length() const { return total_length_; }
 
 private:
+    double flattening_ = 0;
     std::vector<Vec3> points_;
     std::vector<double> lon_deg_, lat_deg_;
     std::vector<Part> parts_;
@@ -150,8 +157,12 @@ struct PartsCopy {
         offsets.push_back(static_cast<int64_t>(lon.size()));
         closed.push_back(like.closed), kinds.push_back(static_cast<int32_t>(like.kind)), ids.push_back(like.id);
     }
-    Network network() const;
+    Network network(double flattening = 0) const;
 };
+
+// The same parts (ids, kinds, order) with their points on an ellipsoid of
+// this flattening.
+Network on_ellipsoid(const Network &net, double flattening);
 
 // The parts of `net` of kind `kind` (keep) or every other part (!keep), as a
 // network of their own, ids kept; source_parts (when given) gets the index in

@@ -27,6 +27,7 @@ void write_jigsaw_mesh(const mesh::RefinedMesh &m, const std::string &path) {
     if (!file) fail(UM_ERR_IO, "cannot create JIGSAW mesh file '", path, "'");
     std::FILE *f = file.get();
     const double r = m.radius_m;
+    const geom::Surface &surface = m.surface;
     const int64_t n = m.vertex_count();
     const tri::Triangulation &tri = m.tri;
     std::string text;
@@ -38,11 +39,16 @@ void write_jigsaw_mesh(const mesh::RefinedMesh &m, const std::string &path) {
             text.clear();
         }
     };
-    append_all(text, "# unimesh " UM_VERSION_STRING " Laguerre-Power mesh of the sphere, radius ", r,
-               " m\nMSHID=3;EUCLIDEAN-MESH\nNDIMS=3\nPOINT=", n, "\n");
+    if (surface.is_sphere())
+        append_all(text, "# unimesh " UM_VERSION_STRING " Laguerre-Power mesh of the sphere, radius ", r, " m\n");
+    else
+        append_all(text, "# unimesh " UM_VERSION_STRING " Laguerre-Power mesh of the ellipsoid, semi-major axis ", r,
+                   " m, flattening ", surface.f(), ": points on the ellipsoid, power weights on the sphere of its "
+                   "directions (radius a)\n");
+    append_all(text, "MSHID=3;EUCLIDEAN-MESH\nNDIMS=3\nPOINT=", n, "\n");
     for (int64_t i = 0; i < n && ok; ++i) {
-        const geom::Vec3 x = tri.direction(m.slot_of_vertex[i]);
-        append_all(text, r * x.x, ";", r * x.y, ";", r * x.z, ";0\n");
+        const geom::Vec3 x = surface.point(tri.direction(m.slot_of_vertex[i]));
+        append_all(text, x.x, ";", x.y, ";", x.z, ";0\n");
         flush(false);
     }
     append_all(text, "POWER=", n, ";1\n");

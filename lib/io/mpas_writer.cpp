@@ -140,6 +140,21 @@ int format_for(const MpasMesh &m, const std::vector<MpasField> &fields, const Mp
 // and nothing moves when it is replaced.
 constexpr const char *kFileIdPlaceholder = "0000000000";
 
+// What a mesh made on an ellipsoid holds, for readers who know MPAS assumes
+// a sphere (unimesh.h, "Surfaces").
+void write_ellipsoid_attributes(const NcOutput &nc, const MpasMesh &m) {
+    nc.put_text(NC_GLOBAL, "surface", "ellipsoid");
+    nc.check(nc_put_att_double(nc.id(), NC_GLOBAL, "ellipsoid_semi_major_axis", NC_DOUBLE, 1, &m.ellipsoid_a_m),
+             "writing attribute ellipsoid_semi_major_axis");
+    nc.check(nc_put_att_double(nc.id(), NC_GLOBAL, "ellipsoid_flattening", NC_DOUBLE, 1, &m.ellipsoid_f),
+             "writing attribute ellipsoid_flattening");
+    nc.put_text(NC_GLOBAL, "surface_note",
+                "made on the ellipsoid (ellipsoid_semi_major_axis, ellipsoid_flattening); written as MPAS "
+                "assumes a sphere: cells, edges and vertices at the geodetic latitude and longitude of their "
+                "ellipsoid points, on the sphere of radius sphere_radius (the ellipsoid's authalic radius, so "
+                "the cell areas add up to the ellipsoid's area); every length, area and weight is of that sphere");
+}
+
 void define(const NcOutput &nc, const MpasMesh &m, const std::vector<MpasField> &fields,
             std::vector<int> &var_ids) {
     int dim_ids[dual::kMpasDimCount];
@@ -167,6 +182,7 @@ void define(const NcOutput &nc, const MpasMesh &m, const std::vector<MpasField> 
     nc.put_text(NC_GLOBAL, "on_a_sphere", "YES");
     nc.check(nc_put_att_double(nc.id(), NC_GLOBAL, "sphere_radius", NC_DOUBLE, 1, &m.radius_m),
              "writing attribute sphere_radius");
+    if (m.ellipsoid_f > 0) write_ellipsoid_attributes(nc, m);
     nc.put_text(NC_GLOBAL, "is_periodic", "NO");
     nc.put_text(NC_GLOBAL, "mesh_spec", "1.0");
     nc.put_text(NC_GLOBAL, "Conventions", "MPAS");

@@ -8,6 +8,7 @@
 #include "core/text.hpp"
 #include "dual/mpas_mesh.hpp"
 #include "dual/mpas_source.hpp"
+#include "hfun/on_ellipsoid.hpp"
 #include "hfun/region_cover.hpp"
 #include "refine/boundary.hpp"
 #include "refine/lattice.hpp"
@@ -158,6 +159,27 @@ void split_passages(RefinedMesh &m, std::shared_ptr<const features::Network> fea
     m.passages = std::make_shared<features::Network>(features::parts_of_kind(*features, features::Kind::passage, true));
 }
 
+// Gamma and the passages as the mesh uses them: split (split_passages), the
+// domain rings traced along their lon/lat edges, and on an ellipsoid each
+// point at the direction of its geodetic lon/lat.
+void place_gamma(RefinedMesh &m, std::shared_ptr<const features::Network> features) {
+    split_passages(m, std::move(features));
+    if (m.gamma && std::any_of(m.gamma->parts().begin(), m.gamma->parts().end(),
+                               [](const features::Part &p) { return p.kind == features::Kind::domain; }))
+        m.gamma = std::make_shared<const features::Network>(features::with_domain_rings_traced(*m.gamma));
+    if (m.surface.is_sphere()) return;
+    if (m.gamma) m.gamma = std::make_shared<const features::Network>(features::on_ellipsoid(*m.gamma, m.surface.f()));
+    if (m.passages)
+        m.passages = std::make_shared<const features::Network>(features::on_ellipsoid(*m.passages, m.surface.f()));
+}
+
+// The surface the options describe: a sphere of sphere_radius, or the
+// ellipsoid of that semi-major axis and surface_flattening.
+geom::Surface surface_of(const Options &options) {
+    const double a = options.real(UM_OPT_SPHERE_RADIUS), f = options.real(UM_OPT_SURFACE_FLATTENING);
+    return f == 0 ? geom::Surface::sphere(a) : geom::Surface::ellipsoid(a, f);
+}
+
 void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
     separate_degenerate_dual_edges(ctx, m.tri);
     m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
@@ -257,13 +279,15 @@ MeshEstimate estimate_mesh(Context &ctx, const hfun::Spacing &h) {
 RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
                         std::shared_ptr<const features::Network> gamma, const Options &options) {
     const double radius_m = options.real(UM_OPT_SPHERE_RADIUS);
+    const geom::Surface surface = surface_of(options);
     h = mesh_spacing(ctx, std::move(h), options.real(UM_OPT_SPACING_GRADIENT), radius_m);
+    h = hfun::make_on_ellipsoid(std::move(h), surface);
     RefinedMesh m;
     m.radius_m = radius_m;
-    split_passages(m, std::move(gamma));
+    m.surface = surface;
+    place_gamma(m, std::move(gamma));
     if (m.gamma && std::any_of(m.gamma->parts().begin(), m.gamma->parts().end(),
                                [](const features::Part &p) { return p.kind == features::Kind::domain; })) {
-        m.gamma = std::make_shared<const features::Network>(features::with_domain_rings_traced(*m.gamma));
         auto domain = std::make_shared<const features::Domain>(*m.gamma);
         if (!domain->empty()) {
             m.domain = domain;

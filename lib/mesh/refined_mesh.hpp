@@ -12,6 +12,7 @@
 #include "core/options.hpp"
 #include "features/domain.hpp"
 #include "features/network.hpp"
+#include "geom/surface.hpp"
 #include "hfun/spacing.hpp"
 #include "optim/optimise.hpp"
 #include "quality/metrics.hpp"
@@ -36,8 +37,12 @@ struct RefinedMesh {
     // Per part of gamma, its index among the caller's features (empty: the
     // same index, when no passage was split off).
     std::vector<int64_t> features_part;
-    hfun::SpacingPtr spacing;                         // what it was refined to
+    hfun::SpacingPtr spacing;                         // what it was refined to (km on the sphere of radius_m)
     double radius_m = 0;
+    // What the directions stand for (geom/surface.hpp): a sphere of radius_m,
+    // or an ellipsoid of semi-major axis radius_m; spacing is then in km on
+    // the sphere of radius_m that the ellipsoid's geodesic h spans.
+    geom::Surface surface = geom::Surface::sphere(kEarthRadiusKm * 1000);
     // Per vertex slot: the Gamma segment it was placed on, or -1.
     std::vector<int32_t> on_segment;
     // Mesh vertices are the slots in the triangulation, numbered in slot order.

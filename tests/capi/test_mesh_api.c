@@ -390,6 +390,33 @@ static void regional_mesh(void **state) {
     um_features_destroy(f);
 }
 
+/* The WGS84 ellipsoid through the options: a flattening out of range is
+ * refused by name; the MPAS cells' areas add up to the ellipsoid's. */
+static void wgs84_mesh(void **state) {
+    um_context *ctx = *state;
+    um_options *opts = NULL;
+    um_spacing *h = NULL;
+    um_mesh *m = NULL;
+    assert_int_equal(um_options_create(ctx, &opts), UM_OK);
+    assert_int_equal(um_options_set_double(opts, UM_OPT_SURFACE_FLATTENING, 0.5), UM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(um_context_last_error(ctx), "surface_flattening"));
+    assert_int_equal(um_options_set_double(opts, UM_OPT_SPHERE_RADIUS, 6378137.0), UM_OK);
+    assert_int_equal(um_options_set_double(opts, UM_OPT_SURFACE_FLATTENING, 1 / 298.257223563), UM_OK);
+    assert_int_equal(um_spacing_create_constant(ctx, 480.0, &h), UM_OK);
+    assert_int_equal(um_mesh_refine(ctx, h, NULL, opts, &m), UM_OK);
+    assert_int_equal(um_mesh_optimise(m, opts), UM_OK);
+    int64_t cells = 0, edges = 0, vertices = 0, max_edges = 0;
+    assert_int_equal(um_mesh_mpas_dimensions(m, &cells, &edges, &vertices, &max_edges), UM_OK);
+    double *area = malloc(cells * sizeof(double)), sum = 0;
+    assert_int_equal(um_mesh_copy_mpas_real(m, "areaCell", area, cells), UM_OK);
+    for (int64_t c = 0; c < cells; ++c) sum += area[c];
+    assert_true(fabs(sum / 5.100656217240886e14 - 1) < 1e-10);
+    free(area);
+    um_mesh_destroy(m);
+    um_spacing_destroy(h);
+    um_options_destroy(opts);
+}
+
 static double nan_south(void *user, double lon, double lat) {
     (void)user, (void)lon;
     return lat < -60 ? NAN : 900.0;
@@ -556,6 +583,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(midatlantic_full_resolution, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(bad_input, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(regional_mesh, setup_context, teardown_context),
+        cmocka_unit_test_setup_teardown(wgs84_mesh, setup_context, teardown_context),
         cmocka_unit_test_setup_teardown(spacing_callback_failure_names_the_point, setup_context,
                                         teardown_context),
         cmocka_unit_test_setup_teardown(a_slow_spacing_callback_can_cancel_the_optimisation, setup_context, teardown_context),

@@ -201,6 +201,62 @@ class Build(unittest.TestCase):
             self.assertNotEqual(r.returncode, 0)
             self.assertIn("--domain " + COAST + ": the feature of id", r.stderr)
 
+    def test_wgs84_meshes(self):
+        # --surface wgs84: mesh.nc says what it holds (the geodetic lat/lon on
+        # the authalic sphere) and passes the checker; mesh.vtu and mesh.msh
+        # put their points on the ellipsoid; a regional mesh works on it too.
+        import netCDF4  # python3-netcdf4 (and numpy), installed by tools/setup.sh
+        import numpy as np
+        a, f = 6378137.0, 1 / 298.257223563
+        b = a * (1 - f)
+        with tempfile.TemporaryDirectory() as folder:
+            out = os.path.join(folder, "wgs84")
+            r = run("build", "--spacing-km", "240", "--surface", "wgs84", "--vtu", "--jigsaw", "--threads", "2",
+                    "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            r = run("check", os.path.join(out, "mesh.nc"))
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            with netCDF4.Dataset(os.path.join(out, "mesh.nc")) as m:
+                self.assertEqual(m.surface, "ellipsoid")
+                self.assertEqual((m.ellipsoid_semi_major_axis, m.ellipsoid_flattening), (a, f))
+                self.assertAlmostEqual(m.sphere_radius, 6371007.181, places=3)
+                # The cells' areas add up to the ellipsoid's (5.10065622e14 m^2).
+                self.assertAlmostEqual(m["areaCell"][:].sum() / 5.100656217240886e14, 1, places=12)
+            def on_ellipsoid(points):
+                p = np.array(points)
+                return np.abs((p[:, 0] ** 2 + p[:, 1] ** 2) / a ** 2 + p[:, 2] ** 2 / b ** 2 - 1).max()
+            with open(os.path.join(out, "mesh.msh")) as msh:
+                lines = msh.read().splitlines()
+            self.assertIn("mesh of the ellipsoid, semi-major axis 6378137 m", lines[0])
+            first = lines.index(next(l for l in lines if l.startswith("POINT="))) + 1
+            self.assertLess(on_ellipsoid([[float(v) for v in l.split(";")[:3]] for l in lines[first:first + 100]]), 1e-12)
+            with open(os.path.join(out, "mesh.vtu")) as vtu:
+                text = vtu.read()
+            block = text.split('NumberOfComponents="3" format="ascii">\n')[1].split("</DataArray>")[0]
+            self.assertLess(on_ellipsoid([[float(v) for v in l.split()] for l in block.splitlines()[:100]]), 1e-8)
+            # A regional mesh across the antimeridian on WGS84, from a case file.
+            domain = os.path.join(folder, "pacific.geojson")
+            with open(domain, "w") as g:
+                json.dump({"type": "Feature", "properties": {"kind": "domain"},
+                           "geometry": {"type": "Polygon",
+                                        "coordinates": [[[160, -20], [-160, -20], [-160, 20], [160, 20], [160, -20]]]}}, g)
+            case = os.path.join(folder, "case.toml")
+            with open(case, "w") as g:
+                g.write('domain = ["pacific.geojson"]\nspacing_km = 240\nsurface = "wgs84"\nout = "pacific"\n')
+            r = run("build", "--case", case)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with netCDF4.Dataset(os.path.join(folder, "pacific", "mesh.nc")) as m:
+                self.assertEqual(m.surface, "ellipsoid")
+                lat = np.degrees(m["latCell"][:])
+                self.assertTrue(np.all(np.abs(lat) < 20), (lat.min(), lat.max()))
+            # Bad surfaces, named.
+            for surface, message in (("ellipsoid:6378137,0.5", "flattening"), ("mars", "not sphere, wgs84"),
+                                     ("ellipsoid:-1,0.003", "sphere_radius = -1"), ("ellipsoid:6378137", "not ellipsoid:A,F")):
+                r = run("build", "--spacing-km", "240", "--surface", surface, "--out", os.path.join(folder, "bad"))
+                self.assertNotEqual(r.returncode, 0, surface)
+                self.assertIn("--surface " + surface, r.stderr)
+                self.assertIn(message, r.stderr)
+
     def test_a_fine_spot_in_a_spacing_file_is_meshed(self):
         # 10 km within 100 km of (lon 30, lat 20), 480 km elsewhere: a
         # regional 0.1-degree grid (its edge values beyond). About the disc's

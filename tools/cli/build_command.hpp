@@ -20,6 +20,9 @@ struct BuildArgs {
     // given), when given (else the option's value stands).
     double spacing_gradient = 0;
     bool spacing_gradient_given = false;
+    // The surface: "sphere" (sphere_radius, by default E3SM's 6371.22 km),
+    // "wgs84", or "ellipsoid:A,F" (semi-major axis in m, flattening).
+    std::string surface = "sphere";
     int threads = 0;
     bool no_optimise = false;
     // The outputs beyond the default set (mesh.nc, graph.info, quality.json,

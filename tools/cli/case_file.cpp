@@ -61,13 +61,13 @@ void file_list(const toml::table &t, const std::string &key, const fs::path &fol
 void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given, BuildArgs &a) {
     static const std::set<std::string> known = {"geometry", "passages", "domain", "kind", "spacing_km", "spacing_file",
                                                 "spacing_preset", "threads", "optimise", "vtu", "jigsaw", "components",
-                                                "mpas_format", "out", "options"};
+                                                "mpas_format", "out", "surface", "options"};
     for (const auto &[key, node] : t) {
         const std::string k(key.str());
         if (!known.count(k))
             throw CaseError{"unknown key '" + k + "'" + where(node) +
                             "; known: geometry, passages, domain, kind, spacing_km, spacing_file, spacing_preset, threads, "
-                            "optimise, vtu, jigsaw, components, mpas_format, out, [options]"};
+                            "optimise, vtu, jigsaw, components, mpas_format, out, surface, [options]"};
     }
     file_list(t, "geometry", folder, given.geometry, a.geometry);
     file_list(t, "passages", folder, given.passages, a.passages);
@@ -108,6 +108,7 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
         if (a.mpas_format != "auto" && a.mpas_format != "netcdf4")
             throw CaseError{"'mpas_format' must be \"auto\" or \"netcdf4\", not \"" + a.mpas_format + "\"" + where(*n)};
     }
+    if (const toml::node *n = t.get("surface"); n && !given.surface) a.surface = string_value(*n, "surface");
     if (const toml::node *n = t.get("out"); n && !given.out) a.out_dir = resolve(folder, string_value(*n, "out"));
     if (const toml::node *n = t.get("options")) {
         const toml::table *opts = n->as_table();

@@ -23,7 +23,7 @@
 // Which flags the command line gave (those keep their values).
 struct GivenFlags {
     bool geometry = false, passages = false, domain = false, kind = false, spacing = false, threads = false, no_optimise = false, out = false,
-         vtu = false, jigsaw = false, components = false, mpas_format = false;
+         vtu = false, jigsaw = false, components = false, mpas_format = false, surface = false;
 };
 
 // Reads path into args; false with a one-line *error naming the file, the

@@ -70,6 +70,10 @@ int main(int argc, char **argv) {
     build->add_option("--spacing-gradient", b.spacing_gradient,
                       "mesh a grid spacing steeper than G km per km gradient-limited to G, so that "
                       "a feature finer than its surroundings gets a transition (default 0.25; 0: as given)");
+    build->add_option("--surface", b.surface,
+                      "sphere (the default, radius 6371.22 km or --option sphere_radius=M), wgs84, or "
+                      "ellipsoid:A,F (semi-major axis A in m, flattening F in [0, 0.02]); spacing in km is "
+                      "geodesic km on the surface");
     km->excludes(file)->excludes(preset);
     file->excludes(preset);
     build->add_option("--threads", b.threads, "threads (0 = all cores)")->check(CLI::Range(0, 1024));
@@ -136,6 +140,7 @@ int main(int argc, char **argv) {
             given.components = build->count("--components") > 0;
             given.mpas_format = build->count("--mpas-format") > 0;
             given.out = build->count("--out") > 0;
+            given.surface = build->count("--surface") > 0;
             std::string error;
             if (!read_case_file(case_file, given, b, &error)) {
                 std::fprintf(stderr, "unimesh build: %s\n", error.c_str());

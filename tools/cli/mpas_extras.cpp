@@ -2,6 +2,7 @@
 
 #include "nc_read.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <vector>
@@ -83,6 +84,25 @@ bool write_vtu(const std::string &path, const VtuGrid &g, std::string *error) {
     return out ? true : fail(error, "cannot write " + path);
 }
 
+// A mesh made on an ellipsoid (the file's ellipsoid_semi_major_axis and
+// ellipsoid_flattening) is drawn there: each point at its geodetic lat/lon on
+// the ellipsoid, not on the sphere mesh.nc (for MPAS) places it on.
+// `where` is "Cell" or "Vertex"; false when the file lacks the lat/lon.
+bool place_on_ellipsoid(const NcFile &f, const std::string &where, size_t n, std::vector<double> &x,
+                        std::vector<double> &y, std::vector<double> &z) {
+    double a = 0, flattening = 0;
+    if (!f.global("ellipsoid_semi_major_axis", &a) || !f.global("ellipsoid_flattening", &flattening)) return true;
+    std::vector<double> lat, lon;
+    if (!f.var(("lat" + where).c_str(), lat, n) || !f.var(("lon" + where).c_str(), lon, n)) return false;
+    const double e2 = flattening * (2 - flattening);
+    for (size_t i = 0; i < n; ++i) {
+        const double s = std::sin(lat[i]), c = std::cos(lat[i]);
+        const double normal = a / std::sqrt(1 - e2 * s * s);  // the prime vertical's radius of curvature
+        x[i] = normal * c * std::cos(lon[i]), y[i] = normal * c * std::sin(lon[i]), z[i] = normal * (1 - e2) * s;
+    }
+    return true;
+}
+
 }  // namespace
 
 bool write_cells_vtu(const std::string &mesh_nc, const std::string &path, std::string *error) {
@@ -96,6 +116,8 @@ bool write_cells_vtu(const std::string &mesh_nc, const std::string &path, std::s
         !f.var("xVertex", x, n_vertices) || !f.var("yVertex", y, n_vertices) ||
         !f.var("zVertex", z, n_vertices) || !f.var("areaCell", area, n_cells))
         return fail(error, mesh_nc + " lacks the cell polygons (verticesOnCell, x/y/zVertex, areaCell)");
+    if (!place_on_ellipsoid(f, "Vertex", n_vertices, x, y, z))
+        return fail(error, mesh_nc + " lacks latVertex or lonVertex");
     const bool has_side = f.var("cellSide", side, n_cells);
     VtuGrid g{x, y, z, {}, {}, 7 /* VTK_POLYGON */, "areaCell", area, "cellSide", has_side ? &side : nullptr};
     for (size_t c = 0; c < n_cells; ++c) {
@@ -115,6 +137,7 @@ bool write_triangles_vtu(const std::string &mesh_nc, const std::string &path, st
         !f.var("cellsOnVertex", cells_on_vertex, 3 * n_vertices) || !f.var("xCell", x, n_cells) ||
         !f.var("yCell", y, n_cells) || !f.var("zCell", z, n_cells) || !f.var("areaTriangle", area, n_vertices))
         return fail(error, mesh_nc + " lacks the triangles (cellsOnVertex, x/y/zCell, areaTriangle)");
+    if (!place_on_ellipsoid(f, "Cell", n_cells, x, y, z)) return fail(error, mesh_nc + " lacks latCell or lonCell");
     const bool has_side = f.var("vertexSide", side, n_vertices);
     VtuGrid g{x, y, z, {}, {}, 5 /* VTK_TRIANGLE */, "areaTriangle", area, "vertexSide", has_side ? &side : nullptr};
     for (size_t v = 0; v < n_vertices; ++v) {

@@ -83,6 +83,7 @@ class Status(enum.IntEnum):
 class Option(enum.IntEnum):
     """um_option keys (UM_OPT_*)."""
     SPHERE_RADIUS = 1
+    SURFACE_FLATTENING = 2
     REFINE_ALPHA = 100
     REFINE_BETA = 101
     REFINE_RHO = 102
