@@ -734,6 +734,12 @@ UM_API um_status um_mesh_copy_triangle_sides(const um_mesh *m, int32_t *out, int
  * connected regions of the ocean mesh, largest first (at most 100 listed),
  * each at its cell of the lowest slot: compare with a build without the floor
  * to see a channel it closed.
+ * A mesh of an ellipsoid ("Surfaces") adds "geodesic", measured on the
+ * ellipsoid with GeographicLib: "ellipsoid" {"semi_major_axis_m",
+ * "flattening"}, "edges" and "length_over_h" {min, mean, max} (each edge's
+ * geodesic length between the geodetic lon/lat of its ends over h in
+ * geodesic km at its midpoint), "cells" and "cell_area_m2" (the sum of the
+ * power cells' geodesic polygon areas) beside "ellipsoid_area_m2".
  * The summary takes a metric name: "area_length_ratio", "primal_dual",
  * "angle_min_deg", "angle_max_deg", "edge_spacing_ratio", or one of the four
  * operator diagnostics above, and gives its min, 1st percentile (over the

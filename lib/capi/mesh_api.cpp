@@ -4,6 +4,7 @@
 #include "capi/api.hpp"
 #include "capi/objects.hpp"
 #include "geom/sphere.hpp"
+#include "quality/geodesic.hpp"
 #include "quality/metrics.hpp"
 
 using um::fail;
@@ -33,6 +34,8 @@ const um::quality::Report &quality_of(const um_mesh *m) {
             for (size_t v = 0; v < ocean.size(); ++v) ocean[v] = region[v] ? ocean[v] : 0;
         r.ocean = um::quality::measure_ocean_edges(*m->context, m->mesh.tri, h, ocean, m->mesh.ocean_floor,
                                                    m->mesh.coastline_contacts());
+        if (!m->mesh.surface.is_sphere())
+            r.geodesic = um::quality::measure_geodesic(*m->context, m->mesh.tri, m->mesh.surface, h, cells);
         if (m->mesh.gamma)
             r.coastline = um::quality::measure_coastline_fidelity(m->mesh.tri, m->mesh.restricted, m->mesh.coastline_arcs(),
                                                                   h, m->mesh.boundary_beta);

@@ -504,6 +504,13 @@ std::string to_json(const Report &r, const std::string &indent,
                        ", \"restricted_edges\": ", r.coastline.restricted_edges, ", \"eps_over_beta_h\": {\"mean\": ",
                        r.coastline.eps_mean, ", \"max\": ", r.coastline.eps_max, "}, \"beyond_beta\": ",
                        r.coastline.beyond_beta, "}");
+    if (r.geodesic.measured)
+        text += concat(",", nl, "\"geodesic\": {\"ellipsoid\": {\"semi_major_axis_m\": ", r.geodesic.a_m,
+                       ", \"flattening\": ", r.geodesic.f, "}, \"edges\": ", r.geodesic.edges,
+                       ", \"length_over_h\": {\"min\": ", r.geodesic.length_over_h_min, ", \"mean\": ",
+                       r.geodesic.length_over_h_mean, ", \"max\": ", r.geodesic.length_over_h_max,
+                       "}, \"cells\": ", r.geodesic.cells, ", \"cell_area_m2\": ", r.geodesic.cell_area_m2,
+                       ", \"ellipsoid_area_m2\": ", r.geodesic.surface_area_m2, "}");
     if (!extra_members.empty()) text += concat(",", nl, extra_members);
     return text + concat("\n", indent, "}", indent.empty() ? "\n" : "");
 }

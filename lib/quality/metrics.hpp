@@ -96,6 +96,16 @@ struct Report {
         int64_t restricted_edges = 0, beyond_beta = 0;
         double eps_mean = 0, eps_max = 0;  // of eps / (beta h)
     } coastline;
+    // A mesh of an ellipsoid measured there (quality/geodesic.hpp): its
+    // edges' geodesic lengths over h and its power cells' geodesic areas.
+    struct Geodesic {
+        bool measured = false;
+        double a_m = 0, f = 0;  // the ellipsoid
+        int64_t edges = 0, cells = 0;
+        double length_over_h_min = 0, length_over_h_mean = 0, length_over_h_max = 0;
+        double cell_area_m2 = 0;     // the sum over the cells
+        double surface_area_m2 = 0;  // the ellipsoid's
+    } geodesic;
 };
 
 // The ocean edges of a report (Report::ocean): ocean_cell per vertex slot

@@ -222,6 +222,13 @@ class Build(unittest.TestCase):
                 self.assertAlmostEqual(m.sphere_radius, 6371007.181, places=3)
                 # The cells' areas add up to the ellipsoid's (5.10065622e14 m^2).
                 self.assertAlmostEqual(m["areaCell"][:].sum() / 5.100656217240886e14, 1, places=12)
+            # The report's geodesic measures (GeographicLib): edges near h, the
+            # cells' geodesic areas tiling the ellipsoid.
+            with open(os.path.join(out, "quality.json")) as q:
+                geodesic = json.load(q)["geodesic"]
+            self.assertEqual(geodesic["ellipsoid"], {"semi_major_axis_m": a, "flattening": f})
+            self.assertTrue(0.8 < geodesic["length_over_h"]["min"] <= geodesic["length_over_h"]["max"] < 1.2)
+            self.assertAlmostEqual(geodesic["cell_area_m2"] / geodesic["ellipsoid_area_m2"], 1, places=10)
             def on_ellipsoid(points):
                 p = np.array(points)
                 return np.abs((p[:, 0] ** 2 + p[:, 1] ** 2) / a ** 2 + p[:, 2] ** 2 / b ** 2 - 1).max()

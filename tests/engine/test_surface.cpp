@@ -22,6 +22,7 @@
 #include "hfun/on_ellipsoid.hpp"
 #include "io/geojson.hpp"
 #include "mesh/refined_mesh.hpp"
+#include "quality/geodesic.hpp"
 #include "quality/metrics.hpp"
 
 // cmocka last: it defines a fail() macro.
@@ -187,6 +188,19 @@ void a_uniform_wgs84_mesh_at_120_km(void **) {
                   (long long)r.edges, r.min, r.mean, r.max);
     assert_true(r.min > 0.8 && r.max < 1.1 && std::fabs(r.mean - 1) < 0.005 && r.outside == 0);
     expect_cells_tile_the_ellipsoid(ctx, m);
+    // The quality report's geodesic measures: the same edges, and the power
+    // cells' areas tiling the ellipsoid; the same bits on one thread.
+    const refine::SpacingRadians h = mesh::spacing_radians(*m.spacing, m.radius_m);
+    const quality::Report::Geodesic g = quality::measure_geodesic(ctx, m.tri, m.surface, h);
+    assert_true(g.measured && g.edges == r.edges && g.cells == m.vertex_count());
+    assert_true(std::fabs(g.length_over_h_min - r.min) < 1e-12 && std::fabs(g.length_over_h_max - r.max) < 1e-12);
+    assert_true(std::fabs(g.length_over_h_mean - r.mean) < 1e-12);
+    assert_true(std::fabs(g.cell_area_m2 / g.surface_area_m2 - 1) < 1e-10);
+    Context one;
+    one.set_threads(1);
+    const quality::Report::Geodesic g1 = quality::measure_geodesic(one, m.tri, m.surface, h);
+    assert_memory_equal(&g1.length_over_h_mean, &g.length_over_h_mean, sizeof(double));
+    assert_memory_equal(&g1.cell_area_m2, &g.cell_area_m2, sizeof(double));
 }
 
 void a_coastal_wgs84_mesh_at_60_km(void **) {
