@@ -767,11 +767,13 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * limit) are measured at geodetic lon/lat on the sphere of radius a: within
  * 2f of geodesic.
  * Outputs: MPAS assumes a sphere, so the MPAS mesh (file and copy-out) puts
- * every cell, edge and vertex at the geodetic lat/lon of its ellipsoid
- * point on the sphere of the ellipsoid's authalic radius (sphere_radius;
- * the cells' areas add up to the ellipsoid's area), the power diagram of
- * the generators so placed (orthogonal, every length, area and weight of
- * that sphere); the file's global attributes surface = "ellipsoid",
+ * every generator (xCell) at the geodetic lat/lon of its ellipsoid point on
+ * the sphere of the ellipsoid's authalic radius (sphere_radius; the cells'
+ * areas add up to the ellipsoid's area) and is the power diagram of the
+ * generators so placed, with their weights: vertices at its power vertices,
+ * orthogonal, every length, area and weight of that sphere (where the move,
+ * at most 2f off conformal, breaks regularity, as near-cocircular
+ * triangles of an unoptimised mesh may, an edge is flipped); the file's global attributes surface = "ellipsoid",
  * ellipsoid_semi_major_axis, ellipsoid_flattening and surface_note say so.
  * The JIGSAW file and the CLI's VTU files put their points on the
  * ellipsoid. With f = 0 (the default) every result is bit for bit the

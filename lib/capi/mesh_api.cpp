@@ -25,7 +25,7 @@ um::Context *state_or_null(const um_mesh *m) {
 
 const um::quality::Report &quality_of(const um_mesh *m) {
     if (!m->quality) {
-        const um::refine::SpacingRadians h = um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m);
+        const um::refine::SpacingRadians h = um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m, m->mesh.surface);
         const std::vector<uint8_t> region = m->mesh.regional() ? m->mesh.region_cells(*m->context) : std::vector<uint8_t>{};
         const std::vector<uint8_t> *cells = m->mesh.regional() ? &region : nullptr;
         um::quality::Report r = um::quality::measure(*m->context, m->mesh.tri, h, &m->mesh.on_segment, cells);
@@ -33,7 +33,7 @@ const um::quality::Report &quality_of(const um_mesh *m) {
         if (cells)
             for (size_t v = 0; v < ocean.size(); ++v) ocean[v] = region[v] ? ocean[v] : 0;
         r.ocean = um::quality::measure_ocean_edges(*m->context, m->mesh.tri, h, ocean, m->mesh.ocean_floor,
-                                                   m->mesh.coastline_contacts());
+                                                   m->mesh.coastline_contacts(), m->mesh.surface);
         if (!m->mesh.surface.is_sphere())
             r.geodesic = um::quality::measure_geodesic(*m->context, m->mesh.tri, m->mesh.surface, h, cells);
         if (m->mesh.gamma)

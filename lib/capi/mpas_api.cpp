@@ -189,7 +189,8 @@ UM_API um_status um_mesh_write_mpas_as(const um_mesh *m, const char *path, int32
     // The copy-out's source when there is one, else one for this file
     // (judged as if made here either way, so that the cap's answer does not
     // depend on earlier calls).
-    ctx.check_memory(um::dual::mpas_stream_bytes(m->mesh.vertex_count(), m->mesh.gamma != nullptr),
+    ctx.check_memory(um::dual::mpas_stream_bytes(m->mesh.vertex_count(), m->mesh.gamma != nullptr,
+                                                 !m->mesh.surface.is_sphere()),
                      "the MPAS mesh file");
     std::unique_ptr<um::dual::MpasSource> own;
     if (!m->mpas) own = std::make_unique<um::dual::MpasSource>(ctx, m->mesh);

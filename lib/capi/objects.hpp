@@ -44,7 +44,8 @@ struct um_mesh {
     mutable std::unique_ptr<um::dual::MpasSource> mpas;
     const um::dual::MpasSource &staggered() const {
         if (!mpas) {
-            context->check_memory(um::dual::mpas_copy_out_bytes(mesh.vertex_count(), mesh.gamma != nullptr),
+            context->check_memory(um::dual::mpas_copy_out_bytes(mesh.vertex_count(), mesh.gamma != nullptr,
+                                                                !mesh.surface.is_sphere()),
                                   "the MPAS copy-out");
             mpas = std::make_unique<um::dual::MpasSource>(*context, mesh);
         }

@@ -44,10 +44,11 @@ public:
     // um::Error on a numbering that does not match, broken neighbour links,
     // counts beyond int32 (UM_ERR_LIMIT). Keeps a reference to tri.
     // surface: what the directions stand for. On an ellipsoid the layout
-    // holds a copy of tri with each point moved to its geodetic lon/lat on
-    // the unit sphere (same weights, same triangles), and every position
-    // below is of that copy: the staggered mesh is then the power diagram on
-    // the sphere MPAS assumes, orthogonal by construction.
+    // holds a copy of tri with each generator moved to its geodetic lon/lat
+    // on the unit sphere (same weights; flips where the move broke
+    // regularity), and every position below is of that copy: the staggered
+    // mesh is then the power diagram of the generators so placed on the
+    // sphere MPAS assumes (orthogonal), its vertices their power vertices.
     MpasLayout(Context &ctx, const tri::Triangulation &tri, std::vector<int32_t> slot_of_vertex,
                const geom::Surface &surface = geom::Surface::sphere(1.0));
 

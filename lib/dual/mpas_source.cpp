@@ -29,7 +29,7 @@ void check_input(const tri::Triangulation &tri, const MpasLayout &layout, const 
         const double h = in.cell_width_km[layout.cell_source_vertex(c)];
         if (!std::isfinite(h) || h <= 0) {
             double lon, lat;
-            geom::lonlat_deg_from_unit(tri.direction(layout.cell_slot(c)), lon, lat);
+            in.surface.geodetic(tri.direction(layout.cell_slot(c)), lon, lat);
             fail(std::isfinite(h) ? UM_ERR_INVALID_ARGUMENT : UM_ERR_NONFINITE_INPUT,
                  "MPAS mesh: the spacing is ", h, " km at mesh vertex ", layout.cell_source_vertex(c),
                  " (lon ", lon, ", lat ", lat, " degrees); it must be finite and > 0");

@@ -30,6 +30,9 @@ namespace um::dual {
 // its peak while being built, for the memory cap: the river routing of a
 // mesh with features needs the whole river graph while it runs.
 constexpr int64_t kMpasSourceBytesPerCell = 160, kMpasSourceWithFeaturesBytesPerCell = 280;
+// An ellipsoid mesh's layout also holds a copy of the triangulation
+// (MpasLayout): its points, ids and two triangles per cell.
+constexpr int64_t kMpasEllipsoidCopyBytesPerCell = 100;
 
 class MpasSource {
 public:
@@ -84,22 +87,23 @@ void for_each_block_of(Context &ctx, const MpasSource &source, MpasMesh probe, c
                        const std::function<void(const MpasField &, int64_t, int64_t)> &take);
 
 // What a source holds (kMpasSource*BytesPerCell).
-inline int64_t mpas_source_bytes(int64_t cells, bool features) {
-    return cells * (features ? kMpasSourceWithFeaturesBytesPerCell : kMpasSourceBytesPerCell);
+inline int64_t mpas_source_bytes(int64_t cells, bool features, bool ellipsoid = false) {
+    return cells * ((features ? kMpasSourceWithFeaturesBytesPerCell : kMpasSourceBytesPerCell) +
+                    (ellipsoid ? kMpasEllipsoidCopyBytesPerCell : 0));
 }
 // What streaming the file of a mesh of `cells` cells adds to the mesh: the
 // source, and two blocks of rows (one written while the next is made), each
 // holding a block of every kind (a cell row about 190 B with maxEdges 9, an
 // edge row 316 B and the stencils of its cells 160 B, a vertex row 108 B).
-inline int64_t mpas_stream_bytes(int64_t cells, bool features) {
+inline int64_t mpas_stream_bytes(int64_t cells, bool features, bool ellipsoid = false) {
     auto rows = [](int64_t n) { return std::min(n, kMpasBlockRows); };
     const int64_t block = rows(cells) * 190 + rows(3 * cells) * (316 + 160) + rows(2 * cells) * 108;
-    return mpas_source_bytes(cells, features) + 2 * block;
+    return mpas_source_bytes(cells, features, ellipsoid) + 2 * block;
 }
 // What the copy-out of one variable holds: the source and a block of rows
 // of one kind (the largest, an edge block with its stencils).
-inline int64_t mpas_copy_out_bytes(int64_t cells, bool features) {
-    return mpas_source_bytes(cells, features) + std::min(3 * cells, kMpasBlockRows) * (316 + 160);
+inline int64_t mpas_copy_out_bytes(int64_t cells, bool features, bool ellipsoid = false) {
+    return mpas_source_bytes(cells, features, ellipsoid) + std::min(3 * cells, kMpasBlockRows) * (316 + 160);
 }
 
 }  // namespace um::dual

@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "geom/predicates.hpp"
+#include "geom/surface.hpp"
 
 namespace um::features {
 
@@ -114,7 +115,7 @@ Domain::Domain(const Network &net) {
             if (!geom::arc_intersection(a.a, a.b, b.a, b.b, c, 0.0)) return;
             const int64_t pi = rings[ring_of_arc_[i]], pj = rings[ring_of_arc_[j]];
             double lon, lat;
-            geom::lonlat_deg_from_unit(c, lon, lat);
+            geom::Surface::ellipsoid(1.0, net.flattening()).geodetic(c, lon, lat);
             fail(UM_ERR_INPUT, "domain ring ", pi, " (id ", net.part(pi).id, ")",
                  pi == pj ? std::string(" crosses itself") : concat(" crosses domain ring ", pj, " (id ", net.part(pj).id, ")"),
                  " at lon ", lon, ", lat ", lat, ": domain rings must not cross themselves or each other");

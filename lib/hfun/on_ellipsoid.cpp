@@ -17,7 +17,8 @@ public:
         return inner_->at(Where::from_lonlat(lon, lat)) * (surface_.a() / surface_.radius_along(u));
     }
     // The map from directions to the sphere of geodetic lon/lat stretches arcs
-    // by at most 1 / (1 - f)^2 (along meridians at the poles), and a / r >= 1:
+    // by at most 1 / (1 - f)^2 (along meridians at the equator; parallels
+    // shrink), and a / r >= 1:
     // so the inner bound over the wider cap bounds h_dir below.
     double smallest_in_cap(const geom::Vec3 &centre, double radius, double enough) const override {
         const double stretch = 1 / ((1 - surface_.f()) * (1 - surface_.f()));

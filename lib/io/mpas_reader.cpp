@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "dual/mpas_fields.hpp"
+#include "geom/surface.hpp"
 #include "io/error_text.hpp"
 #include "io/nc_input.hpp"
 #include "io/netcdf_lock.hpp"
@@ -42,6 +43,28 @@ bool has_variable(const NcInput &file, const char *name) {
     return nc_inq_varid(file.id(), name, &id) == NC_NOERR;
 }
 
+// The ellipsoid a mesh was made on (the writer's ellipsoid_semi_major_axis
+// and ellipsoid_flattening), kept so that files made from it say so too;
+// none for a sphere.
+void read_ellipsoid(const NcInput &file, const std::string &path, MpasMesh &m) {
+    auto attribute = [&](const char *name, double &value) {
+        nc_type type = NC_NAT;
+        size_t count = 0;
+        if (nc_inq_att(file.id(), NC_GLOBAL, name, &type, &count) != NC_NOERR) return false;
+        if (count != 1 || type == NC_CHAR || type == NC_STRING ||
+            nc_get_att_double(file.id(), NC_GLOBAL, name, &value) != NC_NOERR)
+            format_error(path, name, " is not one number");
+        return true;
+    };
+    double a = 0, f = 0;
+    const bool has_a = attribute("ellipsoid_semi_major_axis", a), has_f = attribute("ellipsoid_flattening", f);
+    if (!has_a && !has_f) return;
+    if (!has_a || !has_f || !(a > 0) || !(f > 0) || f > geom::Surface::kMaxFlattening)
+        format_error(path, "ellipsoid_semi_major_axis ", a, " and ellipsoid_flattening ", f,
+                     ": expected both, a > 0 m and f in (0, ", geom::Surface::kMaxFlattening, "]");
+    m.ellipsoid_a_m = a, m.ellipsoid_f = f;
+}
+
 void read_dimensions(const NcInput &file, const std::string &path, MpasMesh &m) {
     const size_t cells = dimension(file, path, "nCells"), edges = dimension(file, path, "nEdges"),
                  vertices = dimension(file, path, "nVertices"), max_edges = dimension(file, path, "maxEdges"),
@@ -68,6 +91,7 @@ void read_dimensions(const NcInput &file, const std::string &path, MpasMesh &m) 
         !(radius > 0) || radius > 1e12)
         format_error(path, "sphere_radius is missing or not a radius in (0, 1e12] m (read: ", radius, ")");
     m.radius_m = radius;
+    read_ellipsoid(file, path, m);
 }
 
 // Sizes every array the file has (the contract's always, the tags when the

@@ -20,11 +20,11 @@ namespace um::mesh {
 
 namespace {
 
-// Refuses a value no mesh can follow.
-void check_spacing_km(double km, const geom::Vec3 &x) {
+// Refuses a value no mesh can follow, naming where (geodetic lon/lat).
+void check_spacing_km(double km, const geom::Vec3 &x, const geom::Surface &surface) {
     if (std::isfinite(km) && km > 0) return;
     double lon, lat;
-    geom::lonlat_deg_from_unit(x, lon, lat);
+    surface.geodetic(x, lon, lat);
     fail(std::isfinite(km) ? UM_ERR_INVALID_ARGUMENT : UM_ERR_NONFINITE_INPUT, "the spacing is ", km,
          " km at lon ", lon, ", lat ", lat, " degrees: it must be finite and > 0");
 }
@@ -32,20 +32,21 @@ void check_spacing_km(double km, const geom::Vec3 &x) {
 }  // namespace
 
 // h in radians on the unit sphere.
-refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m) {
+refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m, const geom::Surface &surface) {
     const double per_km = 1000.0 / radius_m;
-    return [&h, per_km](const geom::Vec3 &x) {
+    return [&h, per_km, surface](const geom::Vec3 &x) {
         const double km = h.km_at(x);
-        check_spacing_km(km, x);
+        check_spacing_km(km, x, surface);
         return km * per_km;
     };
 }
 
-refine::SmallestSpacingRadians smallest_spacing_radians(const hfun::Spacing &h, double radius_m) {
+refine::SmallestSpacingRadians smallest_spacing_radians(const hfun::Spacing &h, double radius_m,
+                                                       const geom::Surface &surface) {
     const double per_km = 1000.0 / radius_m;
-    return [&h, per_km](const geom::Vec3 &x, double r, double enough) {
+    return [&h, per_km, surface](const geom::Vec3 &x, double r, double enough) {
         const double km = h.smallest_in_cap(x, r, enough / per_km);
-        check_spacing_km(km, x);
+        check_spacing_km(km, x, surface);
         return km * per_km;
     };
 }
@@ -206,8 +207,8 @@ void require_region_cells(Context &ctx, const RefinedMesh &m) {
     const std::vector<uint8_t> kept = m.region_cells(ctx);
     const int64_t cells = std::count(kept.begin(), kept.end(), uint8_t(1));
     if (cells >= kMinRegionCells) return;
-    const double km = m.radius_m / 1000.0;
-    fail(UM_ERR_INPUT, "the domain (", m.domain->area() * km * km, " km^2) holds ", cells,
+    const double km2_per_steradian = m.surface.area_m2() / (4 * M_PI) / 1e6;
+    fail(UM_ERR_INPUT, "the domain (", m.domain->area() * km2_per_steradian, " km^2) holds ", cells,
          " cells at this spacing: it must be larger than the spacing (at least ", kMinRegionCells, " cells)");
 }
 
@@ -300,7 +301,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
         ctx.check_memory(cells * kRefineBytesPerCell, concat("a mesh of about ", cells, " cells").c_str());
     }
     m.spacing = std::move(h);
-    const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
+    const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m, m.surface);
     const geom::ArcTree arcs = features::segment_arc_tree(m.gamma.get());
     m.tri = starting_triangulation(ctx, hr, arcs, options.integer(UM_OPT_REFINE_LATTICE) != 0, m.domain.get());
     int32_t next_id = m.tri.vertex_slots();
@@ -320,7 +321,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     refine::SurfaceOptions so;
     so.alpha = options.real(UM_OPT_REFINE_ALPHA);
     so.rho = options.real(UM_OPT_REFINE_RHO);
-    so.smallest = smallest_spacing_radians(*m.spacing, m.radius_m);
+    so.smallest = smallest_spacing_radians(*m.spacing, m.radius_m, m.surface);
     if (arcs.size() > 0) so.gamma = &arcs, so.on_gamma = &m.on_segment, so.filter = bo.filter;
     // Boundary then surface refinement. The surface points change dual
     // edges near Gamma, so that some restricted edges come out too long
@@ -418,7 +419,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
                    const quality::Report *refined_quality) {
     ctx.check_memory(m.vertex_count() * (m.gamma ? kOptimiseBytesPerCell : kOptimiseUniformBytesPerCell),
                      concat("optimising a mesh of ", m.vertex_count(), " cells").c_str());
-    const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m);
+    const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m, m.surface);
     const std::vector<uint8_t> region = m.regional() && !refined_quality ? m.region_cells(ctx) : std::vector<uint8_t>{};
     const quality::Report before = refined_quality ? *refined_quality
                                                    : quality::measure(ctx, m.tri, hr, &m.on_segment,

@@ -114,8 +114,11 @@ struct MeshEstimate {
 MeshEstimate estimate_mesh(Context &ctx, const hfun::Spacing &h);
 
 // The spacing in radians on the unit sphere, checked (finite, > 0) where read.
-refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m);
+// Errors name the geodetic lon/lat of the point on `surface`.
+refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m,
+                                       const geom::Surface &surface = geom::Surface::sphere(1.0));
 // Its lower bound over a cap (hfun::Spacing::smallest_in_cap), checked the same way.
-refine::SmallestSpacingRadians smallest_spacing_radians(const hfun::Spacing &h, double radius_m);
+refine::SmallestSpacingRadians smallest_spacing_radians(const hfun::Spacing &h, double radius_m,
+                                                       const geom::Surface &surface = geom::Surface::sphere(1.0));
 
 }  // namespace um::mesh

@@ -420,7 +420,8 @@ namespace {
 
 Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
                                        const std::vector<uint8_t> &ocean_cell, double floor,
-                                       const std::vector<std::pair<int32_t, int32_t>> &contacts) {
+                                       const std::vector<std::pair<int32_t, int32_t>> &contacts,
+                                       const geom::Surface &surface) {
     constexpr int64_t kBlock = 16384;
     const int64_t n = tri.triangle_slots(), n_blocks = (n + kBlock - 1) / kBlock;
     std::vector<Report::OceanEdges> part(static_cast<size_t>(n_blocks));
@@ -457,7 +458,7 @@ Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &t
         all.min_ratio = std::min(all.min_ratio, o.min_ratio);
     }
     for (int32_t v = 0; v < tri.vertex_slots(); ++v) all.kept_open_cells += tri.in_triangulation(v) && kept_open(v);
-    all.connectivity = ocean_connectivity(tri, ocean_cell, contacts);
+    all.connectivity = ocean_connectivity(tri, ocean_cell, contacts, surface);
     return all;
 }
 

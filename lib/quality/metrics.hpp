@@ -113,7 +113,8 @@ struct Report {
 // keeps it open); contacts as ocean_connectivity takes them.
 Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
                                        const std::vector<uint8_t> &ocean_cell, double floor,
-                                       const std::vector<std::pair<int32_t, int32_t>> &contacts);
+                                       const std::vector<std::pair<int32_t, int32_t>> &contacts,
+                                       const geom::Surface &surface = geom::Surface::sphere(1.0));
 
 // The coastline fidelity of a report (Report::coastline): the restricted
 // edges whose arc coast_arc flags (per Gamma arc: a closed coastline).

@@ -35,14 +35,14 @@ std::vector<int32_t> region_of_cells(const tri::Triangulation &tri, const std::v
 }
 
 std::vector<OceanConnectivity::Region> region_list(const tri::Triangulation &tri, const std::vector<int32_t> &region,
-                                                   int32_t n_regions) {
+                                                   int32_t n_regions, const geom::Surface &surface) {
     std::vector<OceanConnectivity::Region> list(static_cast<size_t>(n_regions), {0, 0, 0});
     std::vector<uint8_t> placed(static_cast<size_t>(n_regions), 0);
     for (int32_t v = 0; v < static_cast<int32_t>(region.size()); ++v) {
         if (region[v] < 0) continue;
         OceanConnectivity::Region &r = list[region[v]];
         ++r.cells;
-        if (!placed[region[v]]) geom::lonlat_deg_from_unit(tri.direction(v), r.lon, r.lat), placed[region[v]] = 1;
+        if (!placed[region[v]]) surface.geodetic(tri.direction(v), r.lon, r.lat), placed[region[v]] = 1;
     }
     std::stable_sort(list.begin(), list.end(), [](const auto &p, const auto &q) { return p.cells > q.cells; });
     return list;
@@ -104,11 +104,12 @@ void grow_regions(const tri::Triangulation &tri, const std::vector<uint8_t> &wet
 }  // namespace
 
 OceanConnectivity ocean_connectivity(const tri::Triangulation &tri, const std::vector<uint8_t> &ocean_cell,
-                                     const std::vector<std::pair<int32_t, int32_t>> &contacts) {
+                                     const std::vector<std::pair<int32_t, int32_t>> &contacts,
+                                     const geom::Surface &surface) {
     OceanConnectivity out;
     int32_t n_regions = 0;
     std::vector<int32_t> label = region_of_cells(tri, ocean_cell, n_regions);
-    out.regions = region_list(tri, label, n_regions);
+    out.regions = region_list(tri, label, n_regions, surface);
     const std::vector<int32_t> body = body_of_regions(label, n_regions, contacts);
     for (int32_t r = 0; r < n_regions; ++r) out.water_bodies += body[r] == r;
     if (out.water_bodies == n_regions) return out;
@@ -134,7 +135,7 @@ OceanConnectivity ocean_connectivity(const tri::Triangulation &tri, const std::v
     for (const auto &[c, v, w] : meetings) {
         if (!joined.join(label[v], label[w])) continue;
         OceanConnectivity::ClosedPassage p{0, 0, land_cells(c)};
-        geom::lonlat_deg_from_unit(geom::normalized(tri.direction(v) + tri.direction(w)), p.lon, p.lat);
+        surface.geodetic(geom::normalized(tri.direction(v) + tri.direction(w)), p.lon, p.lat);
         out.closed_passages.push_back(p);
     }
     return out;

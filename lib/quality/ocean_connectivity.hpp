@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "geom/surface.hpp"
 #include "tri/triangulation.hpp"
 
 namespace um::quality {
@@ -40,7 +41,9 @@ struct OceanConnectivity {
 // ocean_cell: per vertex slot, non-zero when its cell is in the ocean mesh.
 // contacts: (vertex slot, ring) pairs, each a cell that a closed coastline
 // ring (any id) passes through or along. Deterministic; serial, O(cells).
+// The places are the geodetic lon/lat of the surface's points.
 OceanConnectivity ocean_connectivity(const tri::Triangulation &tri, const std::vector<uint8_t> &ocean_cell,
-                                     const std::vector<std::pair<int32_t, int32_t>> &contacts);
+                                     const std::vector<std::pair<int32_t, int32_t>> &contacts,
+                                     const geom::Surface &surface = geom::Surface::sphere(1.0));
 
 }  // namespace um::quality

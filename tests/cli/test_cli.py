@@ -256,13 +256,33 @@ class Build(unittest.TestCase):
                 self.assertEqual(m.surface, "ellipsoid")
                 lat = np.degrees(m["latCell"][:])
                 self.assertTrue(np.all(np.abs(lat) < 20), (lat.min(), lat.max()))
+            # Not optimised (nearly cocircular generators along the coastlines,
+            # which the move to the sphere may leave irregular): still a valid
+            # MPAS mesh; `unimesh components` keeps what the file says.
+            coastal = os.path.join(folder, "coastal")
+            r = run("build", "--spacing-km", "240", "--geometry", COAST, "--surface", "wgs84", "--no-optimise",
+                    "--threads", "2", "--out", coastal)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            r = run("check", os.path.join(coastal, "mesh.nc"))
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            r = run("components", os.path.join(coastal, "mesh.nc"), "--out", os.path.join(folder, "parts"))
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in ("mesh.nc", "ocean.nc", "land.nc"):
+                with netCDF4.Dataset(os.path.join(folder, "parts", name)) as m:
+                    self.assertEqual((m.surface, m.ellipsoid_flattening), ("ellipsoid", f), name)
             # Bad surfaces, named.
             for surface, message in (("ellipsoid:6378137,0.5", "flattening"), ("mars", "not sphere, wgs84"),
-                                     ("ellipsoid:-1,0.003", "sphere_radius = -1"), ("ellipsoid:6378137", "not ellipsoid:A,F")):
+                                     ("ellipsoid:-1,0.003", "sphere_radius = -1"), ("ellipsoid:6378137", "not ellipsoid:A,F"),
+                                     ("ellipsoid:6378137,1e-400", "out of the range")):
                 r = run("build", "--spacing-km", "240", "--surface", surface, "--out", os.path.join(folder, "bad"))
                 self.assertNotEqual(r.returncode, 0, surface)
                 self.assertIn("--surface " + surface, r.stderr)
                 self.assertIn(message, r.stderr)
+            with open(case, "w") as g:
+                g.write('spacing_km = 240\nsurface = "moon"\nout = "bad"\n')
+            r = run("build", "--case", case)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("case key surface moon: not sphere, wgs84 or ellipsoid:A,F", r.stderr)
 
     def test_a_fine_spot_in_a_spacing_file_is_meshed(self):
         # 10 km within 100 km of (lon 30, lat 20), 480 km elsewhere: a

@@ -75,27 +75,34 @@ int64_t memory_cap_bytes(const std::string &text) {
     return static_cast<int64_t>(bytes);
 }
 
-// --surface into the options: wgs84 or ellipsoid:A,F set sphere_radius (the
-// semi-major axis) and surface_flattening; sphere leaves both as they are
-// (the default radius, or --option's).
-void set_surface(um_context *ctx, um_options *opts, const std::string &surface) {
+// The surface into the options (over --option's): wgs84 or ellipsoid:A,F
+// set sphere_radius (the semi-major axis) and surface_flattening; sphere
+// sets the flattening to 0 and leaves the radius (the default, or
+// --option's); not given, both stand as the options have them.
+void set_surface(um_context *ctx, um_options *opts, const std::string &surface, const std::string &source) {
     constexpr double kWgs84A = 6378137.0, kWgs84F = 1 / 298.257223563;
-    const std::string flag = "--surface " + surface;
-    if (surface == "sphere") return;
+    const std::string where = source + " " + surface;
+    if (surface.empty()) return;
+    if (surface == "sphere") {
+        check(um_options_set_double(opts, UM_OPT_SURFACE_FLATTENING, 0.0), ctx, where);
+        return;
+    }
     double a = kWgs84A, f = kWgs84F;
     const std::string prefix = "ellipsoid:";
     if (surface.compare(0, prefix.size(), prefix) == 0) {
         const char *begin = surface.data() + prefix.size(), *end = surface.data() + surface.size();
         const auto [comma, error_a] = std::from_chars(begin, end, a);
-        const bool ok = error_a == std::errc() && comma != end && *comma == ',' &&
-                        std::from_chars(comma + 1, end, f).ec == std::errc() &&
-                        std::from_chars(comma + 1, end, f).ptr == end;
-        if (!ok) throw Failure{flag + ": not ellipsoid:A,F (semi-major axis in m, flattening)"};
+        const bool split = comma != end && *comma == ',';
+        const auto [rest, error_f] = split ? std::from_chars(comma + 1, end, f) : std::from_chars_result{end, std::errc()};
+        if (error_a == std::errc::result_out_of_range || error_f == std::errc::result_out_of_range)
+            throw Failure{where + ": a number out of the range of doubles"};
+        if (error_a != std::errc() || !split || error_f != std::errc() || rest != end)
+            throw Failure{where + ": not ellipsoid:A,F (semi-major axis in m, flattening)"};
     } else if (surface != "wgs84") {
-        throw Failure{flag + ": not sphere, wgs84 or ellipsoid:A,F"};
+        throw Failure{where + ": not sphere, wgs84 or ellipsoid:A,F"};
     }
-    check(um_options_set_double(opts, UM_OPT_SPHERE_RADIUS, a), ctx, flag);
-    check(um_options_set_double(opts, UM_OPT_SURFACE_FLATTENING, f), ctx, flag);
+    check(um_options_set_double(opts, UM_OPT_SPHERE_RADIUS, a), ctx, where);
+    check(um_options_set_double(opts, UM_OPT_SURFACE_FLATTENING, f), ctx, where);
 }
 
 // --kind as a UM_FEATURE_* value (0: none given).
@@ -368,7 +375,7 @@ int run_build(const BuildArgs &a) {
         if (!a.options.empty()) check(um_options_set_string(opts, a.options.c_str()), ctx, "--option");
         if (a.spacing_gradient_given)  // the library names a value out of range (or NaN)
             check(um_options_set_double(opts, UM_OPT_SPACING_GRADIENT, a.spacing_gradient), ctx, "--spacing-gradient");
-        set_surface(ctx, opts, a.surface);
+        set_surface(ctx, opts, a.surface, a.surface_source);
         h = make_spacing(ctx, a);
         if (!a.geometry.empty() || !a.passages.empty() || !a.domain.empty()) {
             check(um_features_create(ctx, &f), ctx, "features");

@@ -21,8 +21,10 @@ struct BuildArgs {
     double spacing_gradient = 0;
     bool spacing_gradient_given = false;
     // The surface: "sphere" (sphere_radius, by default E3SM's 6371.22 km),
-    // "wgs84", or "ellipsoid:A,F" (semi-major axis in m, flattening).
-    std::string surface = "sphere";
+    // "wgs84", or "ellipsoid:A,F" (semi-major axis in m, flattening); ""
+    // (not given): the options' sphere_radius and surface_flattening stand.
+    // surface_source names where it came from in messages.
+    std::string surface, surface_source = "--surface";
     int threads = 0;
     bool no_optimise = false;
     // The outputs beyond the default set (mesh.nc, graph.info, quality.json,

@@ -108,7 +108,10 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
         if (a.mpas_format != "auto" && a.mpas_format != "netcdf4")
             throw CaseError{"'mpas_format' must be \"auto\" or \"netcdf4\", not \"" + a.mpas_format + "\"" + where(*n)};
     }
-    if (const toml::node *n = t.get("surface"); n && !given.surface) a.surface = string_value(*n, "surface");
+    if (const toml::node *n = t.get("surface"); n && !given.surface) {
+        a.surface = string_value(*n, "surface");
+        a.surface_source = "case key surface";
+    }
     if (const toml::node *n = t.get("out"); n && !given.out) a.out_dir = resolve(folder, string_value(*n, "out"));
     if (const toml::node *n = t.get("options")) {
         const toml::table *opts = n->as_table();

@@ -259,6 +259,26 @@ class MeshTests(unittest.TestCase):
         self.assertIn(Side.OCEAN, triangle_sides)
         mesh.close()
 
+    def test_wgs84_through_the_options(self):
+        # The ellipsoid (sphere_radius = a, surface_flattening = f): the ring's
+        # vertices at its geodetic latitude (the direction's geocentric one is
+        # 0.19 degrees lower), the MPAS cells' areas adding up to WGS84's.
+        gamma = Features(self.ctx)
+        gamma.add(*ring(), closed=True, kind=FeatureKind.COASTLINE)
+        options = unimesh.Options(self.ctx, sphere_radius=6378137.0, surface_flattening=1 / 298.257223563)
+        with Mesh.refine(self.ctx, Spacing.constant(self.ctx, 600.0), features=gamma, options=options) as mesh:
+            mesh.optimise(options)
+            lon, lat = mesh.vertices()
+            on_ring = mesh.vertex_parts() == 0
+            self.assertTrue(on_ring.any())
+            self.assertTrue(numpy.all((lat[on_ring] > RING_LAT - 1e-9) & (lat[on_ring] < RING_LAT + ARC_BULGE)))
+            area = mesh.mpas_variable("areaCell")
+            self.assertAlmostEqual(area.sum() / 5.100656217240886e14, 1.0, places=10)
+        gamma.close()
+        options.close()
+        with self.assertRaisesRegex(unimesh.UnimeshError, "surface_flattening"):
+            unimesh.Options(self.ctx, surface_flattening=0.5)
+
     def test_optimise_in_place(self):
         # The frontal refinement: a uniform spacing's lattice is well centred already.
         frontal = unimesh.Options(self.ctx, refine_lattice=0)
