@@ -10,11 +10,11 @@ class OnEllipsoid final : public Spacing {
 public:
     OnEllipsoid(SpacingPtr inner, const geom::Surface &surface) : inner_(std::move(inner)), surface_(surface) {}
 
+    // The inner kind reads the point at the same geodetic lon/lat on the
+    // sphere (its lon/lat, worked out only if the kind asks: a constant does not).
     double at(const Where &w) const override {
         const geom::Vec3 &u = w.unit();
-        double lon, lat;
-        surface_.geodetic(u, lon, lat);
-        return inner_->at(Where::from_lonlat(lon, lat)) * (surface_.a() / surface_.radius_along(u));
+        return inner_->at(Where::from_unit(surface_.sphere_unit(u))) * (surface_.a() / surface_.radius_along(u));
     }
     // The map from directions to the sphere of geodetic lon/lat stretches arcs
     // by at most 1 / (1 - f)^2 (along meridians at the equator; parallels

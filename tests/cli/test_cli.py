@@ -250,12 +250,19 @@ class Build(unittest.TestCase):
             case = os.path.join(folder, "case.toml")
             with open(case, "w") as g:
                 g.write('domain = ["pacific.geojson"]\nspacing_km = 240\nsurface = "wgs84"\nout = "pacific"\n')
-            r = run("build", "--case", case)
+            r = run("build", "--case", case, "--threads", "2")
             self.assertEqual(r.returncode, 0, r.stderr)
             with netCDF4.Dataset(os.path.join(folder, "pacific", "mesh.nc")) as m:
                 self.assertEqual(m.surface, "ellipsoid")
                 lat = np.degrees(m["latCell"][:])
                 self.assertTrue(np.all(np.abs(lat) < 20), (lat.min(), lat.max()))
+            # The same bytes on one thread.
+            r = run("build", "--case", case, "--threads", "1", "--out", os.path.join(folder, "pacific1"))
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in ("mesh.nc", "graph.info"):
+                with open(os.path.join(folder, "pacific", name), "rb") as two, \
+                        open(os.path.join(folder, "pacific1", name), "rb") as one:
+                    self.assertTrue(one.read() == two.read(), name)
             # Not optimised (nearly cocircular generators along the coastlines,
             # which the move to the sphere may leave irregular): still a valid
             # MPAS mesh; `unimesh components` keeps what the file says.

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The regional benchmark: what a regional mesh (`unimesh build --domain`)
 costs per cell against a global mesh of the same spacing, each run in a
-process of its own with the command line's default outputs. Cases, at the
-spacing H (default 30 km, 2 threads):
+process of its own with the command line's default outputs; and, with
+--surfaces sphere,wgs84, what the same cases cost on the WGS84 ellipsoid
+(`--surface wgs84`). Cases, at the spacing H (default 30 km, 2 threads):
 
     global           uniform H over the sphere
     atlantic         the North Atlantic box (lon -80..-5, lat 10..65), uniform H
@@ -17,7 +18,7 @@ the wall per cell of mesh.nc, with their ratio to the global case of the same
 features.
 
     cmake --build build --target unimesh_cli
-    tools/bench/bench_regional.py [--km 30] [--threads 2] [--cases atlantic,pacific]
+    tools/bench/bench_regional.py [--km 30] [--threads 2] [--cases atlantic,pacific] [--surfaces sphere,wgs84]
 """
 import argparse
 import json
@@ -36,8 +37,9 @@ CASES = {"global": (None, False), "atlantic": ("atlantic", False), "pacific": ("
          "global coast": (None, True), "atlantic coast": ("atlantic", True)}
 
 
-def run_case(cli, km, threads, box, coast, folder):
-    args = [cli, "build", "--spacing-km", str(km), "--threads", str(threads), "--out", os.path.join(folder, "out")]
+def run_case(cli, km, threads, box, coast, surface, folder):
+    args = [cli, "build", "--spacing-km", str(km), "--threads", str(threads), "--surface", surface,
+            "--out", os.path.join(folder, "out")]
     if box:
         domain = os.path.join(folder, box + ".geojson")
         with open(domain, "w") as f:
@@ -65,31 +67,33 @@ def main():
     parser.add_argument("--km", type=float, default=30)
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--cases", default=",".join(CASES), help="comma-separated: " + ", ".join(CASES))
+    parser.add_argument("--surfaces", default="sphere", help="comma-separated: sphere, wgs84")
     args = parser.parse_args()
     if not os.access(args.cli, os.X_OK):
         sys.exit(f"bench_regional: no command line at {args.cli} (cmake --build build --target unimesh_cli)")
     km = int(args.km) if args.km == int(args.km) else args.km
     results = {}
-    for name in args.cases.split(","):
-        box, coast = CASES[name]
-        print(f"bench_regional: {name} at {km} km ...", file=sys.stderr, flush=True)
-        with tempfile.TemporaryDirectory() as folder:
-            results[name] = run_case(args.cli, km, args.threads, box, coast, folder)
+    for surface in args.surfaces.split(","):
+        for name in args.cases.split(","):
+            box, coast = CASES[name]
+            print(f"bench_regional: {name} on the {surface} at {km} km ...", file=sys.stderr, flush=True)
+            with tempfile.TemporaryDirectory() as folder:
+                results[(surface, name)] = run_case(args.cli, km, args.threads, box, coast, surface, folder)
     print(f"regional against global meshes at {km} km, {args.threads} threads")
-    print("| case | cells | with the cover | refine | optimise | MPAS | wall | mesh per cell | wall per cell |")
-    print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
-    for name, r in results.items():
+    print("| surface | case | cells | with the cover | refine | optimise | MPAS | wall | mesh per cell | wall per cell |")
+    print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+    for (surface, name), r in results.items():
         if "error" in r:
-            print(f"| {name} | {r['error']} | | | | | | | |")
+            print(f"| {surface} | {name} | {r['error']} | | | | | | | |")
             continue
         mesh_us = 1e6 * (r["refine"] + r["optimise"]) / r["cells"]
         wall_us = 1e6 * r["wall"] / r["cells"]
-        base = results.get("global coast" if "coast" in name else "global")
+        base = results.get((surface, "global coast" if "coast" in name else "global"))
         ratio = lambda mine, key: (f" ({mine / key(base):.1f}x)"
                                    if base and "error" not in base and base is not r else "")
         mesh_of = lambda b: 1e6 * (b["refine"] + b["optimise"]) / b["cells"]
         wall_of = lambda b: 1e6 * b["wall"] / b["cells"]
-        print(f"| {name} | {r['cells']:,} | {r['all']:,} | {r['refine']:.2f} s | {r['optimise']:.2f} s | "
+        print(f"| {surface} | {name} | {r['cells']:,} | {r['all']:,} | {r['refine']:.2f} s | {r['optimise']:.2f} s | "
               f"{r['mpas']:.2f} s | {r['wall']:.2f} s | {mesh_us:.1f} us{ratio(mesh_us, mesh_of)} | "
               f"{wall_us:.1f} us{ratio(wall_us, wall_of)} |")
 
