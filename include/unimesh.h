@@ -773,7 +773,8 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * generators so placed, with their weights: vertices at its power vertices,
  * orthogonal, every length, area and weight of that sphere (where the move,
  * at most 2f off conformal, breaks regularity, as near-cocircular
- * triangles of an unoptimised mesh may, an edge is flipped); the file's global attributes surface = "ellipsoid",
+ * triangles of an unoptimised mesh may, an edge is flipped, losing its
+ * feature and river tags); the file's global attributes surface = "ellipsoid",
  * ellipsoid_semi_major_axis, ellipsoid_flattening and surface_note say so.
  * The JIGSAW file and the CLI's VTU files put their points on the
  * ellipsoid. With f = 0 (the default) every result is bit for bit the

@@ -111,8 +111,10 @@ bool walk_ring(const tri::Triangulation &tri, int32_t s, Walk &walk) {
 // (up to 0.2 degrees for WGS84, smooth, within 2f of conformal) keeps every
 // edge of a well-centred mesh regular, and the flips mend the few it does
 // not (nearly cocircular quads, as an unoptimised mesh has), so that the
-// copy is the power diagram of the moved points. (The tags, looked up by
-// slot, then take a flipped edge's quad for the edge.)
+// copy is the power diagram of the moved points. (The tags are the
+// original's: a flipped edge's triangles keep their sides, but a flipped
+// restricted edge loses its edgeFeatureKind and a river crossing it is not
+// found; only unoptimised meshes have flips in practice.)
 std::unique_ptr<tri::Triangulation> points_on_sphere(Context &ctx, const tri::Triangulation &tri,
                                                      const geom::Surface &surface) {
     auto copy = std::make_unique<tri::Triangulation>(tri);

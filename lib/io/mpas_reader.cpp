@@ -59,9 +59,13 @@ void read_ellipsoid(const NcInput &file, const std::string &path, MpasMesh &m) {
     double a = 0, f = 0;
     const bool has_a = attribute("ellipsoid_semi_major_axis", a), has_f = attribute("ellipsoid_flattening", f);
     if (!has_a && !has_f) return;
-    if (!has_a || !has_f || !(a > 0) || !(f > 0) || f > geom::Surface::kMaxFlattening)
+    if (has_a != has_f)
+        format_error(path, has_a ? "ellipsoid_flattening" : "ellipsoid_semi_major_axis", " is missing (the other is ",
+                     has_a ? a : f, ")");
+    if (!std::isfinite(a) || !(a > 0) || !(f >= 0) || f > geom::Surface::kMaxFlattening)
         format_error(path, "ellipsoid_semi_major_axis ", a, " and ellipsoid_flattening ", f,
-                     ": expected both, a > 0 m and f in (0, ", geom::Surface::kMaxFlattening, "]");
+                     ": expected a finite a > 0 m and f in [0, ", geom::Surface::kMaxFlattening, "]");
+    if (f == 0) return;  // a sphere
     m.ellipsoid_a_m = a, m.ellipsoid_f = f;
 }
 

@@ -285,6 +285,12 @@ class Build(unittest.TestCase):
                 self.assertNotEqual(r.returncode, 0, surface)
                 self.assertIn("--surface " + surface, r.stderr)
                 self.assertIn(message, r.stderr)
+            # Flags win: --option over the case file's surface.
+            r = run("build", "--case", case, "--option", "surface_flattening=0", "--out", os.path.join(folder, "flat"))
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with netCDF4.Dataset(os.path.join(folder, "flat", "mesh.nc")) as m:
+                self.assertNotIn("surface", m.ncattrs())
+                self.assertEqual(m.sphere_radius, a)
             with open(case, "w") as g:
                 g.write('spacing_km = 240\nsurface = "moon"\nout = "bad"\n')
             r = run("build", "--case", case)

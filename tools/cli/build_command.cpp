@@ -372,10 +372,15 @@ int run_build(const BuildArgs &a) {
         um_context_set_progress(ctx, report_progress, &stage);
         if (a.verbose) um_context_set_log(ctx, print_log, nullptr, UM_LOG_INFO);
         check(um_options_create(ctx, &opts), ctx, "options");
+        // The case file's options and surface, then the flags': flags win.
+        const bool surface_flag = a.surface_source == "--surface";
+        if (!a.case_options.empty())
+            check(um_options_set_string(opts, a.case_options.c_str()), ctx, "the case file's [options]");
+        if (!surface_flag) set_surface(ctx, opts, a.surface, a.surface_source);
         if (!a.options.empty()) check(um_options_set_string(opts, a.options.c_str()), ctx, "--option");
         if (a.spacing_gradient_given)  // the library names a value out of range (or NaN)
             check(um_options_set_double(opts, UM_OPT_SPACING_GRADIENT, a.spacing_gradient), ctx, "--spacing-gradient");
-        set_surface(ctx, opts, a.surface, a.surface_source);
+        if (surface_flag) set_surface(ctx, opts, a.surface, a.surface_source);
         h = make_spacing(ctx, a);
         if (!a.geometry.empty() || !a.passages.empty() || !a.domain.empty()) {
             check(um_features_create(ctx, &f), ctx, "features");

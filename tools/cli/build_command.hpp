@@ -39,6 +39,9 @@ struct BuildArgs {
     // needs it) or "netcdf4".
     std::string mpas_format = "auto";
     std::string options;  // "name=value;..." for um_options_set_string
+    // A case file's [options], set before the case file's surface, then
+    // --option, then --surface: flags win.
+    std::string case_options;
     std::string out_dir = "out";
     bool progress_bar = false;
     bool verbose = false;  // the library's info messages on stderr

@@ -127,8 +127,8 @@ void apply(const toml::table &t, const fs::path &folder, const GivenFlags &given
                 throw CaseError{"options." + name + " is not a known option" + where(value)};
             text += name + "=" + option_text(value, name) + ";";
         }
-        // The command line's --option comes last: it wins.
-        a.options = text + a.options;
+        // Set before the command line's --option, which wins.
+        a.case_options = text;
     }
 }
 

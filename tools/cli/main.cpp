@@ -73,7 +73,8 @@ int main(int argc, char **argv) {
     build->add_option("--surface", b.surface,
                       "sphere (the default: radius 6371.22 km, or --option sphere_radius=M), wgs84, or "
                       "ellipsoid:A,F (semi-major axis A in m, flattening F in [0, 0.02]; over --option's "
-                      "sphere_radius and surface_flattening); spacing in km is geodesic km on the surface");
+                      "sphere_radius and surface_flattening); spacing in km is geodesic km on the surface")
+        ->check([](const std::string &s) { return s.empty() ? std::string("an empty surface") : std::string(); });
     km->excludes(file)->excludes(preset);
     file->excludes(preset);
     build->add_option("--threads", b.threads, "threads (0 = all cores)")->check(CLI::Range(0, 1024));
