@@ -23,11 +23,25 @@ um::Context *state_or_null(const um_mesh *m) {
 
 
 
+// What the report measures: the mesh's spacing in radians and, for a
+// regional mesh, its cells (per vertex slot; none: every cell).
+struct ReportScope {
+    um::refine::SpacingRadians h;
+    std::vector<uint8_t> region;
+    const std::vector<uint8_t> *cells() const { return region.empty() ? nullptr : &region; }
+};
+
+ReportScope report_scope(const um_mesh *m) {
+    return {um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.surface),
+            m->mesh.regional() ? m->mesh.region_cells(*m->context) : std::vector<uint8_t>{}};
+}
+
 const um::quality::Report &quality_of(const um_mesh *m) {
     if (!m->quality) {
-        const um::refine::SpacingRadians h = um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m, m->mesh.surface);
-        const std::vector<uint8_t> region = m->mesh.regional() ? m->mesh.region_cells(*m->context) : std::vector<uint8_t>{};
-        const std::vector<uint8_t> *cells = m->mesh.regional() ? &region : nullptr;
+        const ReportScope scope = report_scope(m);
+        const um::refine::SpacingRadians &h = scope.h;
+        const std::vector<uint8_t> &region = scope.region;
+        const std::vector<uint8_t> *cells = scope.cells();
         um::quality::Report r = um::quality::measure(*m->context, m->mesh.tri, h, &m->mesh.on_segment, cells);
         std::vector<uint8_t> ocean = m->mesh.ocean_cells();
         if (cells)
@@ -49,10 +63,8 @@ const um::quality::Report &quality_of(const um_mesh *m) {
 const um::quality::Report &quality_with_geodesic(const um_mesh *m) {
     const um::quality::Report &r = quality_of(m);
     if (m->mesh.surface.is_sphere() || r.geodesic.measured) return r;
-    const um::refine::SpacingRadians h = um::mesh::spacing_radians(*m->mesh.spacing, m->mesh.radius_m, m->mesh.surface);
-    const std::vector<uint8_t> region = m->mesh.regional() ? m->mesh.region_cells(*m->context) : std::vector<uint8_t>{};
-    m->quality->geodesic = um::quality::measure_geodesic(*m->context, m->mesh.tri, m->mesh.surface, h,
-                                                         m->mesh.regional() ? &region : nullptr);
+    const ReportScope scope = report_scope(m);
+    m->quality->geodesic = um::quality::measure_geodesic(*m->context, m->mesh.tri, m->mesh.surface, scope.h, scope.cells());
     return *m->quality;
 }
 

@@ -42,7 +42,7 @@ MpasMeshInput input_of(Context &ctx, const mesh::RefinedMesh &refined) {
     input.slot_of_vertex = refined.slot_of_vertex;
     const geom::Surface &surface = refined.surface;
     input.surface = surface;
-    input.radius_m = surface.is_sphere() ? refined.radius_m : surface.authalic_radius_m();
+    input.radius_m = surface.authalic_radius_m();
     if (refined.spacing) {
         // The spacing the mesh was refined to, at the generators, for meshDensity
         // (check_input refuses values that are not finite and > 0); on an

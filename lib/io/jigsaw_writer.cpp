@@ -26,7 +26,7 @@ void write_jigsaw_mesh(const mesh::RefinedMesh &m, const std::string &path) {
     std::unique_ptr<std::FILE, CloseFile> file(std::fopen(out.temporary_path().c_str(), "w"));
     if (!file) fail(UM_ERR_IO, "cannot create JIGSAW mesh file '", path, "'");
     std::FILE *f = file.get();
-    const double r = m.radius_m;
+    const double r = m.radius_m();
     const geom::Surface &surface = m.surface;
     const int64_t n = m.vertex_count();
     const tri::Triangulation &tri = m.tri;

@@ -43,17 +43,26 @@ bool has_variable(const NcInput &file, const char *name) {
     return nc_inq_varid(file.id(), name, &id) == NC_NOERR;
 }
 
+// Whether the file has global attribute `name`.
+bool has_global(const NcInput &file, const char *name) {
+    return nc_inq_att(file.id(), NC_GLOBAL, name, nullptr, nullptr) == NC_NOERR;
+}
+
+// Global attribute `name` into value when it is one number; false otherwise.
+bool global_number(const NcInput &file, const char *name, double &value) {
+    nc_type type = NC_NAT;
+    size_t count = 0;
+    return nc_inq_att(file.id(), NC_GLOBAL, name, &type, &count) == NC_NOERR && count == 1 && type != NC_CHAR &&
+           type != NC_STRING && nc_get_att_double(file.id(), NC_GLOBAL, name, &value) == NC_NOERR;
+}
+
 // The ellipsoid a mesh was made on (the writer's ellipsoid_semi_major_axis
 // and ellipsoid_flattening), kept so that files made from it say so too;
 // none for a sphere.
 void read_ellipsoid(const NcInput &file, const std::string &path, MpasMesh &m) {
     auto attribute = [&](const char *name, double &value) {
-        nc_type type = NC_NAT;
-        size_t count = 0;
-        if (nc_inq_att(file.id(), NC_GLOBAL, name, &type, &count) != NC_NOERR) return false;
-        if (count != 1 || type == NC_CHAR || type == NC_STRING ||
-            nc_get_att_double(file.id(), NC_GLOBAL, name, &value) != NC_NOERR)
-            format_error(path, name, " is not one number");
+        if (!has_global(file, name)) return false;
+        if (!global_number(file, name, value)) format_error(path, name, " is not one number");
         return true;
     };
     double a = 0, f = 0;
@@ -88,11 +97,7 @@ void read_dimensions(const NcInput &file, const std::string &path, MpasMesh &m) 
     m.n_cells = static_cast<int32_t>(cells), m.n_edges = static_cast<int32_t>(edges);
     m.n_vertices = static_cast<int32_t>(vertices), m.max_edges = static_cast<int32_t>(max_edges);
     double radius = 0;
-    nc_type type = NC_NAT;
-    size_t count = 0;
-    if (nc_inq_att(file.id(), NC_GLOBAL, "sphere_radius", &type, &count) != NC_NOERR || count != 1 ||
-        type == NC_CHAR || type == NC_STRING || nc_get_att_double(file.id(), NC_GLOBAL, "sphere_radius", &radius) != NC_NOERR ||
-        !(radius > 0) || radius > 1e12)
+    if (!global_number(file, "sphere_radius", radius) || !(radius > 0) || radius > 1e12)
         format_error(path, "sphere_radius is missing or not a radius in (0, 1e12] m (read: ", radius, ")");
     m.radius_m = radius;
     read_ellipsoid(file, path, m);

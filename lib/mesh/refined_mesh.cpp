@@ -32,8 +32,8 @@ void check_spacing_km(double km, const geom::Vec3 &x, const geom::Surface &surfa
 }  // namespace
 
 // h in radians on the unit sphere.
-refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m, const geom::Surface &surface) {
-    const double per_km = 1000.0 / radius_m;
+refine::SpacingRadians spacing_radians(const hfun::Spacing &h, const geom::Surface &surface) {
+    const double per_km = 1000.0 / surface.a();
     return [&h, per_km, surface](const geom::Vec3 &x) {
         const double km = h.km_at(x);
         check_spacing_km(km, x, surface);
@@ -41,9 +41,8 @@ refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m, 
     };
 }
 
-refine::SmallestSpacingRadians smallest_spacing_radians(const hfun::Spacing &h, double radius_m,
-                                                       const geom::Surface &surface) {
-    const double per_km = 1000.0 / radius_m;
+refine::SmallestSpacingRadians smallest_spacing_radians(const hfun::Spacing &h, const geom::Surface &surface) {
+    const double per_km = 1000.0 / surface.a();
     return [&h, per_km, surface](const geom::Vec3 &x, double r, double enough) {
         const double km = h.smallest_in_cap(x, r, enough / per_km);
         check_spacing_km(km, x, surface);
@@ -160,18 +159,24 @@ void split_passages(RefinedMesh &m, std::shared_ptr<const features::Network> fea
     m.passages = std::make_shared<features::Network>(features::parts_of_kind(*features, features::Kind::passage, true));
 }
 
-// Gamma and the passages as the mesh uses them: split (split_passages), the
-// domain rings traced along their lon/lat edges, and on an ellipsoid each
-// point at the direction of its geodetic lon/lat.
+// Gamma, the passages and the domain as the mesh uses them: split
+// (split_passages), the domain rings traced along their lon/lat edges, on
+// an ellipsoid each point at the direction of its geodetic lon/lat; the
+// domain of those rings (none without any).
 void place_gamma(RefinedMesh &m, std::shared_ptr<const features::Network> features) {
     split_passages(m, std::move(features));
-    if (m.gamma && std::any_of(m.gamma->parts().begin(), m.gamma->parts().end(),
-                               [](const features::Part &p) { return p.kind == features::Kind::domain; }))
-        m.gamma = std::make_shared<const features::Network>(features::with_domain_rings_traced(*m.gamma));
-    if (m.surface.is_sphere()) return;
-    if (m.gamma) m.gamma = std::make_shared<const features::Network>(features::on_ellipsoid(*m.gamma, m.surface.f()));
-    if (m.passages)
-        m.passages = std::make_shared<const features::Network>(features::on_ellipsoid(*m.passages, m.surface.f()));
+    const bool regional = m.gamma && std::any_of(m.gamma->parts().begin(), m.gamma->parts().end(), [](const features::Part &p) {
+                              return p.kind == features::Kind::domain;
+                          });
+    if (regional) m.gamma = std::make_shared<const features::Network>(features::with_domain_rings_traced(*m.gamma));
+    if (!m.surface.is_sphere()) {
+        if (m.gamma) m.gamma = std::make_shared<const features::Network>(features::on_ellipsoid(*m.gamma, m.surface.f()));
+        if (m.passages)
+            m.passages = std::make_shared<const features::Network>(features::on_ellipsoid(*m.passages, m.surface.f()));
+    }
+    if (!regional) return;
+    auto domain = std::make_shared<const features::Domain>(*m.gamma);
+    if (!domain->empty()) m.domain = std::move(domain);
 }
 
 // The surface the options describe: a sphere of sphere_radius, or the
@@ -279,29 +284,19 @@ MeshEstimate estimate_mesh(Context &ctx, const hfun::Spacing &h) {
 
 RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
                         std::shared_ptr<const features::Network> gamma, const Options &options) {
-    const double radius_m = options.real(UM_OPT_SPHERE_RADIUS);
-    const geom::Surface surface = surface_of(options);
-    h = mesh_spacing(ctx, std::move(h), options.real(UM_OPT_SPACING_GRADIENT), radius_m);
-    h = hfun::make_on_ellipsoid(std::move(h), surface);
     RefinedMesh m;
-    m.radius_m = radius_m;
-    m.surface = surface;
+    m.surface = surface_of(options);
+    h = mesh_spacing(ctx, std::move(h), options.real(UM_OPT_SPACING_GRADIENT), m.radius_m());
+    h = hfun::make_on_ellipsoid(std::move(h), m.surface);
     place_gamma(m, std::move(gamma));
-    if (m.gamma && std::any_of(m.gamma->parts().begin(), m.gamma->parts().end(),
-                               [](const features::Part &p) { return p.kind == features::Kind::domain; })) {
-        auto domain = std::make_shared<const features::Domain>(*m.gamma);
-        if (!domain->empty()) {
-            m.domain = domain;
-            h = hfun::make_region_cover(std::move(h), std::move(domain), radius_m / 1000.0);
-        }
-    }
+    if (m.domain) h = hfun::make_region_cover(std::move(h), m.domain, m.radius_m() / 1000.0);
     if (ctx.memory_cap() > 0) {
         // Refused up front, before any work, when the cap cannot hold it.
         const int64_t cells = estimated_cells(ctx, *h);
         ctx.check_memory(cells * kRefineBytesPerCell, concat("a mesh of about ", cells, " cells").c_str());
     }
     m.spacing = std::move(h);
-    const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m, m.surface);
+    const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.surface);
     const geom::ArcTree arcs = features::segment_arc_tree(m.gamma.get());
     m.tri = starting_triangulation(ctx, hr, arcs, options.integer(UM_OPT_REFINE_LATTICE) != 0, m.domain.get());
     int32_t next_id = m.tri.vertex_slots();
@@ -321,7 +316,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
     refine::SurfaceOptions so;
     so.alpha = options.real(UM_OPT_REFINE_ALPHA);
     so.rho = options.real(UM_OPT_REFINE_RHO);
-    so.smallest = smallest_spacing_radians(*m.spacing, m.radius_m, m.surface);
+    so.smallest = smallest_spacing_radians(*m.spacing, m.surface);
     if (arcs.size() > 0) so.gamma = &arcs, so.on_gamma = &m.on_segment, so.filter = bo.filter;
     // Boundary then surface refinement. The surface points change dual
     // edges near Gamma, so that some restricted edges come out too long
@@ -419,7 +414,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
                    const quality::Report *refined_quality) {
     ctx.check_memory(m.vertex_count() * (m.gamma ? kOptimiseBytesPerCell : kOptimiseUniformBytesPerCell),
                      concat("optimising a mesh of ", m.vertex_count(), " cells").c_str());
-    const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.radius_m, m.surface);
+    const refine::SpacingRadians hr = spacing_radians(*m.spacing, m.surface);
     const std::vector<uint8_t> region = m.regional() && !refined_quality ? m.region_cells(ctx) : std::vector<uint8_t>{};
     const quality::Report before = refined_quality ? *refined_quality
                                                    : quality::measure(ctx, m.tri, hr, &m.on_segment,

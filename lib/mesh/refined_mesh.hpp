@@ -37,12 +37,13 @@ struct RefinedMesh {
     // Per part of gamma, its index among the caller's features (empty: the
     // same index, when no passage was split off).
     std::vector<int64_t> features_part;
-    hfun::SpacingPtr spacing;                         // what it was refined to (km on the sphere of radius_m)
-    double radius_m = 0;
-    // What the directions stand for (geom/surface.hpp): a sphere of radius_m,
-    // or an ellipsoid of semi-major axis radius_m; spacing is then in km on
-    // the sphere of radius_m that the ellipsoid's geodesic h spans.
+    hfun::SpacingPtr spacing;                         // what it was refined to (km on the sphere of radius_m())
+    // What the directions stand for (geom/surface.hpp): a sphere, or an
+    // ellipsoid; spacing is then in km on the sphere of its semi-major axis
+    // that the ellipsoid's geodesic h spans.
     geom::Surface surface = geom::Surface::sphere(kEarthRadiusKm * 1000);
+    // The sphere's radius, or the ellipsoid's semi-major axis (sphere_radius).
+    double radius_m() const { return surface.a(); }
     // Per vertex slot: the Gamma segment it was placed on, or -1.
     std::vector<int32_t> on_segment;
     // Mesh vertices are the slots in the triangulation, numbered in slot order.
@@ -114,11 +115,10 @@ struct MeshEstimate {
 MeshEstimate estimate_mesh(Context &ctx, const hfun::Spacing &h);
 
 // The spacing in radians on the unit sphere, checked (finite, > 0) where read.
-// Errors name the geodetic lon/lat of the point on `surface`.
-refine::SpacingRadians spacing_radians(const hfun::Spacing &h, double radius_m,
-                                       const geom::Surface &surface = geom::Surface::sphere(1.0));
+// (h in km on the sphere of the surface's radius a; errors name the
+// geodetic lon/lat of the point.)
+refine::SpacingRadians spacing_radians(const hfun::Spacing &h, const geom::Surface &surface);
 // Its lower bound over a cap (hfun::Spacing::smallest_in_cap), checked the same way.
-refine::SmallestSpacingRadians smallest_spacing_radians(const hfun::Spacing &h, double radius_m,
-                                                       const geom::Surface &surface = geom::Surface::sphere(1.0));
+refine::SmallestSpacingRadians smallest_spacing_radians(const hfun::Spacing &h, const geom::Surface &surface);
 
 }  // namespace um::mesh

@@ -23,12 +23,15 @@ struct Partial {
     }
 };
 
-// fn(i, partial) for i in [0, n), in fixed blocks; the partials added in order.
+// fn(i, partial) for i in [0, n), in fixed blocks; the partials added in
+// order. With a heartbeat between runs of blocks (as the rest of the
+// report): the geodesics take seconds at a million cells, and cancel must
+// get in.
 template <class Fn>
 Partial in_blocks(Context &ctx, int64_t n, Fn fn) {
     const int64_t blocks = (n + kBlock - 1) / kBlock;
     std::vector<Partial> partial(static_cast<size_t>(blocks));
-    ctx.parallel_for(blocks, 1, [&](int64_t b, int64_t e) {
+    ctx.parallel_for_with_heartbeat("quality", blocks, 1, [&](int64_t b, int64_t e) {
         for (int64_t k = b; k < e; ++k)
             for (int64_t i = k * kBlock; i < std::min(n, (k + 1) * kBlock); ++i) fn(i, partial[k]);
     });

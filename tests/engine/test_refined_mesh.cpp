@@ -44,7 +44,7 @@ void coast_global_l_follows_gamma_where_not_filtered(void **) {
     mesh::RefinedMesh m = mesh::refine_mesh(ctx, hfun::make_constant(hkm), gamma, options);
     const std::string problem = tri::check_triangulation(m.tri);
     if (!problem.empty()) fail_msg("%s", problem.c_str());
-    const refine::SpacingRadians h = mesh::spacing_radians(*m.spacing, m.radius_m);
+    const refine::SpacingRadians h = mesh::spacing_radians(*m.spacing, m.surface);
     const double alpha = options.real(UM_OPT_REFINE_ALPHA), beta = options.real(UM_OPT_REFINE_BETA);
 
     // The bad restricted edges (too long or too far from Gamma), found
@@ -123,7 +123,7 @@ void expect_gamma_still_followed(const mesh::RefinedMesh &refined, const mesh::R
         struct {
             size_t edges = 0, both_on_gamma = 0, far = 0;
         } c;
-        const double h = 120.0 / (r.radius_m / 1000.0);  // radians
+        const double h = 120.0 / (r.radius_m() / 1000.0);  // radians
         for (const refine::RestrictedEdge &e : r.restricted) {
             const int32_t a = r.tri.vertex(e.triangle, (e.edge + 1) % 3), b = r.tri.vertex(e.triangle, (e.edge + 2) % 3);
             ++c.edges;

@@ -190,7 +190,7 @@ void a_uniform_wgs84_mesh_at_120_km(void **) {
     expect_cells_tile_the_ellipsoid(ctx, m);
     // The quality report's geodesic measures: the same edges, and the power
     // cells' areas tiling the ellipsoid; the same bits on one thread.
-    const refine::SpacingRadians h = mesh::spacing_radians(*m.spacing, m.radius_m);
+    const refine::SpacingRadians h = mesh::spacing_radians(*m.spacing, m.surface);
     const quality::Report::Geodesic g = quality::measure_geodesic(ctx, m.tri, m.surface, h);
     assert_true(g.measured && g.edges == r.edges && g.cells == m.vertex_count());
     assert_true(std::fabs(g.length_over_h_min - r.min) < 1e-12 && std::fabs(g.length_over_h_max - r.max) < 1e-12);
