@@ -14,7 +14,7 @@ namespace {
 
 // +1 when c is on the left of the great circle a -> b, -1 on the right, 0 on
 // it: exactly (the sign of det(a, b, c)).
-int side(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+int orientation(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
     return geom::orient_origin_exact(a.data(), b.data(), c.data());
 }
 
@@ -40,6 +40,41 @@ double left_area(const Network &net, int64_t p) {
 }
 
 bool is_domain_ring(const Part &p) { return p.closed && p.kind == Kind::domain; }
+
+// Douglas-Peucker on the sphere: the points of the closed ring (its first
+// and its farthest point kept, then between each two kept ones the one
+// farthest from their arc, while farther than tolerance) as arcs.
+void simplify_ring(const std::vector<Vec3> &ring, double tolerance, std::vector<geom::ArcTree::Arc> &out) {
+    const size_t n = ring.size();
+    size_t far = 0;
+    for (size_t k = 1; k < n; ++k)
+        if (geom::arc_length(ring[0], ring[k]) > geom::arc_length(ring[0], ring[far])) far = k;
+    std::vector<uint8_t> keep(n, 0);
+    keep[0] = keep[far] = 1;
+    // Spans (first, last) of the ring's points, last taken modulo n.
+    std::vector<std::pair<size_t, size_t>> spans{{0, far}, {far, n}};
+    while (!spans.empty()) {
+        const auto [first, last] = spans.back();
+        spans.pop_back();
+        const Vec3 &a = ring[first], &b = ring[last % n];
+        size_t worst = first;
+        double worst_d = tolerance;
+        for (size_t k = first + 1; k < last; ++k) {
+            const double d = geom::distance_to_arc(ring[k], a, b);
+            if (d > worst_d) worst_d = d, worst = k;
+        }
+        if (worst == first) continue;
+        keep[worst] = 1;
+        spans.push_back({first, worst});
+        spans.push_back({worst, last});
+    }
+    size_t previous = 0;
+    for (size_t k = 1; k <= n; ++k)
+        if (k == n || keep[k]) {
+            out.push_back({ring[previous], ring[k % n]});
+            previous = k;
+        }
+}
 
 }  // namespace
 
@@ -101,9 +136,20 @@ Domain::Domain(const Network &net) {
         }
     }
     if (arcs.empty()) return;
+    std::vector<geom::ArcTree::Arc> rough;
+    for (int64_t p : rings) {
+        const Part &part = net.part(p);
+        std::vector<Vec3> points;
+        for (int64_t s = part.first_segment; s < part.first_segment + part.n_segments; ++s) points.push_back(net.segment_a(s));
+        simplify_ring(points, kRoughTolerance, rough);
+    }
+    rough_ = geom::ArcTree(std::move(rough));
     arcs_ = geom::ArcTree(std::move(arcs));
-    memo_.reset(new std::atomic<uint8_t>[static_cast<size_t>(kMemoLon) * kMemoLat]);
-    for (size_t k = 0; k < static_cast<size_t>(kMemoLon) * kMemoLat; ++k) memo_[k].store(0, std::memory_order_relaxed);
+    for (int level = 0; level < kMemoLevels; ++level) {
+        const size_t side_cells = static_cast<size_t>(kMemoCells >> level), cells = 6 * side_cells * side_cells;
+        memo_.emplace_back(new std::atomic<uint8_t>[cells]);
+        for (size_t k = 0; k < cells; ++k) memo_.back()[k].store(0, std::memory_order_relaxed);
+    }
 
     // No two segments may cross: the inside would not be one side of each ring.
     for (int32_t i = 0; i < static_cast<int32_t>(arcs_.size()); ++i) {
@@ -156,14 +202,14 @@ bool Domain::left_of(int32_t i, const Vec3 &x) const {
     // The nearest point of the arc's great circle lies between its ends:
     // judged by this arc alone.
     const bool past_a = geom::dot(geom::cross(arc.a, x), n) >= 0, before_b = geom::dot(geom::cross(x, arc.b), n) >= 0;
-    if (past_a && before_b) return side(arc.a, arc.b, x) > 0;
+    if (past_a && before_b) return orientation(arc.a, arc.b, x) > 0;
     // Else at the nearer end, where the ring turns: on the left of a corner
     // that turns left when on the left of both arcs, of one when it turns right.
     const bool at_b = geom::dot(x, arc.b) >= geom::dot(x, arc.a);
     const auto &other = arcs_.arc(at_b ? next_[i] : prev_[i]);
     const Vec3 u = at_b ? arc.a : other.a, v = at_b ? arc.b : arc.a, w = at_b ? other.b : arc.b;
-    const bool left1 = side(u, v, x) > 0, left2 = side(v, w, x) > 0;
-    return side(u, v, w) > 0 ? left1 && left2 : left1 || left2;
+    const bool left1 = orientation(u, v, x) > 0, left2 = orientation(v, w, x) > 0;
+    return orientation(u, v, w) > 0 ? left1 && left2 : left1 || left2;
 }
 
 bool Domain::locate(const Vec3 &x, double *distance) const {
@@ -179,26 +225,68 @@ bool Domain::locate(const Vec3 &x, double *distance) const {
 
 bool Domain::contains(const Vec3 &x) const {
     if (distance_at_least(x) > 0) return false;  // beyond the cap holding the domain
-    return deep_inside(x) || locate(x, nullptr);
+    const Side known = side(x);
+    return known == Side::near ? locate(x, nullptr) : known == Side::inside;
 }
 
-bool Domain::deep_inside(const Vec3 &x) const {
-    if (empty()) return true;
-    double lon, lat;
-    geom::lonlat_deg_from_unit(x, lon, lat);
-    const int i = std::min(kMemoLon - 1, std::max(0, static_cast<int>((lon + 180) / kMemoDeg)));
-    const int j = std::min(kMemoLat - 1, std::max(0, static_cast<int>((lat + 90) / kMemoDeg)));
-    std::atomic<uint8_t> &known = memo_[static_cast<size_t>(j) * kMemoLon + i];
-    uint8_t state = known.load(std::memory_order_relaxed);
-    if (state == 0) {
-        // Every point of the cell is within its half-diagonal of the centre.
-        const double half_diagonal = kMemoDeg * M_SQRT1_2 * M_PI / 180 * (1 + 1e-6);
-        double d = 0;
-        const bool inside = locate(geom::unit_from_lonlat_deg(-180 + (i + 0.5) * kMemoDeg, -90 + (j + 0.5) * kMemoDeg), &d);
-        state = inside && d > half_diagonal ? 1 : 2;
-        known.store(state, std::memory_order_relaxed);
+namespace {
+
+// The cube's face holding x (the axis of its largest coordinate, and the
+// sign) and x's gnomonic coordinates on it, in [-1, 1].
+struct CubePoint {
+    int face;
+    double u, v;
+};
+CubePoint cube_point(const Vec3 &x) {
+    const double ax = std::fabs(x.x), ay = std::fabs(x.y), az = std::fabs(x.z);
+    if (ax >= ay && ax >= az) return {x.x >= 0 ? 0 : 1, x.y / ax, x.z / ax};
+    if (ay >= az) return {x.y >= 0 ? 2 : 3, x.z / ay, x.x / ay};
+    return {x.z >= 0 ? 4 : 5, x.x / az, x.y / az};
+}
+Vec3 from_cube(int face, double u, double v) {
+    const double s = face % 2 == 0 ? 1 : -1;
+    switch (face / 2) {
+    case 0: return geom::normalized(Vec3{s, u, v});
+    case 1: return geom::normalized(Vec3{v, s, u});
+    default: return geom::normalized(Vec3{u, v, s});
     }
-    return state == 1;
+}
+
+}  // namespace
+
+Domain::Side Domain::side(const Vec3 &x) const {
+    if (empty()) return Side::inside;
+    const CubePoint c = cube_point(x);
+    for (int level = kMemoLevels - 1; level >= 0; --level) {
+        const int n = kMemoCells >> level;
+        const int i = std::min(n - 1, std::max(0, static_cast<int>((c.u + 1) * 0.5 * n)));
+        const int j = std::min(n - 1, std::max(0, static_cast<int>((c.v + 1) * 0.5 * n)));
+        const Side known = memo_side(level, c.face, i, j);
+        if (known != Side::near) return known;
+    }
+    return Side::near;
+}
+
+Domain::Side Domain::memo_side(int level, int face, int i, int j) const {
+    const int n = kMemoCells >> level;
+    std::atomic<uint8_t> &known = memo_[level][(static_cast<size_t>(face) * n + j) * n + i];
+    const uint8_t state = known.load(std::memory_order_relaxed);
+    if (state != 0) return static_cast<Side>(state - 1);
+    // Every point of the cell is within its half-diagonal of the centre: the
+    // gnomonic map onto the sphere shortens every distance, so the
+    // half-diagonal on the face bounds it.
+    const double size = 2.0 / n, half_diagonal = size * M_SQRT1_2 * (1 + 1e-6);
+    double d = 0;
+    const bool inside = locate(from_cube(face, -1 + (i + 0.5) * size, -1 + (j + 0.5) * size), &d);
+    const Side side = d <= half_diagonal ? Side::near : inside ? Side::inside : Side::outside;
+    known.store(static_cast<uint8_t>(static_cast<uint8_t>(side) + 1), std::memory_order_relaxed);
+    return side;
+}
+
+double Domain::rough_distance(const Vec3 &x) const {
+    double d = 0;
+    rough_.nearest(x, &d);
+    return d;
 }
 
 }  // namespace um::features

@@ -51,14 +51,27 @@ public:
     // contains(x), and the arc distance (radians) from x to the nearest ring
     // into *distance (when not null), with one search for the nearest segment.
     bool locate(const Vec3 &x, double *distance) const;
-    // Whether x lies in a cell of longitude and latitude (kMemoDeg square)
-    // that is wholly inside, farther from the rings than its size: most of
-    // a domain's points, answered without a search (the answer for each
-    // cell is found on first use and kept; a pure function of the cell, so
-    // the same on every thread). False means "search".
-    bool deep_inside(const Vec3 &x) const;
-    // The centre of a cap holding every ring.
+    // Which side of the rings x is on, when the memo knows without a search:
+    // inside or outside when x lies in a memo cell wholly on that side,
+    // farther from the rings than its half-diagonal; near otherwise
+    // ("search"). The cells are those of a cube's faces cut into squares
+    // (gnomonic: no trigonometry to find one) at five levels, 512 to 32 a
+    // side, the coarsest asked first, so that points far from the rings,
+    // however sparse (the cover of a regional mesh), are answered by a few
+    // large cells; each cell's answer is found on first use and kept, a pure
+    // function of the cell, so the same on every thread.
+    enum class Side : uint8_t { near, inside, outside };
+    Side side(const Vec3 &x) const;
+    bool deep_inside(const Vec3 &x) const { return side(x) == Side::inside; }
+    // The distance (radians) from x to the rings simplified within
+    // rough_error() (Douglas-Peucker): a cheap stand-in for the exact one,
+    // within rough_error() of it.
+    double rough_distance(const Vec3 &x) const;
+    static constexpr double rough_error() { return kRoughError; }
+    // The centre and radius (radians) of a cap holding every ring (and the
+    // domain, when the radius is below pi / 2).
     const Vec3 &cap_centre() const { return cap_centre_; }
+    double cap_radius() const { return cap_radius_; }
     // A lower bound of distance(x) from the cap around the rings (no
     // search): 0 when the rings do not fit in a cap smaller than a hemisphere.
     double distance_at_least(const Vec3 &x) const {
@@ -83,9 +96,19 @@ private:
     std::vector<uint8_t> inside_on_left_;  // per ring: the domain lies on its left
     std::vector<uint8_t> ring_segment_;    // per network segment
     double area_ = 4 * M_PI;
-    static constexpr double kMemoDeg = 0.25;
-    static constexpr int kMemoLon = 1440, kMemoLat = 720;
-    mutable std::unique_ptr<std::atomic<uint8_t>[]> memo_;  // per cell: 0 not known, 1 deep inside, 2 not
+    // The memo of side(): per level (kMemoCells >> level cells a side on
+    // each face), per cell 0 not known, else 1 + the Side.
+    static constexpr int kMemoLevels = 5;
+    static constexpr int kMemoCells = 512;  // at level 0: 25 km at a face's centre, 13 at its corners
+    Side memo_side(int level, int face, int i, int j) const;
+    std::vector<std::unique_ptr<std::atomic<uint8_t>[]>> memo_;
+    // The rings simplified (rough_distance): tolerance kRoughTolerance, an
+    // error of at most kRoughError (the traced rings' arcs are at most
+    // kDomainStepDeg long, so that they bend from the simplified ones by far
+    // less than the margin).
+    static constexpr double kRoughTolerance = 0.25 * M_PI / 180;
+    static constexpr double kRoughError = 1.25 * kRoughTolerance;
+    geom::ArcTree rough_;
     // A cap holding every ring (and so the domain, when it is smaller than a hemisphere).
     Vec3 cap_centre_{0, 0, 1};
     double cap_radius_ = M_PI;

@@ -120,18 +120,58 @@ void crossing_open_and_short_rings_are_refused(void **) {
     assert_int_equal(net.part_count(), 0);
 }
 
-// Inside: the caller's spacing; outside: growing at kCoverRate to kCoverKm;
+// Points spread evenly over the sphere (a Fibonacci spiral).
+std::vector<Vec3> spiral(int n) {
+    std::vector<Vec3> points;
+    for (int i = 0; i < n; ++i) {
+        const double z = 1 - (2 * i + 1.0) / n, r = std::sqrt(1 - z * z), a = i * M_PI * (3 - std::sqrt(5.0));
+        points.push_back({r * std::cos(a), r * std::sin(a), z});
+    }
+    return points;
+}
+
+// What the memo answers without a search is what the search says, and most
+// points away from the rings get that answer; the rough distance is within
+// its error of the exact one - for a box with a hole across the
+// antimeridian, a ring around a pole and a concave ring.
+void the_memo_and_the_rough_distance_agree_with_the_search(void **) {
+    const std::vector<std::vector<Ring>> domains = {
+        {box(160, -160, -20, 20), box(170, 175, -5, 5)},
+        {ring({0, 90, 180, -90}, {70, 70, 70, 70})},
+        {ring({-10, 30, 30, 0, 30, 30, -10}, {0, 0, 10, 20, 30, 40, 40})},
+    };
+    for (const std::vector<Ring> &rings : domains) {
+        const features::Domain d = domain_of(rings);
+        int far = 0, answered = 0;
+        for (const Vec3 &x : spiral(20000)) {
+            double exact = 0;
+            const bool inside = d.locate(x, &exact);
+            const features::Domain::Side side = d.side(x);
+            if (side != features::Domain::Side::near) assert_true(inside == (side == features::Domain::Side::inside));
+            assert_true(std::fabs(d.rough_distance(x) - exact) <= features::Domain::rough_error());
+            if (exact > 0.02) ++far, answered += side != features::Domain::Side::near;
+        }
+        print_message("memo: %d of %d points farther than 127 km answered without a search\n", answered, far);
+        assert_true(answered > 0.95 * far);
+    }
+}
+
+// Inside: the caller's spacing; outside: growing at kCoverRate to kCoverKm
+// (from the rough distance far from the rings, within its error);
 // smallest_in_cap a lower bound of the values in the cap.
 void the_cover_grows_away_from_the_domain(void **) {
     auto d = std::make_shared<const features::Domain>(domain_of({box(-40, 0, 10, 50)}));
     const hfun::SpacingPtr h = hfun::make_region_cover(hfun::make_constant(30), d);
     assert_true(h->km_at(at(-20, 30)) == 30);
-    double to_ring = 0;
-    d->locate(at(10, 30), &to_ring);
-    const double d_km = to_ring * hfun::kEarthRadiusKm;
-    assert_true(std::fabs(h->km_at(at(10, 30)) - (30 + hfun::kCoverRate * d_km)) < 1e-9);
+    for (double lon : {0.5, 2.0, 10.0}) {
+        double to_ring = 0;
+        d->locate(at(lon, 30), &to_ring);
+        const double d_km = to_ring * hfun::kEarthRadiusKm;
+        const double error_km = hfun::kCoverRate * features::Domain::rough_error() * hfun::kEarthRadiusKm;
+        assert_true(std::fabs(h->km_at(at(lon, 30)) - (30 + hfun::kCoverRate * d_km)) <= error_km);
+    }
     assert_true(h->km_at(at(140, -30)) == hfun::kCoverKm);
-    for (const Vec3 &c : {at(5, 30), at(30, 30), at(-20, 55), at(100, 0)}) {
+    for (const Vec3 &c : {at(5, 30), at(30, 30), at(-20, 55), at(100, 0), at(2.5, 30), at(0.5, 20), at(-41, 30)}) {
         const double r = 0.05, bound = h->smallest_in_cap(c, r, 1e9);
         for (int k = 0; k < 64; ++k) {
             const double a = 2 * M_PI * k / 64;
@@ -225,6 +265,7 @@ int main() {
         cmocka_unit_test(a_dateline_box_with_a_hole),
         cmocka_unit_test(a_ring_around_a_pole),
         cmocka_unit_test(crossing_open_and_short_rings_are_refused),
+        cmocka_unit_test(the_memo_and_the_rough_distance_agree_with_the_search),
         cmocka_unit_test(the_cover_grows_away_from_the_domain),
         cmocka_unit_test(a_regional_mesh_of_a_dateline_box),
         cmocka_unit_test(a_domain_smaller_than_the_spacing_is_refused),
