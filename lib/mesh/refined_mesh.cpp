@@ -442,7 +442,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     Undo undo = set_aside(ctx, m);
     try {
         m.refined_quality = before;
-        m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o);
+        m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o, m.domain.get());
         m.optimised = true, m.ocean_floor = o.ocean_floor;
         finish(ctx, m, features::segment_arc_tree(m.gamma.get()));
         if (m.domain) require_region_cells(ctx, m);  // (the mesh is put back if not)

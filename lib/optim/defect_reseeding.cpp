@@ -37,7 +37,7 @@ std::vector<uint8_t> DefectReseeding::free_to_move() const {
     s_.ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             const int32_t v = static_cast<int32_t>(i);
-            if (!s_.tri.in_triangulation(v) || pinned(v)) continue;
+            if (!s_.tri.in_triangulation(v) || pinned(v) || s_.cover(v)) continue;
             bool clear = true;
             s_.tri.for_each_neighbour(v, [&](int32_t u) { clear = clear && !pinned(u); });
             free[i] = clear;

@@ -62,6 +62,7 @@ constexpr size_t kFirstTierSites = 1 + std::size(kBisectorSpokes);
 int64_t GammaCorners::support_gamma_corners() {
     if (!s_.gamma) return 0;
     auto gamma_corner = [&](int32_t t) {  // the obtuse corner's index, when on Gamma; else -1
+        if (s_.touches_cover(t)) return -1;
         Vec3 x[3];
         for (int k = 0; k < 3; ++k) x[k] = s_.tri.direction(s_.tri.vertex(t, k));
         double l[3];
@@ -241,7 +242,7 @@ std::vector<int32_t> GammaCorners::relax_link(int32_t d, const GammaCorner &corn
     };
     std::vector<int32_t> buried;
     for (int32_t u : link) {
-        if (s_.on_segment[u] >= 0 || !std::binary_search(corner.region.begin(), corner.region.end(), u)) continue;
+        if (s_.on_segment[u] >= 0 || s_.cover(u) || !std::binary_search(corner.region.begin(), corner.region.end(), u)) continue;
         if (!s_.move_keeps_floor(u, s_.star_odt_point(u))) continue;  // (keeps the floor)
         const MovedVertex before{u, s_.tri.lifted(u), s_.h_at[u]};
         if (std::none_of(moved.begin(), moved.end(), [&](const MovedVertex &m) { return m.v == u; }))

@@ -55,7 +55,7 @@ Mends::MendFloors Mends::mend_floors(bool qp_floor) {
 Mends::Mended Mends::mend_off_centre_triangles(bool keep_obtuse) {
     const MendGoal moving = keep_obtuse ? MendGoal::off_centre_keeping_obtuse : MendGoal::off_centre;
     auto off_centre = [&](int32_t t) {
-        return staggering_score(s_.generator(s_.tri.vertex(t, 0)), s_.generator(s_.tri.vertex(t, 1)),
+        return !s_.touches_cover(t) && staggering_score(s_.generator(s_.tri.vertex(t, 0)), s_.generator(s_.tri.vertex(t, 1)),
                                 s_.generator(s_.tri.vertex(t, 2))) < 0;
     };
     const std::vector<int32_t> found = s_.live_triangles_where(off_centre);
@@ -122,7 +122,7 @@ bool Mends::mend_off_centre_triangle(int32_t t, const MendFloors &floors, MendGo
 // 654. Serial, in slot order: deterministic.
 Mends::Mended Mends::mend_obtuse_triangles() {
     auto obtuse = [&](int32_t t) {
-        return largest_angle_cosine(s_.tri.direction(s_.tri.vertex(t, 0)), s_.tri.direction(s_.tri.vertex(t, 1)),
+        return !s_.touches_cover(t) && largest_angle_cosine(s_.tri.direction(s_.tri.vertex(t, 0)), s_.tri.direction(s_.tri.vertex(t, 1)),
                                     s_.tri.direction(s_.tri.vertex(t, 2))) < 0;
     };
     const std::vector<int32_t> found = s_.live_triangles_where(obtuse);
@@ -239,6 +239,7 @@ std::vector<Mends::Candidate> Mends::mend_candidates(int32_t v, int steps, int s
     // `off_gamma_moves`, off it in four directions at half as many steps
     // (as many positions).
     std::vector<Candidate> at{{here, s_.on_segment[v]}};
+    if (s_.cover(v)) return at;  // the cover's vertices stay as they are
     const int64_t segment = s_.on_segment[v];
     const double step = kMendSlide * s_.h_at[v];
     if (slides > 0 && segment >= 0 && s_.gamma && !s_.options.fix_boundary) {

@@ -25,9 +25,10 @@ constexpr double kGainOverTolerance = 10;
 // ----------------------------------------------------------- per-slot state
 
 MeshState::MeshState(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
-                     const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o)
+                     const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o,
+                     const features::Domain *domain)
     : ctx(ctx), tri(tri), on_segment(on_segment), gamma(gamma), h(h), options(o),
-      gain(kGainOverTolerance * o.tolerance), arcs(features::segment_arc_tree(gamma)) {}
+      gain(kGainOverTolerance * o.tolerance), arcs(features::segment_arc_tree(gamma)), domain(domain) {}
 
 void MeshState::grow_slots() {
     const size_t n = static_cast<size_t>(tri.vertex_slots());
@@ -49,10 +50,14 @@ void MeshState::grow_slots() {
 
 void MeshState::load_spacing() {
     grow_slots();
+    if (domain) in_cover.assign(static_cast<size_t>(tri.vertex_slots()), 0);
     ctx.parallel_for_with_heartbeat("optimise", tri.vertex_slots(), 256, [&](int64_t b, int64_t e) {
-        for (int64_t v = b; v < e; ++v)
-            if (tri.in_triangulation(static_cast<int32_t>(v)))
-                h_at[v] = static_cast<float>(h(tri.direction(static_cast<int32_t>(v))));
+        for (int64_t i = b; i < e; ++i) {
+            const int32_t v = static_cast<int32_t>(i);
+            if (!tri.in_triangulation(v)) continue;
+            h_at[v] = static_cast<float>(h(tri.direction(v)));
+            if (domain) in_cover[v] = !domain->is_ring_segment(on_segment[v]) && !domain->contains(tri.direction(v));
+        }
     });
 }
 
@@ -217,7 +222,7 @@ MeshState::Summary MeshState::summarise(bool with_largest_angle) const {
             Partial &p = part[blk];
             for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
                 const int32_t ti = static_cast<int32_t>(t);
-                if (tri.is_free(ti)) continue;
+                if (tri.is_free(ti) || touches_cover(ti)) continue;
                 const Generator a = generator(tri.vertex(ti, 0)), b = generator(tri.vertex(ti, 1)),
                                 c = generator(tri.vertex(ti, 2));
                 const TriangleCost cost = triangle_cost(a, b, c);

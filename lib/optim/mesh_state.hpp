@@ -98,7 +98,8 @@ inline bool better(const LocalQuality &now, const LocalQuality &before, double t
 class MeshState {
 public:
     MeshState(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
-              const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o);
+              const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o,
+              const features::Domain *domain = nullptr);
 
     Context &ctx;
     tri::Triangulation &tri;
@@ -109,6 +110,15 @@ public:
     const double gain;  // the least gain in local quality an update must bring
     const geom::ArcTree arcs;        // Gamma's arcs (empty without Gamma)
     std::vector<uint8_t> near_gamma;  // per slot, from flag_near_gamma
+    // A regional mesh's domain (else null) and, per slot, whether the vertex
+    // is of the cover outside it (optimise.hpp): found with the spacing
+    // (load_spacing); a vertex added since counts as not.
+    const features::Domain *domain;
+    std::vector<uint8_t> in_cover;
+    bool cover(int32_t v) const { return static_cast<size_t>(v) < in_cover.size() && in_cover[v]; }
+    bool touches_cover(int32_t t) const {
+        return !in_cover.empty() && (cover(tri.vertex(t, 0)) || cover(tri.vertex(t, 1)) || cover(tri.vertex(t, 2)));
+    }
 
     // Spacing at each generator (radians), in single precision: it weighs
     // the ODT target and scales steps, where 1e-7 is far below what matters.
@@ -143,9 +153,10 @@ public:
     void grow_slots();
 
     // Sweeps ---------------------------------------------------------------
-    // One graph-coloured sweep of update(g, v) over every vertex, or only
-    // over those flagged in *only: the vertices of one colour in parallel,
-    // colours in sequence (forward or in reverse); the updates taken.
+    // One graph-coloured sweep of update(g, v) over every vertex off the
+    // cover, or only over those flagged in *only: the vertices of one colour
+    // in parallel, colours in sequence (forward or in reverse); the updates
+    // taken.
     template <class Update>
     int64_t sweep(const StarGraph &g, bool forward, const std::vector<uint8_t> *only, Update &&update) {
         const auto &colours = g.colours();
@@ -154,10 +165,10 @@ public:
         std::vector<int32_t> subset;
         for (int i = 0; i < n_colours; ++i) {
             const std::vector<int32_t> *list = &colours[forward ? i : n_colours - 1 - i];
-            if (only) {
+            if (only || !in_cover.empty()) {
                 subset.clear();
                 for (int32_t v : *list)
-                    if ((*only)[v]) subset.push_back(v);
+                    if ((!only || (*only)[v]) && !cover(v)) subset.push_back(v);
                 list = &subset;
             }
             std::vector<uint8_t> took(list->size(), 0);

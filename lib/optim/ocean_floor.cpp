@@ -30,6 +30,7 @@ std::vector<OceanFloor::ShortEdge> OceanFloor::short_ocean_edges() const {
             for (int k = 0; k < 3; ++k) {
                 if (s_.tri.neighbour(ti, k) < ti) continue;  // each edge once
                 const int32_t a = s_.tri.vertex(ti, (k + 1) % 3), b = s_.tri.vertex(ti, (k + 2) % 3);
+                if (s_.cover(a) || s_.cover(b)) continue;
                 const Vec3 xa = s_.tri.direction(a), xb = s_.tri.direction(b);
                 const double chord = geom::norm(xa - xb), mean_h = 0.5 * (s_.h_at[a] + s_.h_at[b]);
                 if (!(chord < kScanMargin * floor * mean_h)) continue;

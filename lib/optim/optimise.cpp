@@ -47,8 +47,9 @@ constexpr int kLastFloorPasses = 4;
 class Schedule {
 public:
     Schedule(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
-             const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o)
-        : s_(ctx, tri, on_segment, gamma, h, o), shape_(s_), weights_(s_), centroidal_(s_), topology_(s_),
+             const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o,
+             const features::Domain *domain)
+        : s_(ctx, tri, on_segment, gamma, h, o, domain), shape_(s_), weights_(s_), centroidal_(s_), topology_(s_),
           corners_(s_), floor_(s_), mends_(s_), reseeding_(s_) {}
 
     OptimiseStats run();
@@ -285,8 +286,8 @@ void Schedule::mend_off_centre_after_moves() {
 
 OptimiseStats optimise(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
                        const features::Network *gamma, const refine::SpacingRadians &h,
-                       const OptimiseOptions &options) {
-    detail::Schedule schedule(ctx, tri, on_segment, gamma, h, options);
+                       const OptimiseOptions &options, const features::Domain *domain) {
+    detail::Schedule schedule(ctx, tri, on_segment, gamma, h, options, domain);
     return schedule.run();
 }
 

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "core/context.hpp"
+#include "features/domain.hpp"
 #include "features/network.hpp"
 #include "optim/defaults.hpp"
 #include "refine/surface.hpp"
@@ -89,9 +90,15 @@ struct OptimiseStats {
 // vertex lies on, or -1) is kept up to date as vertices slide, vanish and
 // appear; gamma may be null when no vertex is on a segment. h is the spacing
 // in radians. Reports progress as stage "optimise" once per outer iteration
-// (cancellable: then tri is left valid but part-optimised).
+// (cancellable: then tri is left valid but part-optimised). With a domain
+// (a regional mesh), the cover outside it is left as it is: the vertices
+// outside, off its rings, are not moved, taken out or added beside, and
+// the triangles touching them count in no quality summary - no kept cell
+// has one in its star (mesh::RefinedMesh::region_cells), so no output
+// reads them; only the flips that keep the triangulation regular reach
+// there.
 OptimiseStats optimise(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
                        const features::Network *gamma, const refine::SpacingRadians &h,
-                       const OptimiseOptions &options);
+                       const OptimiseOptions &options, const features::Domain *domain = nullptr);
 
 }  // namespace um::optim

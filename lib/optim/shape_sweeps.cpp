@@ -57,7 +57,7 @@ int64_t ShapeSweeps::polish_poor_stars(const StarGraph &g) {
     std::vector<double> score(static_cast<size_t>(s_.tri.triangle_slots()), kInfinity);
     s_.ctx.parallel_for(s_.tri.triangle_slots(), 4096, [&](int64_t b, int64_t e) {
         for (int64_t t = b; t < e; ++t)
-            if (!s_.tri.is_free(static_cast<int32_t>(t)))
+            if (!s_.tri.is_free(static_cast<int32_t>(t)) && !s_.touches_cover(static_cast<int32_t>(t)))
                 score[t] = shape_score(s_.tri.direction(s_.tri.vertex(t, 0)), s_.tri.direction(s_.tri.vertex(t, 1)),
                                        s_.tri.direction(s_.tri.vertex(t, 2)));
     });

@@ -16,6 +16,7 @@ std::vector<Topology::EdgeRatio> Topology::edge_ratios(double below, double abov
         for (int k = 0; k < 3; ++k) {
             if (s_.tri.neighbour(ti, k) < ti) continue;  // each edge once
             const int32_t a = s_.tri.vertex(ti, (k + 1) % 3), b = s_.tri.vertex(ti, (k + 2) % 3);
+            if (s_.cover(a) || s_.cover(b)) continue;
             const double ratio = geom::norm(s_.tri.direction(a) - s_.tri.direction(b)) / (0.5 * (s_.h_at[a] + s_.h_at[b]));
             if (ratio < below || ratio > above) out.push_back({ratio, std::min(a, b), std::max(a, b)});
         }
@@ -161,7 +162,7 @@ int64_t Topology::improve_valence() {
     const int32_t n = s_.tri.vertex_slots();
     const std::vector<int32_t> degree = vertex_degrees(s_.ctx, s_.tri);
     for (int32_t v = 0; v < n; ++v) {
-        if (!s_.tri.in_triangulation(v) || s_.on_segment[v] >= 0) continue;
+        if (!s_.tri.in_triangulation(v) || s_.on_segment[v] >= 0 || s_.cover(v)) continue;
         if (degree[v] > 4 && degree[v] < 8) continue;
         std::vector<int32_t> st = s_.tri.star(v);  // now: earlier changes may have altered it
         const int degree_now = static_cast<int>(st.size());
@@ -244,7 +245,7 @@ int64_t Topology::flip_for_valence() {
                 if (s_.tri.vertex(u, j) != b && s_.tri.vertex(u, j) != c) d = s_.tri.vertex(u, j);
             const int32_t quad[4] = {a, b, c, d};
             bool free = true;
-            for (int32_t v : quad) free &= s_.on_segment[v] < 0 && !locked[v];
+            for (int32_t v : quad) free &= s_.on_segment[v] < 0 && !locked[v] && !s_.cover(v);
             if (!free) continue;
             const int before = deviation(a, 0) + deviation(b, 0) + deviation(c, 0) + deviation(d, 0);
             const int after = deviation(a, 1) + deviation(b, -1) + deviation(c, -1) + deviation(d, 1);

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <csetjmp>
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -199,7 +200,23 @@ void a_regional_mesh_of_a_dateline_box(void **) {
         Options options;
         mesh::RefinedMesh m = mesh::refine_mesh(ctx, hfun::make_constant(150), rings_network({box(160, -160, -20, 20)}), options);
         assert_true(m.regional());
+        // The cover (outside the domain, off its rings) is left as it is.
+        std::map<int32_t, Vec3> cover;  // by vertex id
+        for (int32_t v = 0; v < m.tri.vertex_slots(); ++v)
+            if (m.tri.in_triangulation(v) && !m.domain->is_ring_segment(m.on_segment[v]) &&
+                !m.domain->contains(m.tri.direction(v)))
+                cover[m.tri.id(v)] = m.tri.lifted(v);
         mesh::optimise_mesh(ctx, m, options, nullptr);
+        assert_true(cover.size() > 100);
+        size_t kept = 0;
+        for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
+            const auto found = cover.find(m.tri.id(v));
+            if (!m.tri.in_triangulation(v) || found == cover.end()) continue;
+            const Vec3 &q = m.tri.lifted(v);
+            assert_true(q.x == found->second.x && q.y == found->second.y && q.z == found->second.z);
+            ++kept;
+        }
+        assert_int_equal(kept, cover.size());
         meshes.push_back(components::regional_mpas_mesh(ctx, m));
         const std::vector<uint8_t> cells = m.region_cells(ctx);
         const quality::Report r = quality::measure(ctx, m.tri, mesh::spacing_radians(*m.spacing, m.surface),
