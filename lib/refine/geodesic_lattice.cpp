@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <utility>
 
 #include "core/growth.hpp"
@@ -35,6 +36,9 @@ constexpr int kFineSweeps = 8;
 constexpr double kShortest = 0.87;
 constexpr double kStiffer = 100;
 constexpr const char *kStage = "refine lattice";  // progress, and cancel between sweeps
+// A frequency-n lattice's edges are about this over n radians long (10 n^2
+// hexagons of edge s cover the sphere: s = sqrt(4 pi / (10 sqrt(3) / 2)) / n).
+constexpr double kEdgePerFrequency = 1.2;
 
 // The point a fraction t of the way from a to b along their great circle.
 Vec3 slerp(const Vec3 &a, const Vec3 &b, double t) {
@@ -155,23 +159,40 @@ std::vector<std::array<int64_t, 6>> edge_point_neighbours(const LatticeIndex &in
     return out;
 }
 
+// The chords a sweep measured: their sum and how many (each edge twice).
+struct Chords {
+    double sum = 0;
+    int64_t count = 0;
+    double mean() const { return count > 0 ? sum / static_cast<double>(count) : 0.0; }
+};
+
 // One Jacobi sweep of the springs: each point but the corners goes to the
 // mean of where each neighbour's spring of length `rest` would put it (the
 // neighbour plus rest along the chord towards the point), weighted by the
 // springs' stiffness, back on the sphere; with `rest` 0 it only measures.
-// Returns the sum of the chords it measured (each edge twice), by item in a
-// fixed order so that the sum is the same for any thread count.
-double spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<std::array<int64_t, 6>> &edge_nbrs,
-                    const std::vector<Vec3> &from, std::vector<Vec3> &to, double rest) {
+// The items of a sweep (below) are the icosahedron's edges, then the
+// faces' inner rows.
+// With an Active set only its points move (the others hold the same place
+// in `from` and `to`), only its items are visited, and only its points'
+// chords are measured.
+struct Active {
+    std::vector<uint8_t> point, item;
+};
+// Returns the chords, summed by item in a fixed order so that the sum is
+// the same for any thread count.
+Chords spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<std::array<int64_t, 6>> &edge_nbrs,
+                    const std::vector<Vec3> &from, std::vector<Vec3> &to, double rest, const Active *active) {
     const bool measuring = !(rest > 0);
-    auto place = [&](int64_t p, const int64_t *nbrs, int count, double &chords) {
+    auto place = [&](int64_t p, const int64_t *nbrs, int count, Chords &chords) {
         const Vec3 x = from[p];
+        if (active && !active->point[p]) return;
+        chords.count += count;
         Vec3 sum{};
         for (int k = 0; k < count; ++k) {
             const Vec3 &y = from[nbrs[k]];
             const Vec3 d = x - y;
             const double length = geom::norm(d);
-            chords += length;
+            chords.sum += length;
             if (measuring || !(length > 0)) continue;
             if (length >= kShortest * rest) {
                 sum = sum + y + (rest / length) * d;
@@ -184,10 +205,11 @@ double spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<s
     };
     const int64_t n = index.frequency();
     const int64_t edge_items = index.edge_count(), items = edge_items + index.row_count();
-    std::vector<double> chords(static_cast<size_t>(items), 0.0);
+    std::vector<Chords> chords(static_cast<size_t>(items));
     ctx.parallel_for(items, 1, [&](int64_t b, int64_t e) {
         for (int64_t item = b; item < e; ++item) {
-            double &sum = chords[item];
+            if (active && !active->item[item]) continue;
+            Chords &sum = chords[item];
             if (item < edge_items) {
                 for (int64_t s = 1; s < n; ++s) {
                     const int64_t p = index.on_edge(static_cast<int>(item), s);
@@ -213,28 +235,65 @@ double spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<s
             }
         }
     });
-    double total = 0;
-    for (double c : chords) total += c;
+    Chords total;
+    for (const Chords &c : chords) total.sum += c.sum, total.count += c.count;
     for (int c = 0; c < 12; ++c) {  // the corners stay; their five chords count too
         to[c] = from[c];
+        if (active && !active->point[c]) continue;
         for (int e = 0; e < index.edge_count(); ++e)
-            if (index.edge(e)[0] == c || index.edge(e)[1] == c)
-                total += geom::norm(from[c] - from[index.on_edge(e, index.edge(e)[0] == c ? 1 : n - 1)]);
+            if (index.edge(e)[0] == c || index.edge(e)[1] == c) {
+                total.sum += geom::norm(from[c] - from[index.on_edge(e, index.edge(e)[0] == c ? 1 : n - 1)]);
+                ++total.count;
+            }
     }
     return total;
 }
 
-// `sweeps` spring sweeps of the lattice, the rest length the mean chord of
-// the sweep before (of the start for the first).
-void relax(Context &ctx, const LatticeIndex &index, std::vector<Vec3> &points, int sweeps) {
+// The points of the frequency-n lattice a relaxation within `cap` moves
+// (those within kCapMargin of its edge lengths beyond it) and the items of
+// a sweep holding them; null (all) when that reaches round the sphere or
+// there is no cap.
+std::unique_ptr<Active> active_within(Context &ctx, const LatticeIndex &index, const std::vector<Vec3> &points,
+                                      const Cap *cap) {
+    const int64_t n = index.frequency();
+    if (!cap || n < 3) return nullptr;
+    const double reach = cap->radius + kCapMargin * kEdgePerFrequency / static_cast<double>(n);
+    if (reach >= M_PI) return nullptr;
+    const double least_cos = std::cos(reach);
+    auto active = std::make_unique<Active>();
+    active->point.resize(points.size());
+    ctx.parallel_for(static_cast<int64_t>(points.size()), 4096, [&](int64_t b, int64_t e) {
+        for (int64_t p = b; p < e; ++p) active->point[p] = geom::dot(points[p], cap->centre) >= least_cos;
+    });
+    const int64_t edge_items = index.edge_count();
+    active->item.assign(static_cast<size_t>(edge_items + index.row_count()), 0);
+    for (int64_t item = 0; item < static_cast<int64_t>(active->item.size()); ++item) {
+        uint8_t any = 0;
+        if (item < edge_items) {
+            for (int64_t s = 1; s < n; ++s) any |= active->point[index.on_edge(static_cast<int>(item), s)];
+        } else {
+            const int f = static_cast<int>((item - edge_items) / (n - 2));
+            const int64_t i = (item - edge_items) % (n - 2) + 1, row = index.at(f, i, 1);
+            for (int64_t j = 1; i + j < n; ++j) any |= active->point[row + j - 1];
+        }
+        active->item[item] = any;
+    }
+    return active;
+}
+
+// `sweeps` spring sweeps of the lattice (of the Active set, when not null),
+// the rest length the mean chord of the sweep before (of the start for the
+// first).
+void relax(Context &ctx, const LatticeIndex &index, std::vector<Vec3> &points, int sweeps,
+           const Active *active = nullptr) {
     if (index.frequency() < 2) return;  // the icosahedron: corners only
     const std::vector<std::array<int64_t, 6>> edge_nbrs = edge_point_neighbours(index);
-    const double chord_ends = 6.0 * static_cast<double>(index.size() - 12) + 5.0 * 12;  // each edge twice
-    std::vector<Vec3> next(points.size());
-    double rest = spring_sweep(ctx, index, edge_nbrs, points, next, 0) / chord_ends;
+    // (Without an Active set every point is written each sweep.)
+    std::vector<Vec3> next = active ? points : std::vector<Vec3>(points.size());
+    double rest = spring_sweep(ctx, index, edge_nbrs, points, next, 0, active).mean();
     for (int k = 0; k < sweeps; ++k) {
         ctx.heartbeat(kStage, 0);
-        rest = spring_sweep(ctx, index, edge_nbrs, points, next, rest) / chord_ends;
+        rest = spring_sweep(ctx, index, edge_nbrs, points, next, rest, active).mean();
         points.swap(next);
     }
 }
@@ -300,17 +359,18 @@ std::vector<Vec3> geodesic_lattice(int64_t n) {
     return points;
 }
 
-std::vector<Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t n) {
+std::vector<Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t n, const Cap *cap) {
     if (n <= kCoarsest) {
         std::vector<Vec3> points = geodesic_lattice(n);
         relax(ctx, LatticeIndex(n), points, kCoarseSweeps);
         return points;
     }
     const LatticeIndex coarse((n + 1) / 2), fine(n);
-    std::vector<Vec3> coarse_points = relaxed_geodesic_lattice(ctx, coarse.frequency());
+    std::vector<Vec3> coarse_points = relaxed_geodesic_lattice(ctx, coarse.frequency(), cap);
     std::vector<Vec3> points = interpolate(ctx, coarse, coarse_points, fine);
     release(coarse_points);
-    relax(ctx, fine, points, kFineSweeps);
+    const std::unique_ptr<Active> active = active_within(ctx, fine, points, cap);
+    relax(ctx, fine, points, kFineSweeps, active.get());
     return points;
 }
 

@@ -37,6 +37,18 @@ std::vector<geom::Vec3> geodesic_lattice(int64_t frequency);
 // to fine: the relaxed lattice of half the frequency, interpolated, then a
 // few sweeps at each frequency, about eleven sweeps of the finest in all.
 // Deterministic for any thread count.
-std::vector<geom::Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t frequency);
+//
+// With a cap (a regional mesh's: centre, radius in radians), only the
+// points within the cap come relaxed: each frequency relaxes only its
+// points within a margin of kCapMargin of its edges beyond the cap, those
+// farther held where the coarser one put them (the margin keeps that edge,
+// and what the coarser ones left there, beyond a relaxation's reach); the
+// other points are placed but not relaxed.
+struct Cap {
+    geom::Vec3 centre;
+    double radius;
+};
+constexpr double kCapMargin = 16;
+std::vector<geom::Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t frequency, const Cap *cap = nullptr);
 
 }  // namespace um::refine

@@ -50,8 +50,9 @@ struct EdgeSpread {
 
 // Checks that `points` are the frequency-n lattice: 10 n^2 + 2 distinct unit
 // points whose triangulation has 12 five-valent vertices, the rest
-// six-valent. Returns its edges' spread.
-EdgeSpread check_lattice(const std::vector<Vec3> &points, int64_t n) {
+// six-valent. Returns its edges' spread (of the triangles within `cap`
+// only, when given).
+EdgeSpread check_lattice(const std::vector<Vec3> &points, int64_t n, const refine::Cap *cap = nullptr) {
     assert_int_equal(points.size(), 10 * n * n + 2);
     for (const Vec3 &p : points) assert_true(std::fabs(geom::norm(p) - 1) < 1e-14);
     Context ctx;
@@ -65,7 +66,9 @@ EdgeSpread check_lattice(const std::vector<Vec3> &points, int64_t n) {
     std::vector<double> lengths;
     for (int32_t t = 0; t < tri.triangle_slots(); ++t) {
         if (tri.is_free(t)) continue;
-        for (int k = 0; k < 3; ++k)
+        bool within = true;
+        for (int k = 0; k < 3 && cap; ++k) within = within && geom::arc_length(tri.direction(tri.vertex(t, k)), cap->centre) < cap->radius;
+        for (int k = 0; k < 3 && within; ++k)
             lengths.push_back(geom::arc_length(tri.direction(tri.vertex(t, k)), tri.direction(tri.vertex(t, (k + 1) % 3))));
     }
     EdgeSpread s;
@@ -118,6 +121,33 @@ void relaxed_lattice_is_even_and_symmetric(void **) {
             for (const Vec3 &q : points) nearest = std::min(nearest, geom::norm(q - turned));
             assert_true(nearest < 1e-9);
         }
+    }
+}
+
+// A lattice relaxed only around a cap (a regional mesh's): within the cap
+// as even as the whole sphere's relaxed lattice (the same spread of edges to
+// a few thousandths) and its points within a small fraction of an edge of
+// that lattice's; still the lattice (every point, the same topology); the
+// same bits for any thread count.
+void lattice_relaxed_within_a_cap(void **) {
+    const refine::Cap cap{geom::unit_from_lonlat_deg(-40, 35), 0.5};
+    for (int64_t n : {64, 128}) {
+        Context one, three;
+        three.set_threads(3);
+        const std::vector<Vec3> whole = refine::relaxed_geodesic_lattice(one, n);
+        const std::vector<Vec3> capped = refine::relaxed_geodesic_lattice(one, n, &cap);
+        const std::vector<Vec3> again = refine::relaxed_geodesic_lattice(three, n, &cap);
+        for (size_t i = 0; i < capped.size(); ++i)
+            assert_true(capped[i].x == again[i].x && capped[i].y == again[i].y && capped[i].z == again[i].z);
+        const EdgeSpread w = check_lattice(whole, n, &cap), c = check_lattice(capped, n, &cap);
+        double moved = 0;
+        for (size_t i = 0; i < capped.size(); ++i)
+            if (geom::arc_length(whole[i], cap.centre) < cap.radius) moved = std::max(moved, geom::arc_length(whole[i], capped[i]));
+        print_message("frequency %lld in the cap: whole %.4f..%.4f std %.5f, capped %.4f..%.4f std %.5f; "
+                      "points at most %.4f edges apart\n",
+                      static_cast<long long>(n), w.lo, w.hi, w.std, c.lo, c.hi, c.std, moved / w.mean);
+        assert_true(std::fabs(c.std - w.std) < 0.003 && c.lo > w.lo - 0.02 && c.hi < w.hi + 0.02);
+        assert_true(moved < 0.1 * w.mean);
     }
 }
 
@@ -227,6 +257,7 @@ int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(lattice_points_and_degrees),
         cmocka_unit_test(relaxed_lattice_is_even_and_symmetric),
+        cmocka_unit_test(lattice_relaxed_within_a_cap),
         cmocka_unit_test(frequency_of_degenerate_spacings),
         cmocka_unit_test(uniform_spacing_meshes_from_the_lattice),
         cmocka_unit_test(graded_spacing_has_the_lattice_where_it_is_flat),
