@@ -64,6 +64,16 @@ int32_t ArcTree::build(int32_t first, int32_t count) {
     return id;
 }
 
+bool ArcTree::any_within(const Vec3 &p, double radius) const {
+    if (!(radius > 0)) return false;
+    // An arc nearer than radius has a point within that chord (shorter than
+    // the arc) of p, inside p's box grown by it.
+    Box box;
+    box.add(p);
+    box.grow(std::min(radius, 2.0) * (1 + 1e-9) + 1e-15);
+    return query_until(box, [&](int32_t i) { return distance_to_arc(p, arcs_[i].a, arcs_[i].b) < radius; });
+}
+
 int32_t ArcTree::nearest(const Vec3 &p, double *distance) const {
     int32_t best = -1;
     double best_d = 1e300, best_chord2 = 1e300;

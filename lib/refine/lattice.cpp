@@ -76,9 +76,7 @@ std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, cons
     ctx.parallel_for_with_heartbeat(kStage, static_cast<int64_t>(points.size()), 16, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             if (domain && i >= 12 && !domain->contains(points[i])) continue;  // not kept: the cover's
-            double d = 1e300;
-            if (gamma.size() > 0) gamma.nearest(points[i], &d);
-            const bool near_gamma = d < kGammaClearance * h0;
+            const bool near_gamma = gamma.any_within(points[i], kGammaClearance * h0);
             const bool flat = n > 0 && !(i >= 12 && near_gamma) && (!domain || i >= 12 || domain->contains(points[i])) &&
                               flat_around(h, points[i], h0);
             // A corner stays where the lattice does not reach (the
