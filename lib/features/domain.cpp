@@ -256,6 +256,8 @@ Vec3 from_cube(int face, double u, double v) {
 
 Domain::Side Domain::side(const Vec3 &x) const {
     if (empty()) return Side::inside;
+    const double size = std::fabs(x.x) + std::fabs(x.y) + std::fabs(x.z);
+    if (!(size > 0) || !std::isfinite(size)) return Side::near;  // (no direction: searched)
     const CubePoint c = cube_point(x);
     for (int level = kMemoLevels - 1; level >= 0; --level) {
         const int n = kMemoCells >> level;

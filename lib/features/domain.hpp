@@ -106,7 +106,7 @@ private:
     // error of at most kRoughError (the traced rings' arcs are at most
     // kDomainStepDeg long, so that they bend from the simplified ones by far
     // less than the margin).
-    static constexpr double kRoughTolerance = 0.25 * M_PI / 180;
+    static constexpr double kRoughTolerance = 0.05 * M_PI / 180;  // 5.6 km
     static constexpr double kRoughError = 1.25 * kRoughTolerance;
     geom::ArcTree rough_;
     // A cap holding every ring (and so the domain, when it is smaller than a hemisphere).

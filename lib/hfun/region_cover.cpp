@@ -30,21 +30,26 @@ public:
         return domain_->locate(x, &d) ? h : cover(h, d * radius_km_);
     }
     // The cover grows with inner and with d, so the inner bound over the cap
-    // and a lower bound of the distance over the cap (less the rough
-    // distance's error, which at() may read) bound it below.
+    // and a lower bound of the distance over the cap bound it below: the
+    // exact distance at the centre less the radius, less the rough
+    // distance's error where at() may read that (only from kRoughFrom: a
+    // cap near the rings keeps the exact bound, else the cover's first
+    // kilometres would take the inner spacing); a cap wholly farther than
+    // that bounded by the rough distance, less twice its error.
     double smallest_in_cap(const geom::Vec3 &centre, double radius, double enough) const override {
         const double h = inner_->smallest_in_cap(centre, radius, enough);
         if (!valid_km(h)) return h;
         if ((domain_->distance_at_least(centre) - radius) * radius_km_ >= kFullCoverKm) return std::max(h, kCoverKm);
         const features::Domain::Side side = domain_->side(centre);
         if (side == features::Domain::Side::inside) return h;
-        double d = 0;
+        constexpr double error = features::Domain::rough_error();
         if (side == features::Domain::Side::outside) {
-            d = domain_->rough_distance(centre) - features::Domain::rough_error();
-        } else if (domain_->locate(centre, &d)) {
-            return h;
+            const double rough = domain_->rough_distance(centre);
+            if (rough - radius - error >= kRoughFrom) return cover(h, (rough - radius - 2 * error) * radius_km_);
         }
-        const double least = d - radius - features::Domain::rough_error();
+        double d = 0;
+        if (domain_->locate(centre, &d)) return h;
+        const double least = d - radius - (d + radius + error >= kRoughFrom ? error : 0.0);
         return least <= 0 ? h : cover(h, least * radius_km_);
     }
     std::string describe() const override {
@@ -56,7 +61,8 @@ private:
     static constexpr double kFullCoverKm = kCoverKm / kCoverRate;
     // Farther than this from the rings (radians), the cover reads the rough
     // distance (features::Domain::rough_distance): its error moves the cover
-    // there by at most kCoverRate times 28 km, against at least 8 times that.
+    // there by at most kCoverRate times that error, against at least 8 times
+    // as much growth.
     static constexpr double kRoughFrom = 8 * features::Domain::rough_error();
     static double cover(double h, double d_km) { return std::min(std::max(h, kCoverKm), h + kCoverRate * d_km); }
 

@@ -172,6 +172,15 @@ void the_cover_grows_away_from_the_domain(void **) {
         assert_true(std::fabs(h->km_at(at(lon, 30)) - (30 + hfun::kCoverRate * d_km)) <= error_km);
     }
     assert_true(h->km_at(at(140, -30)) == hfun::kCoverKm);
+    // Near the rings a cap's bound is the exact one (a fine mesh's cover
+    // would otherwise take the inner spacing for the rough distance's error).
+    const hfun::SpacingPtr fine = hfun::make_region_cover(hfun::make_constant(1), d);
+    for (double lon : {0.1, 0.3}) {
+        double to_ring = 0;
+        d->locate(at(lon, 30), &to_ring);
+        const double r = 0.001, expected = 1 + hfun::kCoverRate * (to_ring - r) * hfun::kEarthRadiusKm;
+        assert_true(std::fabs(fine->smallest_in_cap(at(lon, 30), r, 1e9) - expected) < 1e-9 * expected);
+    }
     for (const Vec3 &c : {at(5, 30), at(30, 30), at(-20, 55), at(100, 0), at(2.5, 30), at(0.5, 20), at(-41, 30)}) {
         const double r = 0.05, bound = h->smallest_in_cap(c, r, 1e9);
         for (int k = 0; k < 64; ++k) {
