@@ -83,6 +83,9 @@ public:
     bool is_ring_segment(int64_t s) const {
         return s >= 0 && static_cast<size_t>(s) < ring_segment_.size() && ring_segment_[s];
     }
+    // Whether a vertex at x, placed on segment s of net (-1: none), is of the
+    // cover around a regional mesh: outside the domain and off its rings.
+    bool in_cover(const Vec3 &x, int64_t s) const { return !is_ring_segment(s) && !contains(x); }
 
 private:
     // Whether x is on the left of ring arc i (seen from outside the sphere),

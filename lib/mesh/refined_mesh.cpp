@@ -90,13 +90,15 @@ std::vector<int32_t> apexes_of_short_dual_edges(Context &ctx, const tri::Triangu
     return out;
 }
 
-int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri) {
+// The cover's vertices (RefinedMesh::cover_vertices) stay as they are: no
+// edge of a kept cell has one for an apex.
+int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri, const std::vector<uint8_t> &cover) {
     int64_t changed = 0;
     std::vector<int32_t> lighten = apexes_of_short_dual_edges(ctx, tri, {});
     for (int pass = 0; pass < 4 && !lighten.empty(); ++pass) {
         std::vector<int32_t> touched;  // triangles to look at again
         for (int32_t v : lighten) {
-            if (!tri.in_triangulation(v)) continue;
+            if (!tri.in_triangulation(v) || cover[v]) continue;
             double l2 = 1e300;  // its shortest edge, squared chord
             const geom::Vec3 x = tri.direction(v);
             for (int32_t t : tri.star(v))
@@ -187,7 +189,7 @@ geom::Surface surface_of(const Options &options) {
 }
 
 void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
-    separate_degenerate_dual_edges(ctx, m.tri);
+    separate_degenerate_dual_edges(ctx, m.tri, m.cover_vertices(ctx));
     m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
     const std::vector<int32_t> old_slot = m.tri.reorder_spatially(ctx);
     std::vector<int32_t> on_segment(old_slot.size());
@@ -452,6 +454,20 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     }
 }
 
+std::vector<uint8_t> RefinedMesh::cover_vertices(Context &ctx) const {
+    const int32_t n = tri.vertex_slots();
+    std::vector<uint8_t> cover(static_cast<size_t>(n), 0);
+    if (!domain) return cover;
+    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            const int32_t v = static_cast<int32_t>(i);
+            const int32_t s = static_cast<size_t>(v) < on_segment.size() ? on_segment[v] : -1;
+            cover[v] = tri.in_triangulation(v) && domain->in_cover(tri.direction(v), s);
+        }
+    });
+    return cover;
+}
+
 std::vector<uint8_t> RefinedMesh::region_cells(Context &ctx) const {
     const int32_t n = tri.vertex_slots();
     std::vector<uint8_t> kept(static_cast<size_t>(n), 0);
@@ -459,25 +475,17 @@ std::vector<uint8_t> RefinedMesh::region_cells(Context &ctx) const {
         for (int32_t v = 0; v < n; ++v) kept[v] = tri.in_triangulation(v);
         return kept;
     }
-    // 1 inside, 2 on a ring, 0 outside (or no vertex).
-    enum : uint8_t { kOutside = 0, kInside = 1, kOnRing = 2 };
-    std::vector<uint8_t> where(static_cast<size_t>(n), kOutside);
-    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) {
-            const int32_t v = static_cast<int32_t>(i);
-            if (!tri.in_triangulation(v)) continue;
-            const int32_t s = static_cast<size_t>(v) < on_segment.size() ? on_segment[v] : -1;
-            where[v] = domain->is_ring_segment(s) ? kOnRing : domain->contains(tri.direction(v)) ? kInside : kOutside;
-        }
-    });
-    // A cell beside one outside reaches beyond the ring (where the ring's
-    // vertices leave a gap): the cells kept are bounded by inside and ring
-    // vertices only, so that each lies within the domain.
+    // A cell beside one of the cover reaches beyond the ring (where the
+    // ring's vertices leave a gap): the cells kept are those of vertices
+    // inside with no vertex of the cover in their stars, so that each lies
+    // within the domain.
+    const std::vector<uint8_t> cover = cover_vertices(ctx);
     for (int32_t v = 0; v < n; ++v) {
-        if (where[v] != kInside) continue;
+        const int32_t s = static_cast<size_t>(v) < on_segment.size() ? on_segment[v] : -1;
+        if (!tri.in_triangulation(v) || cover[v] || domain->is_ring_segment(s)) continue;
         bool enclosed = true;
         for (int32_t t : tri.star(v))
-            for (int k = 0; k < 3; ++k) enclosed = enclosed && where[tri.vertex(t, k)] != kOutside;
+            for (int k = 0; k < 3; ++k) enclosed = enclosed && !cover[tri.vertex(t, k)];
         kept[v] = enclosed;
     }
     return kept;

@@ -70,6 +70,9 @@ struct RefinedMesh {
     // global mesh; in a regional one those inside the domain but not on its
     // rings (their cells straddle the boundary).
     std::vector<uint8_t> region_cells(Context &ctx) const;
+    // Per vertex slot, 1 for a vertex of a regional mesh's cover
+    // (features::Domain::in_cover; none in a global mesh).
+    std::vector<uint8_t> cover_vertices(Context &ctx) const;
     // The index among the caller's features of the part of Gamma segment s.
     int64_t features_part_of_segment(int64_t s) const {
         const int64_t p = gamma->segment_part(s);

@@ -271,7 +271,7 @@ int32_t GammaCorners::try_corner_relocation(const Vec3 &at, const GammaCorner &c
     int32_t u = -1;
     double nearest = s_.options.collapse_ratio * s_.h(at);
     for (int32_t w : corner.region) {
-        if (s_.on_segment[w] >= 0 || w == corner.p || w == corner.q) continue;
+        if (s_.on_segment[w] >= 0 || s_.cover(w) || w == corner.p || w == corner.q) continue;
         const double distance = geom::norm(s_.tri.direction(w) - at);
         if (distance < nearest) nearest = distance, u = w;
     }
@@ -303,8 +303,10 @@ int32_t GammaCorners::try_corner_relocation(const Vec3 &at, const GammaCorner &c
 int GammaCorners::corner_vertex_helps(int32_t d, const GammaCorner &corner) const {
     if (!s_.tri.in_triangulation(d)) return -1;
     const Vec3 x = s_.tri.direction(d);
-    bool ok = true;
+    // (Nothing is added in or beside a regional mesh's cover.)
+    bool ok = !s_.domain || s_.domain->contains(x);
     s_.tri.for_each_neighbour(d, [&](int32_t u) {
+        ok = ok && !s_.cover(u);
         const double h = 0.5 * (static_cast<double>(s_.h_at[d]) + static_cast<double>(s_.h_at[u]));
         const double floor = s_.on_segment[u] >= 0 ? kCornerEdge : s_.options.collapse_ratio;
         ok = ok && std::binary_search(corner.region.begin(), corner.region.end(), u) &&

@@ -84,6 +84,7 @@ bool Mends::mend_off_centre_triangle(int32_t t, const MendFloors &floors, MendGo
     for (int k = 0; k < 3 && !done; ++k) {
         const int32_t u = s_.tri.neighbour(t, k);
         v[3] = s_.tri.vertex(u, s_.tri.mirror_edge(t, k));  // opposite the shared edge
+        if (s_.cover(v[3])) continue;
         c[3] = mend_candidates(v[3], kMendPairSteps, 0);
         done = mend_jointly(v, 4, c, floors, false);
     }
@@ -168,7 +169,7 @@ bool Mends::mend_by_flip(int32_t &t, int k, const MendFloors &floors, MendGoal g
     const int32_t u = s_.tri.neighbour(t, k);
     const int32_t a = s_.tri.vertex(t, k), b = s_.tri.vertex(t, (k + 1) % 3), c = s_.tri.vertex(t, (k + 2) % 3);
     const int32_t d = s_.tri.vertex(u, s_.tri.mirror_edge(t, k));
-    if (s_.runs_along_gamma(b, c, a, d)) return false;
+    if (s_.runs_along_gamma(b, c, a, d) || s_.cover(d)) return false;
     const int32_t quad[4] = {a, b, c, d};
     // The triangles around the quad (the same slots after the flip) and
     // how many of them are off-centre now.
@@ -239,7 +240,6 @@ std::vector<Mends::Candidate> Mends::mend_candidates(int32_t v, int steps, int s
     // `off_gamma_moves`, off it in four directions at half as many steps
     // (as many positions).
     std::vector<Candidate> at{{here, s_.on_segment[v]}};
-    if (s_.cover(v)) return at;  // the cover's vertices stay as they are
     const int64_t segment = s_.on_segment[v];
     const double step = kMendSlide * s_.h_at[v];
     if (slides > 0 && segment >= 0 && s_.gamma && !s_.options.fix_boundary) {
@@ -347,6 +347,7 @@ void Mends::JointSearch::keep_floor() {
         floor2 = floor * floor;
         off_land_edges.resize(around.size(), 0);
         for (size_t j = 0; j < around.size(); ++j) {
+            if (s.touches_cover(around[j])) continue;  // (not judged)
             bool off[3];
             for (int k = 0; k < 3; ++k) off[k] = s.off_land(s.tri.vertex(around[j], k));
             for (int k = 0; k < 3; ++k) off_land_edges[j] |= (off[(k + 1) % 3] && off[(k + 2) % 3]) << k;
@@ -372,6 +373,7 @@ Mends::JointSearch::Score Mends::JointSearch::judge(int limit, int off_limit, in
     int below_floor_then = 0;  // (the floor's count over the triangles judged so far)
     for (size_t j = 0; j < around.size(); ++j) {
         const int32_t u = around[j];
+        if (s.touches_cover(u)) continue;  // a regional mesh's cover: no output reads it
         double qp = 0;
         const Generator a = at(s.tri.vertex(u, 0)), b = at(s.tri.vertex(u, 1)), c = at(s.tri.vertex(u, 2));
         if (!off_land_edges.empty() && off_land_edges[j]) {

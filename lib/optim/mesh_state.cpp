@@ -56,7 +56,7 @@ void MeshState::load_spacing() {
             const int32_t v = static_cast<int32_t>(i);
             if (!tri.in_triangulation(v)) continue;
             h_at[v] = static_cast<float>(h(tri.direction(v)));
-            if (domain) in_cover[v] = !domain->is_ring_segment(on_segment[v]) && !domain->contains(tri.direction(v));
+            if (domain) in_cover[v] = domain->in_cover(tri.direction(v), on_segment[v]);
         }
     });
 }

@@ -199,6 +199,52 @@ std::shared_ptr<Network> rings_network(const std::vector<Ring> &rings) {
     return net;
 }
 
+// Optimises m, checking that the cover (outside the domain, off its rings)
+// is left as it is: every vertex there keeps its lifted point bit for bit.
+void optimise_keeping_the_cover(Context &ctx, mesh::RefinedMesh &m, const Options &options) {
+    std::map<int32_t, Vec3> cover;  // by vertex id
+    const std::vector<uint8_t> in_cover = m.cover_vertices(ctx);
+    for (int32_t v = 0; v < m.tri.vertex_slots(); ++v)
+        if (in_cover[v]) cover[m.tri.id(v)] = m.tri.lifted(v);
+    mesh::optimise_mesh(ctx, m, options, nullptr);
+    assert_true(cover.size() > 50);
+    size_t kept = 0;
+    for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
+        const auto found = cover.find(m.tri.id(v));
+        if (!m.tri.in_triangulation(v) || found == cover.end()) continue;
+        const Vec3 &q = m.tri.lifted(v);
+        assert_true(q.x == found->second.x && q.y == found->second.y && q.z == found->second.z);
+        ++kept;
+    }
+    assert_int_equal(kept, cover.size());
+}
+
+// Rings whose corners and notches put Gamma's obtuse corners beside the
+// cover (the corner passes once added vertices there and took out cover
+// vertices for them): the cover stays as it is, and the cells kept have no
+// obtuse triangle.
+void the_cover_stays_beside_notches_and_zigzags(void **) {
+    Ring zigzag = ring({}, {});
+    for (int k = 0; k <= 40; ++k) zigzag.lon.push_back(0.25 * k), zigzag.lat.push_back(k % 2 ? 0.3 : 0);
+    for (int k = 1; k <= 40; ++k) zigzag.lon.push_back(k % 2 ? 10.35 : 10), zigzag.lat.push_back(0.25 * k);
+    for (auto [lon, lat] : {std::pair{6.0, 10.0}, {5.3, 4.0}, {5.0, 4.0}, {4.5, 10.0}, {0.0, 10.0}})
+        zigzag.lon.push_back(lon), zigzag.lat.push_back(lat);
+    const Ring notch = ring({-10, 30, 30, 12, 10.8, 9.2, 8, -10}, {0, 0, 40, 40, 15, 15, 40, 40});
+    for (const auto &[r, km] : {std::pair{zigzag, 25.0}, {zigzag, 40.0}, {notch, 100.0}}) {
+        Context ctx;
+        Options options;
+        mesh::RefinedMesh m = mesh::refine_mesh(ctx, hfun::make_constant(km), rings_network({r}), options);
+        optimise_keeping_the_cover(ctx, m, options);
+        const std::vector<uint8_t> cells = m.region_cells(ctx);
+        const quality::Report q = quality::measure(ctx, m.tri, mesh::spacing_radians(*m.spacing, m.surface),
+                                                   &m.on_segment, &cells);
+        print_message("%.0f km: %lld triangles in the domain, %lld obtuse\n", km, static_cast<long long>(q.triangles),
+                      static_cast<long long>(q.obtuse));
+        assert_true(q.triangles > 100);
+        assert_true(q.obtuse * 10000 <= q.triangles);  // at most 0.01 %
+    }
+}
+
 // The dateline box at 150 km: every cell inside, the layers, no obtuse
 // triangle, and the same mesh on one and two threads.
 void a_regional_mesh_of_a_dateline_box(void **) {
@@ -209,23 +255,7 @@ void a_regional_mesh_of_a_dateline_box(void **) {
         Options options;
         mesh::RefinedMesh m = mesh::refine_mesh(ctx, hfun::make_constant(150), rings_network({box(160, -160, -20, 20)}), options);
         assert_true(m.regional());
-        // The cover (outside the domain, off its rings) is left as it is.
-        std::map<int32_t, Vec3> cover;  // by vertex id
-        for (int32_t v = 0; v < m.tri.vertex_slots(); ++v)
-            if (m.tri.in_triangulation(v) && !m.domain->is_ring_segment(m.on_segment[v]) &&
-                !m.domain->contains(m.tri.direction(v)))
-                cover[m.tri.id(v)] = m.tri.lifted(v);
-        mesh::optimise_mesh(ctx, m, options, nullptr);
-        assert_true(cover.size() > 100);
-        size_t kept = 0;
-        for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
-            const auto found = cover.find(m.tri.id(v));
-            if (!m.tri.in_triangulation(v) || found == cover.end()) continue;
-            const Vec3 &q = m.tri.lifted(v);
-            assert_true(q.x == found->second.x && q.y == found->second.y && q.z == found->second.z);
-            ++kept;
-        }
-        assert_int_equal(kept, cover.size());
+        optimise_keeping_the_cover(ctx, m, options);
         meshes.push_back(components::regional_mpas_mesh(ctx, m));
         const std::vector<uint8_t> cells = m.region_cells(ctx);
         const quality::Report r = quality::measure(ctx, m.tri, mesh::spacing_radians(*m.spacing, m.surface),
@@ -294,6 +324,7 @@ int main() {
         cmocka_unit_test(the_memo_and_the_rough_distance_agree_with_the_search),
         cmocka_unit_test(the_cover_grows_away_from_the_domain),
         cmocka_unit_test(a_regional_mesh_of_a_dateline_box),
+        cmocka_unit_test(the_cover_stays_beside_notches_and_zigzags),
         cmocka_unit_test(a_domain_smaller_than_the_spacing_is_refused),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
