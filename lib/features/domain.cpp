@@ -1,6 +1,7 @@
 #include "features/domain.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "core/error.hpp"
 #include "geom/predicates.hpp"
@@ -219,6 +220,10 @@ bool Domain::locate(const Vec3 &x, double *distance) const {
         return true;
     }
     const int32_t i = arcs_.nearest(x, &d);
+    if (i < 0) {  // no distance to any arc: x is no direction (NaN, infinite)
+        if (distance) *distance = std::numeric_limits<double>::quiet_NaN();
+        return false;
+    }
     if (distance) *distance = d;
     return left_of(i, x) == (inside_on_left_[ring_of_arc_[i]] != 0);
 }

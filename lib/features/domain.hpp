@@ -50,6 +50,7 @@ public:
     bool contains(const Vec3 &x) const;
     // contains(x), and the arc distance (radians) from x to the nearest ring
     // into *distance (when not null), with one search for the nearest segment.
+    // A point with no direction (NaN, infinite) is outside, at NaN.
     bool locate(const Vec3 &x, double *distance) const;
     // Which side of the rings x is on, when the memo knows without a search:
     // inside or outside when x lies in a memo cell wholly on that side,
@@ -62,7 +63,6 @@ public:
     // function of the cell, so the same on every thread.
     enum class Side : uint8_t { near, inside, outside };
     Side side(const Vec3 &x) const;
-    bool deep_inside(const Vec3 &x) const { return side(x) == Side::inside; }
     // The distance (radians) from x to the rings simplified within
     // rough_error() (Douglas-Peucker): a cheap stand-in for the exact one,
     // within rough_error() of it.

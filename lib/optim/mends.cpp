@@ -180,6 +180,7 @@ bool Mends::mend_by_flip(int32_t &t, int k, const MendFloors &floors, MendGoal g
     const auto current = [&](int32_t u) { return s_.generator(u); };
     Baseline before{0, 0, s_.stars_gamma_crossings(quad, 4, current, false)};
     for (int32_t s : around) {
+        if (s_.touches_cover(s)) continue;  // (not judged: JointSearch::judge)
         const Generator x = s_.generator(s_.tri.vertex(s, 0)), y = s_.generator(s_.tri.vertex(s, 1)),
                         z = s_.generator(s_.tri.vertex(s, 2));
         before.off_centre += staggering_score(x, y, z) < 0;
@@ -332,7 +333,8 @@ Mends::JointSearch::JointSearch(MeshState &s, const int32_t *v, int n, const std
     if (moves) {
         edge2_floor = kInfinity;
         for (int32_t u : around)
-            edge2_floor = std::min(edge2_floor, shortest_edge2(s.generator(s.tri.vertex(u, 0)),
+            if (!s.touches_cover(u))
+                edge2_floor = std::min(edge2_floor, shortest_edge2(s.generator(s.tri.vertex(u, 0)),
                                                                s.generator(s.tri.vertex(u, 1)),
                                                                s.generator(s.tri.vertex(u, 2))));
         const double half_h = kMendEdgeFloor * s.h_at[v[0]];

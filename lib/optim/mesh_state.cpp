@@ -61,6 +61,13 @@ void MeshState::load_spacing() {
     });
 }
 
+bool MeshState::beside_cover(int32_t v) const {
+    if (!domain) return false;
+    bool beside = tri.in_triangulation(v) && !domain->contains(tri.direction(v));
+    if (tri.in_triangulation(v)) tri.for_each_neighbour(v, [&](int32_t u) { beside = beside || cover(u); });
+    return beside;
+}
+
 // ------------------------------------------------------------------ sweeps
 
 bool MeshState::nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const {

@@ -119,6 +119,15 @@ public:
     bool touches_cover(int32_t t) const {
         return !in_cover.empty() && (cover(tri.vertex(t, 0)) || cover(tri.vertex(t, 1)) || cover(tri.vertex(t, 2)));
     }
+    // Whether a vertex at v (one just added, say) lies outside the domain or
+    // has a neighbour in the cover: where nothing may be added.
+    bool beside_cover(int32_t v) const;
+    // Whether any of `vertices` is of the cover (what an insertion hid).
+    bool any_cover(const std::vector<int32_t> &vertices) const {
+        for (int32_t u : vertices)
+            if (cover(u)) return true;
+        return false;
+    }
 
     // Spacing at each generator (radians), in single precision: it weighs
     // the ODT target and scales steps, where 1e-7 is far below what matters.

@@ -92,11 +92,15 @@ struct OptimiseStats {
 // in radians. Reports progress as stage "optimise" once per outer iteration
 // (cancellable: then tri is left valid but part-optimised). With a domain
 // (a regional mesh), the cover outside it is left as it is: the vertices
-// outside, off its rings, are not moved, taken out or added beside, and
-// the triangles touching them count in no quality summary - no kept cell
-// has one in its star (mesh::RefinedMesh::region_cells), so no output
-// reads them; only the flips that keep the triangulation regular reach
-// there.
+// outside, off its rings, are not moved, weighted, hidden or taken out,
+// no vertex is added outside the domain or (when added) beside them, and
+// the triangles touching them count in no quality summary and no mend's
+// judgement - no kept cell has one in its star
+// (mesh::RefinedMesh::region_cells), so no output reads them; only the
+// flips that keep the triangulation regular reach there. (A vertex inside
+// may still come to neighbour the cover through later flips, or move out
+// through a gap in the rings: it is then the cover's from the next
+// outer iteration.)
 OptimiseStats optimise(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
                        const features::Network *gamma, const refine::SpacingRadians &h,
                        const OptimiseOptions &options, const features::Domain *domain = nullptr);

@@ -51,6 +51,8 @@ int64_t Topology::collapse_short_edges(std::vector<Topology::EdgeRatio> edges) {
         // to one leaves that one a spoke fewer on its side (Mid-Atlantic
         // case: 2 -> 4 triangles not holding their orthocentre).
         if (s_.on_segment[e.a] >= 0 || s_.on_segment[e.b] >= 0) continue;
+        // (A move beside a regional mesh's cover might hide one of its vertices.)
+        if (s_.beside_cover(e.a) || s_.beside_cover(e.b)) continue;
         const int32_t gone = e.b, kept = e.a;  // e.a < e.b
         if (!s_.removable(gone)) continue;
         const Vec3 mid = geom::normalized(s_.tri.direction(e.a) + s_.tri.direction(e.b));
@@ -138,7 +140,8 @@ int32_t Topology::insert_between(int32_t a, int32_t b) {
     const int32_t v = s_.tri.insert(mid, w, s_.next_id++, &buried, s_.tri.star(a).front());
     s_.grow_slots();
     if (s_.tri.in_triangulation(v)) s_.h_at[v] = static_cast<float>(s_.h(mid));
-    if (!s_.tri.in_triangulation(v) || s_.tri.link(v).size() <= 4 || !s_.clear_of_floor(v)) {
+    if (!s_.tri.in_triangulation(v) || s_.tri.link(v).size() <= 4 || !s_.clear_of_floor(v) || s_.beside_cover(v) ||
+        s_.any_cover(buried)) {
         const int32_t near = s_.tri.remove(v);
         for (int32_t u : buried)
             if (!s_.tri.in_triangulation(u) && !s_.tri.is_removed(u)) s_.tri.restore_hidden(u, near);
@@ -162,7 +165,7 @@ int64_t Topology::improve_valence() {
     const int32_t n = s_.tri.vertex_slots();
     const std::vector<int32_t> degree = vertex_degrees(s_.ctx, s_.tri);
     for (int32_t v = 0; v < n; ++v) {
-        if (!s_.tri.in_triangulation(v) || s_.on_segment[v] >= 0 || s_.cover(v)) continue;
+        if (!s_.tri.in_triangulation(v) || s_.on_segment[v] >= 0 || s_.beside_cover(v)) continue;
         if (degree[v] > 4 && degree[v] < 8) continue;
         std::vector<int32_t> st = s_.tri.star(v);  // now: earlier changes may have altered it
         const int degree_now = static_cast<int>(st.size());
@@ -208,6 +211,12 @@ void Topology::split_vertex(int32_t v, const std::vector<int32_t> &star) {
     s_.grow_slots();
     if (!s_.tri.in_triangulation(added)) {
         s_.tri.remove(added);
+        return;
+    }
+    if (s_.beside_cover(added) || s_.any_cover(buried)) {  // (nothing added beside a regional mesh's cover)
+        const int32_t near = s_.tri.remove(added);
+        for (int32_t u : buried)
+            if (!s_.tri.in_triangulation(u) && !s_.tri.is_removed(u)) s_.tri.restore_hidden(u, near);
         return;
     }
     s_.h_at[added] = static_cast<float>(s_.h(ahead));

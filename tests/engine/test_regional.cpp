@@ -200,13 +200,22 @@ std::shared_ptr<Network> rings_network(const std::vector<Ring> &rings) {
 }
 
 // Optimises m, checking that the cover (outside the domain, off its rings)
-// is left as it is: every vertex there keeps its lifted point bit for bit.
+// is left as it is: every vertex there keeps its lifted point bit for bit,
+// and no vertex the optimisation added lies in it.
 void optimise_keeping_the_cover(Context &ctx, mesh::RefinedMesh &m, const Options &options) {
     std::map<int32_t, Vec3> cover;  // by vertex id
     const std::vector<uint8_t> in_cover = m.cover_vertices(ctx);
-    for (int32_t v = 0; v < m.tri.vertex_slots(); ++v)
+    int32_t first_new_id = 0;
+    for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
+        first_new_id = std::max(first_new_id, m.tri.id(v) + 1);
         if (in_cover[v]) cover[m.tri.id(v)] = m.tri.lifted(v);
+    }
     mesh::optimise_mesh(ctx, m, options, nullptr);
+    const std::vector<uint8_t> cover_after = m.cover_vertices(ctx);
+    for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
+        if (!m.tri.in_triangulation(v) || m.tri.id(v) < first_new_id) continue;
+        assert_false(cover_after[v]);
+    }
     assert_true(cover.size() > 50);
     size_t kept = 0;
     for (int32_t v = 0; v < m.tri.vertex_slots(); ++v) {
