@@ -74,8 +74,9 @@ public:
     // The arc nearest to unit point p and its distance (radians); -1 when empty.
     int32_t nearest(const Vec3 &p, double *distance) const;
     // Whether some arc lies nearer than `radius` (radians) to unit point p:
-    // nearest(p, &d) and d < radius, from a box query (the same distances,
-    // so the same answer) that stops at the first such arc.
+    // for a tree with arcs, nearest(p, &d) and d < radius, from a box query
+    // (the same distances, so the same answer) that stops at the first such
+    // arc; false for an empty tree.
     bool any_within(const Vec3 &p, double radius) const;
 
 private:
