@@ -114,6 +114,7 @@ int64_t separate_degenerate_dual_edges(Context &ctx, tri::Triangulation &tri, co
                 for (int k = 0; k < 3; ++k) touched.push_back(tri.neighbour(t, k));
             }
         }
+        if (touched.empty()) break;  // (every apex of the cover: nothing changed; an empty list means all)
         std::sort(touched.begin(), touched.end());
         touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
         lighten = apexes_of_short_dual_edges(ctx, tri, touched);
