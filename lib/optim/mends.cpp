@@ -173,6 +173,7 @@ bool Mends::mend_by_flip(int32_t &t, int k, const MendFloors &floors, MendGoal g
     const int32_t quad[4] = {a, b, c, d};
     // The triangles around the quad (the same slots after the flip) and
     // how many of them are off-centre now.
+    // (Those the joint search judges: JointSearch::judged.)
     std::vector<int32_t> around;
     for (int32_t v : quad) s_.tri.for_each_in_star(v, [&](int32_t s) { around.push_back(s); });
     std::sort(around.begin(), around.end());
@@ -180,7 +181,7 @@ bool Mends::mend_by_flip(int32_t &t, int k, const MendFloors &floors, MendGoal g
     const auto current = [&](int32_t u) { return s_.generator(u); };
     Baseline before{0, 0, s_.stars_gamma_crossings(quad, 4, current, false)};
     for (int32_t s : around) {
-        if (s_.touches_cover(s)) continue;  // (not judged: JointSearch::judge)
+        if (s_.touches_cover(s)) continue;
         const Generator x = s_.generator(s_.tri.vertex(s, 0)), y = s_.generator(s_.tri.vertex(s, 1)),
                         z = s_.generator(s_.tri.vertex(s, 2));
         before.off_centre += staggering_score(x, y, z) < 0;
@@ -307,7 +308,10 @@ struct Mends::JointSearch {
     const MendFloors &floors;
     bool moves;
     MendGoal goal;
-    std::vector<int32_t> around;  // the triangles around the vertices, each once
+    std::vector<int32_t> around;  // the triangles around the vertices, each once (kept regular)
+    // Those the search scores: around but a regional mesh's cover (no output
+    // reads it), in the order judge() takes them.
+    std::vector<int32_t> judged;
     Generator trial[4];
     double edge2_floor = 0;
     // With a floor: per triangle around, which of its edges (bit k: the edge
@@ -327,34 +331,34 @@ Mends::JointSearch::JointSearch(MeshState &s, const int32_t *v, int n, const std
     for (int i = 0; i < n; ++i) s.tri.for_each_in_star(v[i], [&](int32_t u) { around.push_back(u); });
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
+    for (int32_t u : around)
+        if (!s.touches_cover(u)) judged.push_back(u);
     // Moves make no edge around shorter than h/2 (h at the first vertex: the
     // three are within an edge of each other) or, if one is already, than
     // the shortest there (squared chords).
     if (moves) {
         edge2_floor = kInfinity;
-        for (int32_t u : around)
-            if (!s.touches_cover(u))
-                edge2_floor = std::min(edge2_floor, shortest_edge2(s.generator(s.tri.vertex(u, 0)),
-                                                               s.generator(s.tri.vertex(u, 1)),
-                                                               s.generator(s.tri.vertex(u, 2))));
+        for (int32_t u : judged)
+            edge2_floor = std::min(edge2_floor, shortest_edge2(s.generator(s.tri.vertex(u, 0)),
+                                                           s.generator(s.tri.vertex(u, 1)),
+                                                           s.generator(s.tri.vertex(u, 2))));
         const double half_h = kMendEdgeFloor * s.h_at[v[0]];
         edge2_floor = std::min(edge2_floor, half_h * half_h);
     }
 }
 
-// (After `around` is in its final order.)
+// (After `judged` is in its final order.)
 void Mends::JointSearch::keep_floor() {
     if (moves && s.options.ocean_floor > 0) {
         const double floor = s.options.ocean_floor * s.h_at[v[0]];
         floor2 = floor * floor;
-        off_land_edges.resize(around.size(), 0);
-        for (size_t j = 0; j < around.size(); ++j) {
-            if (s.touches_cover(around[j])) continue;  // (not judged)
+        off_land_edges.resize(judged.size(), 0);
+        for (size_t j = 0; j < judged.size(); ++j) {
             bool off[3];
-            for (int k = 0; k < 3; ++k) off[k] = s.off_land(s.tri.vertex(around[j], k));
+            for (int k = 0; k < 3; ++k) off[k] = s.off_land(s.tri.vertex(judged[j], k));
             for (int k = 0; k < 3; ++k) off_land_edges[j] |= (off[(k + 1) % 3] && off[(k + 2) % 3]) << k;
-            const Generator x[3] = {s.generator(s.tri.vertex(around[j], 0)), s.generator(s.tri.vertex(around[j], 1)),
-                                    s.generator(s.tri.vertex(around[j], 2))};
+            const Generator x[3] = {s.generator(s.tri.vertex(judged[j], 0)), s.generator(s.tri.vertex(judged[j], 1)),
+                                    s.generator(s.tri.vertex(judged[j], 2))};
             below_floor_now += below_floor(x, j);
         }
     }
@@ -373,9 +377,8 @@ int Mends::JointSearch::below_floor(const Generator *x, size_t j) const {
 Mends::JointSearch::Score Mends::JointSearch::judge(int limit, int off_limit, int obtuse_limit) const {
     Score out{0, kInfinity, 0, 0};
     int below_floor_then = 0;  // (the floor's count over the triangles judged so far)
-    for (size_t j = 0; j < around.size(); ++j) {
-        const int32_t u = around[j];
-        if (s.touches_cover(u)) continue;  // a regional mesh's cover: no output reads it
+    for (size_t j = 0; j < judged.size(); ++j) {
+        const int32_t u = judged[j];
         double qp = 0;
         const Generator a = at(s.tri.vertex(u, 0)), b = at(s.tri.vertex(u, 1)), c = at(s.tri.vertex(u, 2));
         if (!off_land_edges.empty() && off_land_edges[j]) {
@@ -457,7 +460,7 @@ bool Mends::mend_jointly(const int32_t *v, int n, const std::vector<Candidate> *
     const int off_limit = goal == MendGoal::obtuse ? now.off_centre : kAny;
     const int obtuse_limit = goal == MendGoal::off_centre_keeping_obtuse ? now.obtuse : kAny;
     // The counted ones first: the count passes the limit sooner.
-    std::stable_partition(search.around.begin(), search.around.end(), [&](int32_t u) {
+    std::stable_partition(search.judged.begin(), search.judged.end(), [&](int32_t u) {
         const Generator a = s_.generator(s_.tri.vertex(u, 0)), b = s_.generator(s_.tri.vertex(u, 1)),
                         c = s_.generator(s_.tri.vertex(u, 2));
         return goal == MendGoal::obtuse ? largest_angle_cosine(a.x, b.x, c.x) < 0 : staggering_score(a, b, c) < 0;

@@ -142,9 +142,7 @@ int32_t Topology::insert_between(int32_t a, int32_t b) {
     if (s_.tri.in_triangulation(v)) s_.h_at[v] = static_cast<float>(s_.h(mid));
     if (!s_.tri.in_triangulation(v) || s_.tri.link(v).size() <= 4 || !s_.clear_of_floor(v) || s_.beside_cover(v) ||
         s_.any_cover(buried)) {
-        const int32_t near = s_.tri.remove(v);
-        for (int32_t u : buried)
-            if (!s_.tri.in_triangulation(u) && !s_.tri.is_removed(u)) s_.tri.restore_hidden(u, near);
+        take_back(v, buried);
         return -1;
     }
     for (int32_t u : buried) s_.changed_at[u] = s_.clock;
@@ -186,6 +184,13 @@ int64_t Topology::improve_valence() {
     return done;
 }
 
+// Takes out vertex v, just inserted, and puts back what its insertion hid.
+void Topology::take_back(int32_t v, const std::vector<int32_t> &buried) {
+    const int32_t near = s_.tri.remove(v);
+    for (int32_t u : buried)
+        if (!s_.tri.in_triangulation(u) && !s_.tri.is_removed(u)) s_.tri.restore_hidden(u, near);
+}
+
 // Splits a vertex of high degree into two a quarter of its longest spoke
 // either side of where it was, along that spoke: each of the two takes
 // about half of the old link (degree ~ 6 for a link of 8).
@@ -214,9 +219,7 @@ void Topology::split_vertex(int32_t v, const std::vector<int32_t> &star) {
         return;
     }
     if (s_.beside_cover(added) || s_.any_cover(buried)) {  // (nothing added beside a regional mesh's cover)
-        const int32_t near = s_.tri.remove(added);
-        for (int32_t u : buried)
-            if (!s_.tri.in_triangulation(u) && !s_.tri.is_removed(u)) s_.tri.restore_hidden(u, near);
+        take_back(added, buried);
         return;
     }
     s_.h_at[added] = static_cast<float>(s_.h(ahead));

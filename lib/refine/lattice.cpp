@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "tri/spatial_order.hpp"
 
@@ -69,9 +70,9 @@ std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, cons
         if (10.0 * n * n > std::max(kRegionalLatticeRatio * needed, double(kRegionalLatticeFloor))) n = 0;
     }
     // (Relaxed only around a domain that a cap smaller than a hemisphere holds.)
-    const Cap cap{domain ? domain->cap_centre() : Vec3{0, 0, 1}, domain ? domain->cap_radius() : M_PI};
-    const bool capped = domain && cap.radius < M_PI / 2;
-    std::vector<Vec3> points = relaxed_geodesic_lattice(ctx, std::max<int64_t>(n, 1), capped ? &cap : nullptr);
+    std::optional<Cap> cap;
+    if (domain && domain->cap_radius() < M_PI / 2) cap = Cap{domain->cap_centre(), domain->cap_radius()};
+    std::vector<Vec3> points = relaxed_geodesic_lattice(ctx, std::max<int64_t>(n, 1), cap ? &*cap : nullptr);
     std::vector<uint8_t> keep(points.size(), 0);
     ctx.parallel_for_with_heartbeat(kStage, static_cast<int64_t>(points.size()), 16, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
