@@ -163,8 +163,9 @@ int64_t Topology::improve_valence() {
     const int32_t n = s_.tri.vertex_slots();
     const std::vector<int32_t> degree = vertex_degrees(s_.ctx, s_.tri);
     for (int32_t v = 0; v < n; ++v) {
-        if (!s_.tri.in_triangulation(v) || s_.on_segment[v] >= 0 || s_.beside_cover(v)) continue;
+        if (!s_.tri.in_triangulation(v) || s_.on_segment[v] >= 0) continue;
         if (degree[v] > 4 && degree[v] < 8) continue;
+        if (s_.beside_cover(v)) continue;  // (after the cheap tests: it looks at the domain)
         std::vector<int32_t> st = s_.tri.star(v);  // now: earlier changes may have altered it
         const int degree_now = static_cast<int>(st.size());
         if (degree_now > 4 && degree_now < 8) continue;
