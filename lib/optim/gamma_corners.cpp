@@ -111,6 +111,7 @@ GammaCorners::CornerChange GammaCorners::support_gamma_corner(const GammaCorner 
     // obtuse, 240 km 12 -> 9, Mid-Atlantic 82 -> 80, at about the same time).
     for (size_t i = 0; i < sites.size() && d < 0; ++i) d = try_corner_relocation(sites[i], corner, locked);
     if (d >= 0) {
+        s_.corner_supports.insert(s_.tri.id(d));
         s_.changed_at[d] = s_.clock;
         for (int32_t s : s_.tri.star(d))
             for (int j = 0; j < 3; ++j) s_.changed_at[s_.tri.vertex(s, j)] = s_.clock;
@@ -303,8 +304,9 @@ int32_t GammaCorners::try_corner_relocation(const Vec3 &at, const GammaCorner &c
 int GammaCorners::corner_vertex_helps(int32_t d, const GammaCorner &corner) const {
     if (!s_.tri.in_triangulation(d)) return -1;
     const Vec3 x = s_.tri.direction(d);
-    // (Nothing is added in or beside a regional mesh's cover.)
-    bool ok = !s_.domain || s_.domain->contains(x);
+    // (Nothing is added in or beside a regional mesh's cover; nor a vertex
+    // of degree 4 or less, which the valence repair would take out again.)
+    bool ok = (!s_.domain || s_.domain->contains(x)) && s_.tri.link(d).size() > 4;
     s_.tri.for_each_neighbour(d, [&](int32_t u) {
         ok = ok && !s_.cover(u);
         const double h = 0.5 * (static_cast<double>(s_.h_at[d]) + static_cast<double>(s_.h_at[u]));
@@ -312,6 +314,8 @@ int GammaCorners::corner_vertex_helps(int32_t d, const GammaCorner &corner) cons
         ok = ok && std::binary_search(corner.region.begin(), corner.region.end(), u) &&
              geom::norm(x - s_.tri.direction(u)) >= floor * h;
     });
+    // (A corner's support is lifted only below the floor itself in the shape
+    // phase too: MeshState::corner_supports.)
     ok = ok && s_.gamma_edges_stay(corner.gamma_edges) && s_.clear_of_floor(d);
     if (!ok || has_triangle(corner.b, corner.p, corner.q)) return -1;
     // With corner_cells_clear, its cell stays clear of Gamma (gamma_crossings):

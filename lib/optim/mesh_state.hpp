@@ -13,6 +13,7 @@
 #include <limits>
 #include <memory>
 #include <utility>
+#include <unordered_set>
 #include <vector>
 
 #include "core/context.hpp"
@@ -271,6 +272,15 @@ public:
         return claim(closed_stars(vertices), locked);
     }
 
+    // The ids of the vertices the corner pass added to support obtuse corners
+    // on Gamma (gamma_corners.hpp): in the shape phase the floor pass lifts
+    // their edges only below the floor itself, where the moves stop. With the
+    // shape phase's margin it took out what the sweeps had pulled towards the
+    // corner, and the corner pass put it back, every iteration (coast 60 km:
+    // 40 of each per iteration, ten iterations without end).
+    std::unordered_set<int32_t> corner_supports;
+    bool supports_corner(int32_t v) const { return corner_supports.count(tri.id(v)) != 0; }
+
     // The time-step floor's sides (ocean_sides.cpp) ---------------------------
     // Brings `side` up to date: found once, then kept for the vertices that
     // stay and inferred for those made since.
@@ -280,7 +290,8 @@ public:
     // last refresh, the side it would be given.
     bool off_land(int32_t v) const;
     // The floor the ocean-floor pass lifts the edges below (over h): in the
-    // shape phase with a margin over the option.
+    // shape phase with a margin over the option (not for the edges of a
+    // corner's support: corner_supports).
     double floor_to_lift() const;
     // With a floor: whether v, off the land, has no edge shorter than
     // floor h to another generator off the land (true on the land).

@@ -42,7 +42,9 @@ std::vector<OceanFloor::ShortEdge> OceanFloor::short_ocean_edges() const {
                 const double ratio = stage_ != Stage::after_mends
                                          ? chord / mean_h
                                          : 2 * std::asin(std::min(1.0, 0.5 * chord)) / s_.h(s_.tri.edge_orthocentre(ti, k));
-                if (ratio < floor) out.push_back({ratio, std::min(a, b), std::max(a, b)});
+                const bool support = !s_.weighing && (s_.supports_corner(a) || s_.supports_corner(b));
+                if (ratio < (support ? s_.options.ocean_floor : floor))
+                    out.push_back({ratio, std::min(a, b), std::max(a, b)});
             }
         });
     std::sort(edges.begin(), edges.end(), [](const ShortEdge &x, const ShortEdge &y) {
@@ -57,23 +59,25 @@ int64_t OceanFloor::count_below() {
     return static_cast<int64_t>(short_ocean_edges().size());
 }
 
-int64_t OceanFloor::lift(Stage stage) {
-    if (!(s_.options.ocean_floor > 0)) return 0;
+OceanFloor::Lifted OceanFloor::lift(Stage stage) {
+    if (!(s_.options.ocean_floor > 0)) return {};
     stage_ = stage;
+    moved_ = 0;
     s_.refresh_sides();
     std::vector<uint8_t> locked(static_cast<size_t>(s_.tri.vertex_slots()), 0);
-    int64_t taken_out = 0;
+    int64_t lifted = 0;
     for (const ShortEdge &e : short_ocean_edges()) {
         if (!s_.tri.in_triangulation(e.a) || !s_.tri.in_triangulation(e.b)) continue;
         const std::vector<int32_t> region = s_.closed_stars({e.a, e.b});
         if (!MeshState::claim(region, locked)) continue;
         const bool done = lift_edge(e);
-        taken_out += done;
+        lifted += done;
         if (!done)  // nothing changed there: free for the next edge
             for (int32_t u : region) locked[u] = 0;
     }
-    s_.stats.floor_removals += taken_out;
-    return taken_out;
+    const Lifted l{lifted - moved_, moved_};
+    s_.stats.floor_removals += l.taken_out, s_.stats.moves += l.moved;
+    return l;
 }
 
 bool OceanFloor::lift_edge(const ShortEdge &e) {
@@ -265,6 +269,7 @@ bool OceanFloor::push_away(int32_t v, int32_t from) {
         return false;
     }
     keep_moved(v, b.link);
+    ++moved_;
     return true;
 }
 
@@ -287,6 +292,7 @@ bool OceanFloor::slide_apart(int32_t v, int32_t from) {
         return false;
     }
     keep_moved(v, b.link);
+    ++moved_;
     return true;
 }
 

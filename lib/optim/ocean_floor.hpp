@@ -47,8 +47,14 @@ public:
     // (which re-tune the weights around a triangle left off-centre), or
     // after the mends (no weight sweep follows to undo a push).
     enum class Stage { iteration, before_mends, after_mends };
-    // One pass; the vertices taken out.
-    int64_t lift(Stage stage = Stage::iteration);
+    // What one pass did: vertices taken out (a change of topology), and
+    // vertices pushed or slid away (moves: in the shape phase the sweeps
+    // may move a pushed vertex back, which then changes no topology).
+    struct Lifted {
+        int64_t taken_out = 0, moved = 0;
+        int64_t changes() const { return taken_out + moved; }
+    };
+    Lifted lift(Stage stage = Stage::iteration);
     // The edges between two generators off the land still shorter than
     // floor h (the pass's own measure: arc over h at xEdge, as the report measures it).
     int64_t count_below();
@@ -81,6 +87,7 @@ private:
     double shortest_edge(int32_t v) const;
 
     MeshState &s_;
+    int64_t moved_ = 0;          // pushes and slides kept in this pass
     double fixing_ = 0;          // the ratio of the edge being lifted
     Stage stage_ = Stage::iteration;
     bool gamma_may_spread_ = false;  // the last resort: Gamma may go into more cells

@@ -128,7 +128,7 @@ OptimiseStats Schedule::run() {
     // What the last outer iteration's pass left, while the mends can still
     // re-tune the weights around a removal.
     for (int pass = 0; pass < kLastFloorPasses && o.outer_iterations > 0; ++pass)
-        if (floor_.lift(OceanFloor::Stage::before_mends) == 0) break;
+        if (floor_.lift(OceanFloor::Stage::before_mends).changes() == 0) break;
     const int64_t off_centre_left = mends && o.weights ? mend_off_centre_triangles() : 0;
     if (mends) mend_obtuse_triangles();
     if (off_centre_left > 0) mend_off_centre_after_moves();
@@ -136,7 +136,7 @@ OptimiseStats Schedule::run() {
     // removal keeps what they reached.
     // (Each pass changes a neighbourhood once: a few more for what one left.)
     for (int pass = 0; pass < kLastFloorPasses && o.outer_iterations > 0; ++pass)
-        if (floor_.lift(OceanFloor::Stage::after_mends) == 0) break;
+        if (floor_.lift(OceanFloor::Stage::after_mends).changes() == 0) break;
     s_.ctx.log(UM_LOG_INFO, concat("optimise: ocean floor ", o.ocean_floor, " h: ", s_.stats.floor_removals,
                                    " vertices taken out, ", floor_.count_below(), " edges off the land still below"));
     s_.ctx.progress("optimise", 1.0);
@@ -191,7 +191,8 @@ void Schedule::change_topology(int n, bool shape_phase, int32_t outer_start, Cha
     auto t0 = Clock::now();
     c.flips = s_.restore_regularity(outer_start);
     if (o.collapse_and_split) std::tie(c.collapsed, c.split) = topology_.collapse_and_split();
-    c.floor = floor_.lift();
+    const OceanFloor::Lifted lifted = floor_.lift();
+    c.floor = lifted.taken_out, c.updates += lifted.moved;
     if (o.valence_repair && n + 1 < o.outer_iterations)
         c.valence = topology_.improve_valence() + (n < 2 ? topology_.flip_for_valence() : 0);
     c.corners = shape_phase && o.corner_vertices ? corners_.support_gamma_corners() : 0;

@@ -221,9 +221,12 @@ void a_coastal_wgs84_mesh_at_60_km(void **) {
                   "%lld outside [0.7, 1.4]; %lld obtuse of %lld triangles\n",
                   (long long)r.edges, r.min, r.mean, r.max, (long long)r.outside, (long long)q.obtuse,
                   (long long)q.triangles);
-    // As on the sphere (measured there at 60 km: 0.33 to 1.72 h): short and
-    // long edges only along the coastlines, where the restricted edges set them.
-    assert_true(r.min > 0.2 && r.max < 1.8 && std::fabs(r.mean - 1) < 0.01 && r.outside * 100 < r.edges);
+    // As on the sphere: short and long edges only along the coastlines, where
+    // the restricted edges set them. The longest join two coastline vertices
+    // across an inlet or a channel (no split takes an edge between two
+    // vertices on Gamma); on the sphere's coastal meshes at 50 to 240 km they
+    // reach 1.6 to 1.94 h.
+    assert_true(r.min > 0.2 && r.max < 2.0 && std::fabs(r.mean - 1) < 0.01 && r.outside * 100 < r.edges);
     assert_true(q.obtuse * 10000 <= q.triangles);  // 0.01 %
     expect_cells_tile_the_ellipsoid(ctx, m);
 }
