@@ -285,6 +285,15 @@ public:
     // Brings `side` up to date: found once, then kept for the vertices that
     // stay and inferred for those made since.
     void refresh_sides();
+    // Finds every side anew, as the quality report will (refine::vertex_sides):
+    // a side kept or inferred for a vertex the passes made may differ from it
+    // (a new vertex beside the coast takes a land neighbour's side, its
+    // triangles all on the ocean side), and the report would then count an
+    // ocean edge below the floor that the pass took for one on the land.
+    void find_sides_anew() {
+        side_id.clear();
+        refresh_sides();
+    }
     // Whether v's cell is off the land (ocean or coastal: the cells the
     // ocean mesh may take), from its side or, for a vertex made since the
     // last refresh, the side it would be given.

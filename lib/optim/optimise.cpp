@@ -133,8 +133,9 @@ OptimiseStats Schedule::run() {
     if (mends) mend_obtuse_triangles();
     if (off_centre_left > 0) mend_off_centre_after_moves();
     // After the mends' moves: what they brought below the floor, where a
-    // removal keeps what they reached.
+    // removal keeps what they reached, judged by the sides the report finds.
     // (Each pass changes a neighbourhood once: a few more for what one left.)
+    if (o.ocean_floor > 0 && o.outer_iterations > 0) s_.find_sides_anew();
     for (int pass = 0; pass < kLastFloorPasses && o.outer_iterations > 0; ++pass)
         if (floor_.lift(OceanFloor::Stage::after_mends).changes() == 0) break;
     s_.ctx.log(UM_LOG_INFO, concat("optimise: ocean floor ", o.ocean_floor, " h: ", s_.stats.floor_removals,
