@@ -11,7 +11,8 @@ using dual::kNone;
 
 dual::MpasMesh regional_mpas_mesh(Context &ctx, const mesh::RefinedMesh &m) {
     if (!m.regional()) fail(UM_ERR_INVALID_ARGUMENT, "the mesh is not regional (it has no domain rings)");
-    const dual::MpasMesh whole = dual::build_mpas_mesh(ctx, m);
+    // (cut_mesh makes the TRSK stencils of the cells it keeps.)
+    const dual::MpasMesh whole = dual::build_mpas_mesh(ctx, m, dual::TrskStencils::left_out);
     const std::vector<uint8_t> region = m.region_cells(ctx);
     std::vector<uint8_t> keep(static_cast<size_t>(whole.n_cells));
     for (int32_t c = 0; c < whole.n_cells; ++c) keep[c] = region[m.slot_of_vertex[whole.cell_source_vertex[c]]];
