@@ -293,6 +293,7 @@ public:
     void find_sides_anew() {
         side_id.clear();
         refresh_sides();
+        sides_clock = clock;  // (a later refresh looks at what changed since)
     }
     // Whether v's cell is off the land (ocean or coastal: the cells the
     // ocean mesh may take), from its side or, for a vertex made since the

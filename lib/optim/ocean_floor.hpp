@@ -48,8 +48,9 @@ public:
     // after the mends (no weight sweep follows to undo a push).
     enum class Stage { iteration, before_mends, after_mends };
     // What one pass did: vertices taken out (a change of topology), and
-    // vertices pushed or slid away (moves: in the shape phase the sweeps
-    // may move a pushed vertex back, which then changes no topology).
+    // vertices pushed or slid away (moves, for the schedule's stopping test:
+    // in the shape phase the sweeps may move a pushed vertex back, every
+    // iteration; though a push may change the vertex's links too).
     struct Lifted {
         int64_t taken_out = 0, moved = 0;
         int64_t changes() const { return taken_out + moved; }

@@ -39,8 +39,8 @@ namespace {
 constexpr int kFirstRings = 3, kLaterRings = 1;
 constexpr int kSettleIterations = 3;
 constexpr double kLeastDefectDrop = 0.1;
-// The floor passes after the mends, at most (each stops when one takes
-// nothing out).
+// The floor passes after the mends, at most (each stops when one changes
+// nothing).
 constexpr int kLastFloorPasses = 4;
 
 // The passes of Algorithm 1 in their order over the shared mesh state.
@@ -198,12 +198,15 @@ void Schedule::change_topology(int n, bool shape_phase, int32_t outer_start, Cha
         c.valence = topology_.improve_valence() + (n < 2 ? topology_.flip_for_valence() : 0);
     c.corners = shape_phase && o.corner_vertices ? corners_.support_gamma_corners() : 0;
     c.reseeded = shape_phase ? reseed_defects(n) : 0;
+    // A push or slide of the floor pass is a move for the stopping test, but
+    // it puts the vertex in again (Triangulation::move): its links may change.
+    const bool relinked = c.topology() > 0 || lifted.moved > 0;
     // The sides of the vertices these made, found once for the sweeps
     // (else each floor check of one would infer it again).
-    if (o.ocean_floor > 0 && c.topology() > 0) s_.refresh_sides();
+    if (o.ocean_floor > 0 && relinked) s_.refresh_sides();
     s_.stats.flips += c.flips, s_.stats.collapses += c.collapsed, s_.stats.splits += c.split;
     // Else the spacing (h_at) and the graph are still those of the mesh.
-    if (c.topology() > 0) s_.rebuild_graph(graph_);
+    if (relinked) s_.rebuild_graph(graph_);
     ++s_.clock;
     s_.stats.seconds_topology += seconds_since(t0);
 }
