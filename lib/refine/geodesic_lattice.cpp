@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/growth.hpp"
+#include "core/uninit_vector.hpp"
 
 namespace um::refine {
 
@@ -39,6 +40,10 @@ constexpr const char *kStage = "refine lattice";  // progress, and cancel betwee
 // A frequency-n lattice's edges are about this over n radians long (10 n^2
 // hexagons of edge s cover the sphere: s = sqrt(4 pi / (10 sqrt(3) / 2)) / n).
 constexpr double kEdgePerFrequency = 1.2;
+
+// A lattice's points (unwritten until placed: a regional lattice places
+// only its part).
+using Points = UninitVector<Vec3>;
 
 // The point a fraction t of the way from a to b along their great circle.
 Vec3 slerp(const Vec3 &a, const Vec3 &b, double t) {
@@ -174,18 +179,18 @@ struct Chords {
 // faces' inner rows.
 // With an Active set only its points move (the others hold the same place
 // in `from` and `to`), only its items are visited, and only its points'
-// chords are measured.
+// chords are measured; only its points and their neighbours are read.
 struct Active {
     std::vector<uint8_t> point, item;
 };
 // Returns the chords, summed by item in a fixed order so that the sum is
 // the same for any thread count.
 Chords spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<std::array<int64_t, 6>> &edge_nbrs,
-                    const std::vector<Vec3> &from, std::vector<Vec3> &to, double rest, const Active *active) {
+                    const Points &from, Points &to, double rest, const Active *active) {
     const bool measuring = !(rest > 0);
     auto place = [&](int64_t p, const int64_t *nbrs, int count, Chords &chords) {
-        const Vec3 x = from[p];
         if (active && !active->point[p]) return;
+        const Vec3 x = from[p];
         chords.count += count;
         Vec3 sum{};
         for (int k = 0; k < count; ++k) {
@@ -249,21 +254,46 @@ Chords spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<s
     return total;
 }
 
+// The points of a lattice a relaxation within a cap places: each one
+// whose coarser points (those its placement reads) are placed, if it is
+// within kHeldMargin edge lengths beyond the points the relaxation moves.
+// All of them without a cap, or when that reaches round the sphere.
+class Placed {
+public:
+    Placed() = default;  // all
+    explicit Placed(int64_t size) : flag_(static_cast<size_t>(size), 0) {}
+    bool all() const { return flag_.empty(); }
+    bool operator[](int64_t p) const { return flag_.empty() || flag_[static_cast<size_t>(p)]; }
+    void set(int64_t p, bool placed) { flag_[static_cast<size_t>(p)] = placed; }
+
+private:
+    std::vector<uint8_t> flag_;
+};
+
+// How far from a cap's centre the frequency-n lattice is relaxed, and
+// placed.
+double relaxed_reach(const Cap &cap, int64_t n) {
+    return cap.radius + kCapMargin * kEdgePerFrequency / static_cast<double>(n);
+}
+double placed_reach(const Cap &cap, int64_t n) {
+    return cap.radius + (kCapMargin + kHeldMargin) * kEdgePerFrequency / static_cast<double>(n);
+}
+
 // The points of the frequency-n lattice a relaxation within `cap` moves
 // (those within kCapMargin of its edge lengths beyond it) and the items of
 // a sweep holding them; null (all) when that reaches round the sphere or
 // there is no cap.
-std::unique_ptr<Active> active_within(Context &ctx, const LatticeIndex &index, const std::vector<Vec3> &points,
-                                      const Cap *cap) {
+std::unique_ptr<Active> active_within(Context &ctx, const LatticeIndex &index, const Points &points,
+                                      const Placed &placed, const Cap *cap) {
     const int64_t n = index.frequency();
     if (!cap || n < 3) return nullptr;
-    const double reach = cap->radius + kCapMargin * kEdgePerFrequency / static_cast<double>(n);
+    const double reach = relaxed_reach(*cap, n);
     if (reach >= M_PI) return nullptr;
     const double least_cos = std::cos(reach);
     auto active = std::make_unique<Active>();
     active->point.resize(points.size());
     ctx.parallel_for(static_cast<int64_t>(points.size()), 4096, [&](int64_t b, int64_t e) {
-        for (int64_t p = b; p < e; ++p) active->point[p] = geom::dot(points[p], cap->centre) >= least_cos;
+        for (int64_t p = b; p < e; ++p) active->point[p] = placed[p] && geom::dot(points[p], cap->centre) >= least_cos;
     });
     const int64_t edge_items = index.edge_count();
     active->item.assign(static_cast<size_t>(edge_items + index.row_count()), 0);
@@ -284,12 +314,18 @@ std::unique_ptr<Active> active_within(Context &ctx, const LatticeIndex &index, c
 // `sweeps` spring sweeps of the lattice (of the Active set, when not null),
 // the rest length the mean chord of the sweep before (of the start for the
 // first).
-void relax(Context &ctx, const LatticeIndex &index, std::vector<Vec3> &points, int sweeps,
-           const Active *active = nullptr) {
+void relax(Context &ctx, const LatticeIndex &index, Points &points, int sweeps, const Active *active,
+           const Placed &placed) {
     if (index.frequency() < 2) return;  // the icosahedron: corners only
     const std::vector<std::array<int64_t, 6>> edge_nbrs = edge_point_neighbours(index);
-    // (Without an Active set every point is written each sweep.)
-    std::vector<Vec3> next = active ? points : std::vector<Vec3>(points.size());
+    // Every point is written each sweep without an Active set; with one,
+    // the others keep their places in both buffers.
+    Points next(points.size());
+    if (active)
+        ctx.parallel_for(static_cast<int64_t>(points.size()), 4096, [&](int64_t b, int64_t e) {
+            for (int64_t p = b; p < e; ++p)
+                if (placed[p]) next[p] = points[p];
+        });
     double rest = spring_sweep(ctx, index, edge_nbrs, points, next, 0, active).mean();
     for (int k = 0; k < sweeps; ++k) {
         ctx.heartbeat(kStage, 0);
@@ -300,18 +336,31 @@ void relax(Context &ctx, const LatticeIndex &index, std::vector<Vec3> &points, i
 
 // The frequency-n lattice placed in the relaxed coarser one: each point at
 // its barycentric place in the coarse triangle (or along the coarse edge)
-// that holds it, back on the sphere.
-std::vector<Vec3> interpolate(Context &ctx, const LatticeIndex &coarse, const std::vector<Vec3> &at,
-                              const LatticeIndex &fine) {
+// that holds it, back on the sphere. With a cap, only the points whose
+// coarse points are placed, and of those `placed` keeps the ones within its
+// reach.
+Points interpolate(Context &ctx, const LatticeIndex &coarse, const Points &at, const Placed &at_placed,
+                   const LatticeIndex &fine, const Cap *cap, Placed &placed) {
     const int64_t m = coarse.frequency(), n = fine.frequency();
-    std::vector<Vec3> points(static_cast<size_t>(fine.size()));
-    for (int c = 0; c < 12; ++c) points[c] = at[c];
+    const bool regional = cap && placed_reach(*cap, n) < M_PI;
+    const double least_cos = regional ? std::cos(placed_reach(*cap, n)) : -2.0;
+    placed = regional ? Placed(fine.size()) : Placed();
+    Points points(static_cast<size_t>(fine.size()));
+    auto place = [&](int64_t p, const Vec3 &x) {
+        points[p] = x;
+        if (regional) placed.set(p, geom::dot(x, cap->centre) >= least_cos);
+    };
+    for (int c = 0; c < 12; ++c) {
+        points[c] = at[c];
+        if (regional) placed.set(c, true);
+    }
     for (int e = 0; e < fine.edge_count(); ++e)
         for (int64_t s = 1; s < n; ++s) {
             const int64_t S = s * m / n;
             const double w = static_cast<double>(s * m - S * n) / static_cast<double>(n);
-            const Vec3 &a = at[coarse.on_edge(e, S)];
-            points[fine.on_edge(e, s)] = w > 0 ? geom::normalized((1 - w) * a + w * at[coarse.on_edge(e, S + 1)]) : a;
+            const int64_t a = coarse.on_edge(e, S), b = w > 0 ? coarse.on_edge(e, S + 1) : a;
+            if (!at_placed[a] || !at_placed[b]) continue;
+            place(fine.on_edge(e, s), w > 0 ? geom::normalized((1 - w) * at[a] + w * at[b]) : at[a]);
         }
     const double scale = 1.0 / static_cast<double>(n);
     ctx.parallel_for(fine.row_count(), 16, [&](int64_t b, int64_t e) {
@@ -322,17 +371,36 @@ std::vector<Vec3> interpolate(Context &ctx, const LatticeIndex &coarse, const st
                 const int64_t I = i * m / n, J = j * m / n;
                 const int64_t ri = i * m - I * n, rj = j * m - J * n;  // the fractions' numerators
                 const double fi = static_cast<double>(ri) * scale, fj = static_cast<double>(rj) * scale;
-                Vec3 p;
-                if (ri + rj <= n)
-                    p = (1 - fi - fj) * at[coarse.at(f, I, J)] + fi * at[coarse.at(f, I + 1, J)] +
-                        fj * at[coarse.at(f, I, J + 1)];
-                else
-                    p = (fi + fj - 1) * at[coarse.at(f, I + 1, J + 1)] + (1 - fj) * at[coarse.at(f, I + 1, J)] +
-                        (1 - fi) * at[coarse.at(f, I, J + 1)];
-                points[fine.at(f, i, j)] = geom::normalized(p);
+                const bool lower = ri + rj <= n;
+                const int64_t p0 = lower ? coarse.at(f, I, J) : coarse.at(f, I + 1, J + 1),
+                              p1 = coarse.at(f, I + 1, J), p2 = coarse.at(f, I, J + 1);
+                if (!at_placed[p0] || !at_placed[p1] || !at_placed[p2]) continue;
+                const Vec3 p = lower ? (1 - fi - fj) * at[p0] + fi * at[p1] + fj * at[p2]
+                                     : (fi + fj - 1) * at[p0] + (1 - fj) * at[p1] + (1 - fi) * at[p2];
+                place(fine.at(f, i, j), geom::normalized(p));
             }
         }
     });
+    return points;
+}
+
+// The relaxed frequency-n lattice (around a cap, when given: the points
+// `placed` says).
+Points relaxed_lattice(Context &ctx, int64_t n, const Cap *cap, Placed &placed) {
+    if (n <= kCoarsest) {
+        const std::vector<Vec3> start = geodesic_lattice(n);
+        Points points(start.begin(), start.end());
+        placed = Placed();
+        relax(ctx, LatticeIndex(n), points, kCoarseSweeps, nullptr, placed);
+        return points;
+    }
+    const LatticeIndex coarse((n + 1) / 2), fine(n);
+    Placed coarse_placed;
+    Points coarse_points = relaxed_lattice(ctx, coarse.frequency(), cap, coarse_placed);
+    Points points = interpolate(ctx, coarse, coarse_points, coarse_placed, fine, cap, placed);
+    release(coarse_points);
+    const std::unique_ptr<Active> active = active_within(ctx, fine, points, placed, cap);
+    relax(ctx, fine, points, kFineSweeps, active.get(), placed);
     return points;
 }
 
@@ -359,19 +427,22 @@ std::vector<Vec3> geodesic_lattice(int64_t n) {
     return points;
 }
 
-std::vector<Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t n, const Cap *cap) {
-    if (n <= kCoarsest) {
-        std::vector<Vec3> points = geodesic_lattice(n);
-        relax(ctx, LatticeIndex(n), points, kCoarseSweeps);
-        return points;
-    }
-    const LatticeIndex coarse((n + 1) / 2), fine(n);
-    std::vector<Vec3> coarse_points = relaxed_geodesic_lattice(ctx, coarse.frequency(), cap);
-    std::vector<Vec3> points = interpolate(ctx, coarse, coarse_points, fine);
-    release(coarse_points);
-    const std::unique_ptr<Active> active = active_within(ctx, fine, points, cap);
-    relax(ctx, fine, points, kFineSweeps, active.get());
-    return points;
+std::vector<Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t n) {
+    Placed placed;
+    const Points points = relaxed_lattice(ctx, n, nullptr, placed);
+    return std::vector<Vec3>(points.begin(), points.end());
+}
+
+LatticeRegion relaxed_lattice_region(Context &ctx, int64_t n, const Cap &cap) {
+    Placed placed;
+    const Points points = relaxed_lattice(ctx, n, &cap, placed);
+    LatticeRegion region;
+    for (int64_t p = 0; p < static_cast<int64_t>(points.size()); ++p)
+        if (placed[p]) {
+            region.points.push_back(points[p]);
+            region.index.push_back(p);
+        }
+    return region;
 }
 
 }  // namespace um::refine

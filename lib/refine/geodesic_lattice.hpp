@@ -37,18 +37,28 @@ std::vector<geom::Vec3> geodesic_lattice(int64_t frequency);
 // to fine: the relaxed lattice of half the frequency, interpolated, then a
 // few sweeps at each frequency, about eleven sweeps of the finest in all.
 // Deterministic for any thread count.
-//
-// With a cap (a regional mesh's: centre, radius in radians), only the
-// points within the cap come relaxed: each frequency relaxes only its
-// points within a margin of kCapMargin of its edges beyond the cap, those
-// farther held where the coarser one put them (the margin keeps that edge,
-// and what the coarser ones left there, beyond a relaxation's reach); the
-// other points are placed but not relaxed.
+std::vector<geom::Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t frequency);
+
+// A regional mesh's part of the relaxed lattice, around a cap (centre,
+// radius in radians): each frequency relaxes only its points within a
+// margin of kCapMargin of its edge lengths beyond the cap, those farther
+// held where the coarser one put them (the margin keeps that edge, and what
+// the coarser ones left there, beyond a relaxation's reach); and places
+// only the points within kHeldMargin edge lengths beyond those (what the
+// relaxation reads, and the finer frequency's placement), so that the work
+// goes with the cap's area, not the sphere's. Returned: the points placed
+// at the finest frequency (every point within the cap, and the 12 corners
+// first), in geodesic_lattice's order, with each one's place in it.
 struct Cap {
     geom::Vec3 centre;
     double radius;
 };
 constexpr double kCapMargin = 16;
-std::vector<geom::Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t frequency, const Cap *cap = nullptr);
+constexpr double kHeldMargin = 4;
+struct LatticeRegion {
+    std::vector<geom::Vec3> points;
+    std::vector<int64_t> index;  // ascending
+};
+LatticeRegion relaxed_lattice_region(Context &ctx, int64_t frequency, const Cap &cap);
 
 }  // namespace um::refine

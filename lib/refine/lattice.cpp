@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
 #include "tri/spatial_order.hpp"
 
@@ -69,10 +68,14 @@ std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, cons
         const double needed = domain->area() / (0.8660254037844386 * h0 * h0);
         if (10.0 * n * n > std::max(kRegionalLatticeRatio * needed, double(kRegionalLatticeFloor))) n = 0;
     }
-    // (Relaxed only around a domain that a cap smaller than a hemisphere holds.)
-    std::optional<Cap> cap;
-    if (domain && domain->cap_radius() < M_PI / 2) cap = Cap{domain->cap_centre(), domain->cap_radius()};
-    std::vector<Vec3> points = relaxed_geodesic_lattice(ctx, std::max<int64_t>(n, 1), cap ? &*cap : nullptr);
+    // (Relaxed, and placed, only around a domain that a cap smaller than a
+    // hemisphere holds: the corners first, then the points around the cap.)
+    const int64_t frequency = std::max<int64_t>(n, 1);
+    std::vector<Vec3> points;
+    if (domain && domain->cap_radius() < M_PI / 2)
+        points = relaxed_lattice_region(ctx, frequency, Cap{domain->cap_centre(), domain->cap_radius()}).points;
+    else
+        points = relaxed_geodesic_lattice(ctx, frequency);
     std::vector<uint8_t> keep(points.size(), 0);
     ctx.parallel_for_with_heartbeat(kStage, static_cast<int64_t>(points.size()), 16, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
