@@ -14,6 +14,8 @@ import json
 import math
 import sys
 
+from plot_signal import arguments_when_told
+
 # Exit status 3: matplotlib, numpy or netCDF4 is missing (the caller's hint
 # names the packages); any other failure is reported on stderr as it is.
 try:
@@ -229,4 +231,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(main(arguments_when_told(sys.argv)))

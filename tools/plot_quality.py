@@ -11,6 +11,8 @@ python3-matplotlib, without a display.
 import json
 import sys
 
+from plot_signal import arguments_when_told
+
 # Exit status 3: matplotlib is missing (the caller's hint names the package);
 # any other failure (a full disk, say) is reported on stderr as it is.
 try:
@@ -76,4 +78,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(main(arguments_when_told(sys.argv)))

@@ -433,6 +433,20 @@ def snapshot(folder):
     return out
 
 
+def plot_processes_on(folder):
+    """The command lines of the running processes that draw into folder."""
+    found = []
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            with open(f"/proc/{pid}/cmdline", "rb") as f:
+                args = f.read().decode(errors="replace").split("\0")
+        except OSError:
+            continue
+        if any(a.endswith(".py") and "plot_" in a for a in args) and any(folder in a for a in args):
+            found.append(" ".join(args))
+    return found
+
+
 def limit_file_size(ignore_signal):
     """preexec_fn: files of the child stop at 64 KB (writes fail with EFBIG, or
     SIGXFSZ kills the child mid-write)."""
@@ -461,6 +475,13 @@ class Outputs(unittest.TestCase):
                 with self.subTest(killed=not ignore_signal):
                     r = self.build(out, 700, preexec_fn=limit_file_size(ignore_signal))
                     self.assertNotEqual(r.returncode, 0)
+                    # The pictures' scripts, started before the files are
+                    # written, end with the run (killed: when they find no
+                    # one left to tell them to draw).
+                    deadline = time.monotonic() + (0 if ignore_signal else 20)
+                    while plot_processes_on(out) and time.monotonic() < deadline:
+                        time.sleep(0.2)
+                    self.assertEqual(plot_processes_on(out), [])
                     after = snapshot(out)
                     stale = [n for n in after if n.startswith(".unimesh-staging-")]
                     if ignore_signal:  # a failure cleans up; a killed run cannot

@@ -1,6 +1,7 @@
 #include "build_command.hpp"
 
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -282,31 +283,53 @@ std::string plot_script(const std::string &name) {
 // it fails.
 const char *plot_python() { return access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3"; }
 
-// A plot script running beside the build (pid < 0: it could not start).
+// A plot script running beside the build (pid < 0: it could not start),
+// and the socket it waits on for its start (tools/plot_signal.py) until
+// tell_plot says its input is written (-1: none, or said).
 struct Plot {
     pid_t pid = -1;
     std::string script_path, shown;
+    int go = -1;
 };
 
+// Starts the script before its input is written, so that Python loads its
+// packages (half a second or more) while the build goes on.
 Plot start_plot(const std::string &script, const std::vector<std::string> &arguments, const std::string &shown) {
     Plot p{-1, plot_script(script), shown};
-    std::vector<char *> argv{const_cast<char *>(plot_python()), const_cast<char *>(p.script_path.c_str())};
+    int ends[2];
+    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, ends) != 0) return p;
+    std::vector<char *> argv{const_cast<char *>(plot_python()), const_cast<char *>(p.script_path.c_str()),
+                             const_cast<char *>("--when-told")};
     for (const std::string &a : arguments) argv.push_back(const_cast<char *>(a.c_str()));
     argv.push_back(nullptr);
     p.pid = fork();
     if (p.pid == 0) {
+        if (dup2(ends[1], STDIN_FILENO) < 0) _exit(127);
         execvp(plot_python(), argv.data());
         _exit(127);
     }
+    close(ends[1]);
+    if (p.pid > 0) p.go = ends[0];
+    else close(ends[0]);
     return p;
+}
+
+// The plot's input is complete: it may draw. (MSG_NOSIGNAL: a script that
+// already ended, without matplotlib say, must not take the build down.)
+void tell_plot(Plot &p) {
+    if (p.go < 0) return;
+    (void)send(p.go, "go\n", 3, MSG_NOSIGNAL);
+    close(p.go);
+    p.go = -1;
 }
 
 // Stops and waits for a plot still running when the build fails, so that
 // none outlives the command (finish_plot marks a plot it waited for).
 struct PlotAwaited {
-    const std::optional<Plot> &plot;
+    std::optional<Plot> &plot;
     ~PlotAwaited() {
         if (!plot || plot->pid <= 0) return;
+        if (plot->go >= 0) close(plot->go);  // not told: it ends without drawing
         kill(plot->pid, SIGTERM);
         waitpid(plot->pid, nullptr, 0);
     }
@@ -315,6 +338,7 @@ struct PlotAwaited {
 // Whether the picture was drawn; a warning on stderr when not. p is then
 // waited for (pid 0).
 bool finish_plot(Plot &p) {
+    tell_plot(p);
     int status = -1;
     const bool started = p.pid > 0;
     if (started) waitpid(p.pid, &status, 0);
@@ -430,6 +454,14 @@ int run_build(const BuildArgs &a) {
             took.emplace_back(what, std::chrono::duration<double>(now - last).count());
             last = now;
         };
+        // The pictures' scripts start now and draw once told their input
+        // (mesh.nc; quality.json) is written: the map while the other
+        // outputs are made.
+        std::optional<Plot> map = start_map(a, mesh_nc, out->staged("mesh.png"), dir + "mesh.png", cell_count(m));
+        const PlotAwaited map_awaited{map};
+        std::optional<Plot> histograms = start_plot(
+            "plot_quality.py", {out->staged("quality.json"), out->staged("quality.png")}, dir + "quality.png");
+        const PlotAwaited histograms_awaited{histograms};
         if (a.components) {
             check(um_mesh_write_components(m, out->staging_directory().c_str()), ctx, "writing the components into " + dir);
             print_river_summary(out->staged("rivers.json"));
@@ -439,10 +471,7 @@ int run_build(const BuildArgs &a) {
             check(um_mesh_write_mpas_as(m, mesh_nc.c_str(), format), ctx, "writing " + dir + "mesh.nc");
             lap("MPAS mesh");
         }
-        // The map reads only mesh.nc: drawn in its own process while the
-        // other outputs are made.
-        std::optional<Plot> map = start_map(a, mesh_nc, out->staged("mesh.png"), dir + "mesh.png", cell_count(m));
-        const PlotAwaited map_awaited{map};
+        if (map) tell_plot(*map);
         std::vector<std::string> &component_files = a.components ? written : not_written;
         component_files.insert(component_files.end(), kComponentFiles.begin(), kComponentFiles.end());
         std::string extra_error;
@@ -466,9 +495,7 @@ int run_build(const BuildArgs &a) {
         write_text(out->staged("quality.json"), quality);
         written.push_back("quality.json");
         lap("quality.json");
-        Plot histograms = start_plot("plot_quality.py", {out->staged("quality.json"), out->staged("quality.png")},
-                                     dir + "quality.png");
-        (finish_plot(histograms) ? written : not_written).push_back("quality.png");
+        (finish_plot(*histograms) ? written : not_written).push_back("quality.png");
         (map && finish_plot(*map) ? written : not_written).push_back("mesh.png");
         lap("pictures");
         try {
