@@ -50,13 +50,23 @@ void MeshState::grow_slots() {
 
 void MeshState::load_spacing() {
     grow_slots();
-    if (domain) in_cover.assign(static_cast<size_t>(tri.vertex_slots()), 0);
+    if (domain) {
+        in_cover.assign(static_cast<size_t>(tri.vertex_slots()), 0);
+        loaded.resize(static_cast<size_t>(tri.vertex_slots()));
+    }
     ctx.parallel_for_with_heartbeat("optimise", tri.vertex_slots(), 256, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             const int32_t v = static_cast<int32_t>(i);
             if (!tri.in_triangulation(v)) continue;
-            h_at[v] = static_cast<float>(h(tri.direction(v)));
-            if (domain) in_cover[v] = domain->in_cover(tri.direction(v), on_segment[v]);
+            const Vec3 x = tri.direction(v);
+            if (!domain) {
+                h_at[v] = static_cast<float>(h(x));
+                continue;
+            }
+            LoadedSpacing &l = loaded[v];
+            if (!(l.at.x == x.x && l.at.y == x.y && l.at.z == x.z && l.segment == on_segment[v]))
+                l = {x, on_segment[v], static_cast<float>(h(x)), domain->in_cover(x, on_segment[v])};
+            h_at[v] = l.h, in_cover[v] = l.cover;
         }
     });
 }

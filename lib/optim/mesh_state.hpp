@@ -116,6 +116,17 @@ public:
     // (load_spacing); a vertex added since counts as not.
     const features::Domain *domain;
     std::vector<uint8_t> in_cover;
+    // A regional mesh's spacing and cover as load_spacing found them, per
+    // slot, with the place and Gamma segment they were found for: the
+    // cover's spacing searches the rings near them, and few vertices move
+    // between two loads.
+    struct LoadedSpacing {
+        geom::Vec3 at{std::numeric_limits<double>::quiet_NaN(), 0, 0};  // (matches no place)
+        int32_t segment = -1;
+        float h = 0;
+        uint8_t cover = 0;
+    };
+    std::vector<LoadedSpacing> loaded;
     bool cover(int32_t v) const { return static_cast<size_t>(v) < in_cover.size() && in_cover[v]; }
     bool touches_cover(int32_t t) const {
         return !in_cover.empty() && (cover(tri.vertex(t, 0)) || cover(tri.vertex(t, 1)) || cover(tri.vertex(t, 2)));
