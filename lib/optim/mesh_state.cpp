@@ -52,6 +52,7 @@ void MeshState::load_spacing() {
     grow_slots();
     if (domain) {
         in_cover.assign(static_cast<size_t>(tri.vertex_slots()), 0);
+        reserve_for(loaded, static_cast<size_t>(tri.vertex_slots()));
         loaded.resize(static_cast<size_t>(tri.vertex_slots()));
     }
     ctx.parallel_for_with_heartbeat("optimise", tri.vertex_slots(), 256, [&](int64_t b, int64_t e) {

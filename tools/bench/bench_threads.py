@@ -38,6 +38,9 @@ def timed(commands):
     for child, command in zip(children, commands):
         _, err = child.communicate()
         if child.returncode != 0:
+            for other in children:  # none left writing into the folder about to go
+                other.kill()
+                other.wait()
             sys.exit(f"bench_threads: {' '.join(command)} failed: {err.strip()}")
     return time.monotonic() - start
 
