@@ -14,6 +14,7 @@
 #include <cmocka.h>
 
 #include "context_fixture.h"
+#include "shipped_features.h"
 #include "unimesh.h"
 
 #define TEST_DATA(name) UNIMESH_TEST_DATA_DIR "/" name
@@ -374,10 +375,7 @@ static void null_destroyed_and_foreign_handles(void **state) {
 
 static void shipped_data(void **state) {
     um_context *ctx = *state;
-    um_features *f = NULL;
-    assert_int_equal(um_features_create(ctx, &f), UM_OK);
-    assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_global_l.geojson", NULL, 0), UM_OK);
-    assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/rivers_global_l.geojson", NULL, 0), UM_OK);
+    um_features *f = shipped_features(ctx, 1);
     int64_t np, nv, ns;
     counts(f, &np, &nv, &ns);
     /* 813 closed shorelines (44,103 positions, closing ones stored once) and

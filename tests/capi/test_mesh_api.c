@@ -11,6 +11,7 @@
 #include <cmocka.h>
 
 #include "context_fixture.h"
+#include "shipped_features.h"
 #include "unimesh.h"
 
 #define DEG (M_PI / 180.0)
@@ -130,9 +131,7 @@ static void same_mesh_for_any_thread_count(void **state) {
     assert_int_equal(um_spacing_create_constant(ctx, 60.0, &fine), UM_OK);
     /* Without and with features (the boundary passes and their parallel
      * searches for restricted edges). */
-    um_features *f = NULL;
-    assert_int_equal(um_features_create(ctx, &f), UM_OK);
-    assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_global_l.geojson", NULL, 0), UM_OK);
+    um_features *f = shipped_features(ctx, 0);
     for (int with_features = 0; with_features <= 2; ++with_features) {
         mesh_copy ref = {0};
         for (int threads = 1; threads <= 3; ++threads) {

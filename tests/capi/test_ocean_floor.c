@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "context_fixture.h"
+#include "shipped_features.h"
 #include "unimesh.h"
 
 #define H_KM 200.0
@@ -256,10 +257,7 @@ static void the_floor_is_bit_identical_for_any_thread_count(void **state) {
  * that the pass had taken for a land one. */
 static void the_floor_holds_by_the_reports_sides(void **state) {
     um_context *ctx = *state;
-    um_features *f = NULL;
-    assert_int_equal(um_features_create(ctx, &f), UM_OK);
-    assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_global_l.geojson", NULL, 0), UM_OK);
-    assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/rivers_global_l.geojson", NULL, 0), UM_OK);
+    um_features *f = shipped_features(ctx, 1);
     um_spacing *h = NULL;
     um_mesh *m = NULL;
     assert_int_equal(um_spacing_create_constant(ctx, 64.0, &h), UM_OK);

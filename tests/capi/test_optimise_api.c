@@ -13,6 +13,7 @@
 #include <cmocka.h>
 
 #include "context_fixture.h"
+#include "shipped_features.h"
 #include "unimesh.h"
 
 #define DEG (M_PI / 180.0)
@@ -293,9 +294,7 @@ static int64_t gamma_vertices_removed(const um_mesh *m) {
  * lies on a segment of the part it is tagged with, to rounding. */
 static void vertices_on_features_stay_on_them(void **state) {
     um_context *ctx = *state;
-    um_features *f = NULL;
-    assert_int_equal(um_features_create(ctx, &f), UM_OK);
-    assert_int_equal(um_features_read_geojson(f, UNIMESH_DATA_DIR "/coast_global_l.geojson", NULL, 0), UM_OK);
+    um_features *f = shipped_features(ctx, 0);
     int64_t np = 0, npt = 0;
     um_features_counts(f, &np, &npt, NULL);
     double *plon = malloc(npt * sizeof(double)), *plat = malloc(npt * sizeof(double));
