@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
+#include <system_error>
 
 #include "core/error.hpp"
 #include "io/error_text.hpp"
@@ -30,6 +31,7 @@ DirectRegions::DirectRegions(const ReplacingFile &file, std::vector<uint64_t> be
 }
 
 DirectRegions::~DirectRegions() {
+    device_.reset();  // its thread writes to fd_
     if (fd_ >= 0) ::close(fd_);
 }
 
@@ -53,15 +55,7 @@ void DirectRegions::append(size_t r, uint64_t offset, const void *data, size_t n
         const size_t take = static_cast<size_t>(std::min<uint64_t>(n, last - at));
         const size_t total = carry.size() + take, whole = static_cast<size_t>(round_down(total, kBlock));
         if (whole > 0) {  // the carry starts where the last whole block written ends
-            if (staging_bytes_ < whole) {
-                void *memory = std::aligned_alloc(kBlock, whole);
-                if (!memory) throw std::bad_alloc();
-                staging_ = {static_cast<unsigned char *>(memory), std::free};
-                staging_bytes_ = whole;
-            }
-            if (!carry.empty()) std::memcpy(staging_.get(), carry.data(), carry.size());
-            std::memcpy(staging_.get() + carry.size(), p, whole - carry.size());
-            write_whole_blocks(at - carry.size(), staging_.get(), whole);
+            write_whole_blocks(at - carry.size(), carry, p, whole);
             if (fd_ < 0) flush_carries_but(r);  // refused just now: the other regions' carries too
         }
         const size_t kept = total - whole;  // the new carry: the last `kept` bytes of carry + p[0, take)
@@ -80,26 +74,41 @@ void DirectRegions::append(size_t r, uint64_t offset, const void *data, size_t n
     if (n > 0) through_cache(n);
 }
 
-void DirectRegions::write_whole_blocks(uint64_t offset, const unsigned char *data, size_t n) {
-    while (n > 0) {
-        const ssize_t wrote = ::pwrite(fd_, data, n, static_cast<off_t>(offset));
-        if (wrote < 0 && errno == EINTR) continue;
-        if (wrote < 0 && errno == EINVAL) {  // O_DIRECT refused at the first write: the cache, from now on
-            ::close(fd_);
-            fd_ = -1;
-            file_.write_at(offset, data, n);
-            return;
-        }
-        if (wrote <= 0 || static_cast<size_t>(wrote) % kBlock != 0) {
-            if (wrote > 0) {  // a partial block written: the rest through the cache
-                file_.write_at(offset + static_cast<uint64_t>(wrote), data + wrote, n - static_cast<size_t>(wrote));
-                return;
-            }
-            file_.write_at(offset, data, n);  // the same bytes through the cache: its error (a full disk) names the file
-            return;
-        }
-        data += wrote, offset += static_cast<uint64_t>(wrote), n -= static_cast<size_t>(wrote);
+// The `whole` bytes of carry followed by p, at `offset`: on the device
+// thread once there is one, else on this one.
+void DirectRegions::write_whole_blocks(uint64_t offset, const std::vector<unsigned char> &carry,
+                                       const unsigned char *p, size_t whole) {
+    auto fill = [&](unsigned char *to) {
+        if (!carry.empty()) std::memcpy(to, carry.data(), carry.size());
+        std::memcpy(to + carry.size(), p, whole - carry.size());
+    };
+    if (device_) {
+        DeviceWrites::Staging staging = device_->take(whole);
+        fill(staging.data());
+        device_->write(std::move(staging), offset, whole);
+        return;
     }
+    if (staging_bytes_ < whole) {
+        void *memory = std::aligned_alloc(kBlock, static_cast<size_t>(round_up(whole, kBlock)));
+        if (!memory) throw std::bad_alloc();
+        staging_ = {static_cast<unsigned char *>(memory), std::free};
+        staging_bytes_ = whole;
+    }
+    fill(staging_.get());
+    if (!write_direct(fd_, offset, staging_.get(), whole, cache_fallback())) {  // refused: the cache from now on
+        ::close(fd_);
+        fd_ = -1;
+        return;
+    }
+    try {
+        device_ = std::make_unique<DeviceWrites>(fd_, cache_fallback());
+        staging_.reset(), staging_bytes_ = 0;
+    } catch (const std::system_error &) {  // no thread to be had: the writes stay on this one
+    }
+}
+
+DeviceWrites::Fallback DirectRegions::cache_fallback() const {
+    return [&file = file_](uint64_t offset, const unsigned char *data, size_t n) { file.write_at(offset, data, n); };
 }
 
 void DirectRegions::flush_carries_but(size_t r) {
@@ -110,7 +119,8 @@ void DirectRegions::flush_carries_but(size_t r) {
         }
 }
 
-void DirectRegions::check_complete() const {
+void DirectRegions::finish() {
+    if (device_) device_->finish();
     for (size_t r = 0; r < begin_.size(); ++r)
         if (next_[r] != end_[r] || !carry_[r].empty())
             fail(UM_ERR_INTERNAL, "DirectRegions: region ", r, " [", begin_[r], ", ", end_[r], ") has bytes up to ",

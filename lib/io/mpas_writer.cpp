@@ -418,7 +418,7 @@ void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, 
     const std::string id = file_id_of(probe.radius_m, fields, finish(hashes, probe, fields));
     if (!through_netcdf) {  // netCDF has closed the file: no lock for the flush
         lock.unlock();
-        if (direct) direct->check_complete();
+        if (direct) direct->finish();
         nc.file().write_at(offsets.file_id, id.data(), id.size());
         nc.commit();
         return;

@@ -8,6 +8,7 @@
 #include <cstdarg>
 #include <cstddef>
 #include <csetjmp>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -35,6 +36,7 @@
 // cmocka last: it defines a fail() macro.
 extern "C" {
 #include <cmocka.h>
+#include <sys/resource.h>
 #include <unistd.h>
 }
 
@@ -800,7 +802,7 @@ void direct_regions_write_every_byte(void **) {
                     next[r] += piece, left = true;
                 }
             }
-            regions.check_complete();
+            regions.finish();
             file.write_at(at, expected.data() + at, 100);  // the end of the file, as the header is written
             file.commit();
         }
@@ -810,6 +812,36 @@ void direct_regions_write_every_byte(void **) {
             assert_true(got.compare(begin[r], end[r] - begin[r], expected, begin[r], end[r] - begin[r]) == 0);
         std::remove(path.c_str());
     }
+}
+
+// A write that fails on the device thread (here: beyond the process's file
+// size limit, EFBIG with SIGXFSZ ignored) is thrown to the caller, by a
+// later append or by finish, as an I/O error naming the file.
+void direct_regions_report_failed_writes(void **) {
+    const std::string path = output_path("test_dual_direct_regions_limit.bin");
+    const size_t piece = size_t(1) << 20;
+    const std::vector<unsigned char> bytes(piece, 0x5a);
+    rlimit old_limit{};
+    assert_int_equal(::getrlimit(RLIMIT_FSIZE, &old_limit), 0);
+    rlimit limit = old_limit;
+    limit.rlim_cur = 4 * piece;
+    void (*old_handler)(int) = std::signal(SIGXFSZ, SIG_IGN);
+    assert_int_equal(::setrlimit(RLIMIT_FSIZE, &limit), 0);
+    int status = UM_OK;
+    std::string message;
+    try {
+        io::ReplacingFile file(path, "test file");
+        io::DirectRegions regions(file, {0}, {16 * piece});
+        for (size_t k = 0; k < 16; ++k) regions.append(0, k * piece, bytes.data(), piece);
+        regions.finish();
+    } catch (const Error &e) {
+        status = e.status(), message = e.what();
+    }
+    ::setrlimit(RLIMIT_FSIZE, &old_limit);
+    std::signal(SIGXFSZ, old_handler);
+    assert_int_equal(status, UM_ERR_IO);
+    assert_non_null(std::strstr(message.c_str(), path.c_str()));
+    assert_int_equal(::access(path.c_str(), F_OK), -1);  // nothing left under the final name
 }
 
 void write_errors_name_the_file(void **) {
@@ -840,6 +872,7 @@ int main() {
         cmocka_unit_test(streamed_file_matches_whole_mesh),
         cmocka_unit_test(large_variables_give_cdf5),
         cmocka_unit_test(direct_regions_write_every_byte),
+        cmocka_unit_test(direct_regions_report_failed_writes),
         cmocka_unit_test(write_errors_name_the_file),
     };
     return cmocka_run_group_tests_name("dual", tests, nullptr, nullptr);
