@@ -2,11 +2,11 @@
 
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
-#include <cstdlib>
-#include <new>
 #include <utility>
+
+#include "core/error.hpp"
+#include "core/huge_pages.hpp"
 
 namespace um::io {
 
@@ -44,36 +44,35 @@ DeviceWrites::~DeviceWrites() {
     thread_.join();
 }
 
-DeviceWrites::Staging DeviceWrites::take(size_t n) {
+DeviceWrites::Staging DeviceWrites::take() {
     std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [&] { return failure_ || queued_bytes_ == 0 || queued_bytes_ + n <= kMaxQueuedBytes; });
+    changed_.wait(lock, [&] { return failure_ || !free_.empty() || allocated_ < kBuffers; });
     rethrow_failure_locked();
-    // The smallest free buffer that holds n bytes without being more than
-    // twice as large (so the queue's buffers stay within twice its bytes).
-    auto best = free_.end();
-    for (auto it = free_.begin(); it != free_.end(); ++it)
-        if (it->capacity >= n && it->capacity / 2 <= n && (best == free_.end() || it->capacity < best->capacity))
-            best = it;
-    if (best != free_.end()) {
-        Staging s = std::move(*best);
-        free_.erase(best);
+    if (!free_.empty()) {
+        Staging s = std::move(free_.back());
+        free_.pop_back();
         return s;
     }
+    ++allocated_;
     lock.unlock();
-    const size_t bytes = (n + kAlignment - 1) / kAlignment * kAlignment;
-    void *memory = std::aligned_alloc(kAlignment, bytes);
-    if (!memory) throw std::bad_alloc();
-    Staging s;
-    s.bytes = {static_cast<unsigned char *>(memory), std::free};
-    s.capacity = bytes;
-    return s;
+    try {
+        void *memory = allocate_huge_aligned(kPieceBytes);
+        advise_huge_pages(memory, kPieceBytes);
+        return Staging(static_cast<unsigned char *>(memory));
+    } catch (...) {
+        lock.lock();
+        --allocated_;
+        throw;
+    }
 }
 
+void DeviceWrites::FreePiece::operator()(unsigned char *p) const noexcept { free_huge_aligned(p, kPieceBytes); }
+
 void DeviceWrites::write(Staging buffer, uint64_t offset, size_t n) {
+    if (n > kPieceBytes || n % kAlignment != 0) fail(UM_ERR_INTERNAL, "DeviceWrites: a piece of ", n, " bytes");
     {
         std::lock_guard<std::mutex> lock(mutex_);
         rethrow_failure_locked();
-        queued_bytes_ += n;
         jobs_.push_back({std::move(buffer), offset, n});
     }
     changed_.notify_all();
@@ -114,14 +113,12 @@ void DeviceWrites::run() {
         }
         lock.lock();
         if (failed && !failure_) failure_ = failed;
-        queued_bytes_ -= job.n;
         free_.push_back(std::move(job.buffer));
-        if (free_.size() > kFreeBuffers) free_.erase(free_.begin());  // the longest unused
         busy_ = false;
         changed_.notify_all();
     }
 }
 
-void DeviceWrites::write_now(const Job &job) { write_direct(fd_, job.offset, job.buffer.data(), job.n, fallback_); }
+void DeviceWrites::write_now(const Job &job) { write_direct(fd_, job.offset, job.buffer.get(), job.n, fallback_); }
 
 }  // namespace um::io

@@ -25,18 +25,19 @@ namespace um::io {
 class DeviceWrites {
 public:
     static constexpr size_t kAlignment = 4096;
-    // At most this many bytes handed over and not yet written (take waits).
-    static constexpr size_t kMaxQueuedBytes = size_t(64) << 20;
+    // Pieces of at most kPieceBytes, in at most kBuffers buffers of that
+    // size, allocated as needed and used again: 32 MiB queued at most.
+    static constexpr size_t kPieceBytes = size_t(8) << 20;
+    static constexpr size_t kBuffers = 4;
     static constexpr size_t kSyncBytes = size_t(64) << 20;
-    // Buffers kept for use again (a variable's pieces come a block at a time).
-    static constexpr size_t kFreeBuffers = 8;
 
-    // A 4 KiB-aligned buffer, as O_DIRECT asks of the memory it reads.
-    struct Staging {
-        std::unique_ptr<unsigned char, void (*)(void *)> bytes{nullptr, nullptr};
-        size_t capacity = 0;
-        unsigned char *data() const { return bytes.get(); }
+    // kPieceBytes on huge pages (first touched, 4 KiB pages cost some 100 ms
+    // of page faults per 64 MiB here), aligned as O_DIRECT asks of
+    // the memory it reads.
+    struct FreePiece {
+        void operator()(unsigned char *p) const noexcept;
     };
+    using Staging = std::unique_ptr<unsigned char, FreePiece>;
     // The same bytes written another way (through the page cache), for a
     // write the device refuses or takes in part; throws um::Error naming
     // the file when that fails too.
@@ -49,10 +50,11 @@ public:
     DeviceWrites(const DeviceWrites &) = delete;
     DeviceWrites &operator=(const DeviceWrites &) = delete;
 
-    // A buffer of at least n bytes to fill and hand to write(); waits while
-    // kMaxQueuedBytes are queued. Rethrows the first failure of a write.
-    Staging take(size_t n);
-    // Bytes [0, n) of `buffer` at `offset` of the file (n a multiple of 4 KiB).
+    // A buffer of kPieceBytes to fill and hand to write(); waits while all
+    // kBuffers are queued. Rethrows the first failure of a write.
+    Staging take();
+    // Bytes [0, n) of `buffer` at `offset` of the file (n a multiple of
+    // 4 KiB, at most kPieceBytes).
     void write(Staging buffer, uint64_t offset, size_t n);
     // Waits until every write handed over is done; rethrows the first
     // failure of one.
@@ -74,7 +76,7 @@ private:
     std::condition_variable changed_;
     std::deque<Job> jobs_;
     std::vector<Staging> free_;  // buffers written, to be used again
-    size_t queued_bytes_ = 0;
+    size_t allocated_ = 0;
     bool busy_ = false, stopping_ = false;
     std::exception_ptr failure_;
     std::thread thread_;  // last: started once the rest is in place

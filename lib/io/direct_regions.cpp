@@ -75,17 +75,22 @@ void DirectRegions::append(size_t r, uint64_t offset, const void *data, size_t n
 }
 
 // The `whole` bytes of carry followed by p, at `offset`: on the device
-// thread once there is one, else on this one.
+// thread once there is one, in pieces of its buffers' size, else on this one.
 void DirectRegions::write_whole_blocks(uint64_t offset, const std::vector<unsigned char> &carry,
                                        const unsigned char *p, size_t whole) {
-    auto fill = [&](unsigned char *to) {
-        if (!carry.empty()) std::memcpy(to, carry.data(), carry.size());
-        std::memcpy(to + carry.size(), p, whole - carry.size());
+    // Bytes [from, from + n) of carry followed by p, to `to`.
+    auto fill = [&](unsigned char *to, size_t from, size_t n) {
+        const size_t from_carry = from < carry.size() ? std::min(n, carry.size() - from) : 0;
+        if (from_carry > 0) std::memcpy(to, carry.data() + from, from_carry);
+        if (n > from_carry) std::memcpy(to + from_carry, p + (from + from_carry - carry.size()), n - from_carry);
     };
     if (device_) {
-        DeviceWrites::Staging staging = device_->take(whole);
-        fill(staging.data());
-        device_->write(std::move(staging), offset, whole);
+        for (size_t done = 0; done < whole; done += DeviceWrites::kPieceBytes) {
+            const size_t n = std::min(whole - done, DeviceWrites::kPieceBytes);
+            DeviceWrites::Staging staging = device_->take();
+            fill(staging.get(), done, n);
+            device_->write(std::move(staging), offset + done, n);
+        }
         return;
     }
     if (staging_bytes_ < whole) {
@@ -94,7 +99,7 @@ void DirectRegions::write_whole_blocks(uint64_t offset, const std::vector<unsign
         staging_ = {static_cast<unsigned char *>(memory), std::free};
         staging_bytes_ = whole;
     }
-    fill(staging_.get());
+    fill(staging_.get(), 0, whole);
     if (!write_direct(fd_, offset, staging_.get(), whole, cache_fallback())) {  // refused: the cache from now on
         ::close(fd_);
         fd_ = -1;

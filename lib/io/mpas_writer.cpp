@@ -14,6 +14,7 @@
 #include <netcdf.h>
 
 #include "core/error.hpp"
+#include "core/uninit_vector.hpp"
 #include "dual/mpas_fields.hpp"
 #include "dual/mpas_source.hpp"
 #include "io/error_text.hpp"
@@ -241,7 +242,7 @@ private:
     bool through_netcdf_;
     std::vector<uint64_t> begins_;
     DirectRegions *direct_;
-    std::vector<unsigned char> bytes_;
+    UninitVector<unsigned char> bytes_;  // every byte written before it is read
 };
 
 // Rows [first, first + count) of f, whose arrays (in block) start at row
