@@ -1,7 +1,9 @@
 // Connectivity, positions, lengths, angles and areas of the MPAS mesh
 // (mpas-format.md, "What a generator must produce"), a block of rows at a
 // time from the layout's unit vectors, scaled by R.
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "dual/spherical.hpp"
 #include "dual/stages.hpp"
@@ -59,9 +61,8 @@ void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
     resize_rows(placed, n);
     if (areas) m.area_cell.resize(n);
     m.n_edges_on_cell.resize(n);
-    m.edges_on_cell.assign(w * n, kNone);
-    m.vertices_on_cell.assign(w * n, kNone);
-    m.cells_on_cell.assign(w * n, kNone);
+    // Each row written whole (its ring, then kNone) in the parallel loop.
+    for (auto *a : {&m.edges_on_cell, &m.vertices_on_cell, &m.cells_on_cell}) a->resize(w * n);
     ctx.parallel_for(count, 1024, [&](int64_t b, int64_t e) {
         CellRing ring;
         std::vector<Vec3> corner;
@@ -70,9 +71,11 @@ void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
             layout.cell_ring(c, ring);
             const int d = ring.degree();
             m.n_edges_on_cell[i] = d;
-            std::copy(ring.edges.begin(), ring.edges.end(), &m.edges_on_cell[w * i]);
-            std::copy(ring.vertices.begin(), ring.vertices.end(), &m.vertices_on_cell[w * i]);
-            std::copy(ring.cells.begin(), ring.cells.end(), &m.cells_on_cell[w * i]);
+            for (auto [from, to] : {std::pair{&ring.edges, &m.edges_on_cell}, std::pair{&ring.vertices, &m.vertices_on_cell},
+                                    std::pair{&ring.cells, &m.cells_on_cell}}) {
+                int32_t *row = &(*to)[w * i];
+                std::fill(std::copy(from->begin(), from->end(), row), row + w, kNone);
+            }
             place(placed, layout.cell_unit(c), radius, i);
             if (!areas) continue;
             // The power cell's polygon fanned from the centroid of its corners:

@@ -17,6 +17,7 @@
 
 #include "core/buffer.hpp"
 #include "core/radix_sort.hpp"
+#include "core/uninit_vector.hpp"
 #include "dual/stages.hpp"
 
 namespace um::dual {
@@ -34,8 +35,9 @@ struct CellStencil {
     const uint8_t *cell_first = nullptr;
 };
 
-// Appends the weights of edge e from the side of `cell` (side 0: it is c1,
-// 1: c2) at *slot of the row (edges_out, weights_out).
+// Appends the stencil of edge e from the side of `cell` (side 0: it is c1,
+// 1: c2) at *slot of the row: its edges, and their weights unless
+// weights_out is null.
 void side_weights(const CellStencil &cell, int32_t e, int side, double dc, int32_t *edges_out,
                   double *weights_out, int &slot) {
     const int d = cell.degree;
@@ -44,12 +46,14 @@ void side_weights(const CellStencil &cell, int32_t e, int side, double dc, int32
     double passed = 0;
     for (int step = 1; step < d; ++step) {
         const int j = (j0 + step) % d;
-        // The corner between edgesOnCell(j - 1) and (j) is verticesOnCell(j - 1).
-        passed += cell.fraction[(j + d - 1) % d];
-        double s = cell.cell_first[j] ? 1.0 : -1.0;
-        if (side == 1) s = -s;
         edges_out[slot] = cell.edges[j];
-        weights_out[slot] = s * (0.5 - passed) * cell.dv[j] / dc;
+        if (weights_out) {
+            // The corner between edgesOnCell(j - 1) and (j) is verticesOnCell(j - 1).
+            passed += cell.fraction[(j + d - 1) % d];
+            double s = cell.cell_first[j] ? 1.0 : -1.0;
+            if (side == 1) s = -s;
+            weights_out[slot] = s * (0.5 - passed) * cell.dv[j] / dc;
+        }
         ++slot;
     }
 }
@@ -67,19 +71,22 @@ void kites_to_fractions(double *kite, int d) {
 
 // The stencils of whole cells, max_edges wide, in a block of rows: built
 // from a mesh in memory (stencils_of_mesh) or from a layout (trsk_rows).
+// Sized without being written: each cell's first `degree` entries are
+// filled before they are read (fraction, dv and cell_first only for the
+// weights).
 struct Stencils {
     size_t width = 0;
-    std::vector<int32_t> degree, edges;
-    std::vector<double> fraction, dv;
-    std::vector<uint8_t> cell_first;
+    UninitVector<int32_t> degree, edges;
+    UninitVector<double> fraction, dv;
+    UninitVector<uint8_t> cell_first;
 
     void resize(size_t cells, size_t w) {
         width = w;
-        degree.assign(cells, 0);
-        edges.assign(w * cells, kNone);
-        fraction.assign(w * cells, 0.0);
-        dv.assign(w * cells, 0.0);
-        cell_first.assign(w * cells, 0);
+        degree.resize(cells);
+        edges.resize(w * cells);
+        fraction.resize(w * cells);
+        dv.resize(w * cells);
+        cell_first.resize(w * cells);
     }
     CellStencil operator[](size_t i) const {
         return {degree[i], &edges[width * i], &fraction[width * i], &dv[width * i], &cell_first[width * i]};
@@ -95,6 +102,7 @@ Stencils stencils_of_mesh(Context &ctx, const MpasMesh &m) {
             const int d = st.degree[c] = m.n_edges_on_cell[c];
             for (int j = 0; j < d; ++j) {
                 const int32_t v = m.vertices_on_cell[w * c + j], edge = m.edges_on_cell[w * c + j];
+                st.fraction[w * c + j] = 0.0;
                 for (int k = 0; k < 3; ++k)
                     if (m.cells_on_vertex[3 * int64_t(v) + k] == c)
                         st.fraction[w * c + j] = m.kite_areas_on_vertex[3 * int64_t(v) + k];
@@ -108,23 +116,30 @@ Stencils stencils_of_mesh(Context &ctx, const MpasMesh &m) {
     return st;
 }
 
-// Rows [0, count) of nEdgesOnEdge, edgesOnEdge and weightsOnEdge of m, whose
-// cellsOnEdge and dcEdge hold those rows; stencil_of(cell) gives a cell's.
+// Rows [0, count) of nEdgesOnEdge, edgesOnEdge and, with `weights`,
+// weightsOnEdge of m, whose cellsOnEdge and dcEdge hold those rows;
+// stencil_of(row, side) gives the stencil of the row's cell on that side.
+// Each row is written whole (its unused entries kNone and 0) in the
+// parallel loop: a block's arrays are 14 values a row.
 template <class StencilOf>
-void stencil_rows(Context &ctx, int64_t first, int64_t count, size_t w2, MpasMesh &m, StencilOf stencil_of) {
-    m.n_edges_on_edge.assign(static_cast<size_t>(count), 0);
-    m.edges_on_edge.assign(w2 * count, kNone);
-    m.weights_on_edge.assign(w2 * count, 0.0);
+void stencil_rows(Context &ctx, int64_t first, int64_t count, size_t w2, MpasMesh &m, bool weights,
+                  StencilOf stencil_of) {
+    m.n_edges_on_edge.resize(static_cast<size_t>(count));
+    m.edges_on_edge.resize(w2 * count);
+    m.weights_on_edge.resize(w2 * count);
     ctx.parallel_for(count, 4096, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
+            int32_t *edges = &m.edges_on_edge[w2 * i];
+            double *row_weights = &m.weights_on_edge[w2 * i];
             int slot = 0;
             for (int side = 0; side < 2; ++side) {
-                const int32_t cell = m.cells_on_edge[2 * i + side];
-                if (cell == kNone) continue;  // cut off with its cell (a component mesh)
-                side_weights(stencil_of(cell), static_cast<int32_t>(first + i), side, m.dc_edge[i],
-                             &m.edges_on_edge[w2 * i], &m.weights_on_edge[w2 * i], slot);
+                if (m.cells_on_edge[2 * i + side] == kNone) continue;  // cut off with its cell (a component mesh)
+                side_weights(stencil_of(i, side), static_cast<int32_t>(first + i), side, m.dc_edge[i], edges,
+                             weights ? row_weights : nullptr, slot);
             }
             m.n_edges_on_edge[i] = slot;
+            std::fill(edges + slot, edges + w2, kNone);
+            std::fill(row_weights + (weights ? slot : 0), row_weights + w2, 0.0);
         }
     });
 }
@@ -133,8 +148,9 @@ void stencil_rows(Context &ctx, int64_t first, int64_t count, size_t w2, MpasMes
 
 void fill_trsk_weights(Context &ctx, MpasMesh &m) {
     const Stencils st = stencils_of_mesh(ctx, m);
-    stencil_rows(ctx, 0, m.n_edges, static_cast<size_t>(m.max_edges2()), m,
-                 [&](int32_t cell) { return st[static_cast<size_t>(cell)]; });
+    stencil_rows(ctx, 0, m.n_edges, static_cast<size_t>(m.max_edges2()), m, true, [&](int64_t row, int side) {
+        return st[static_cast<size_t>(m.cells_on_edge[2 * row + side])];
+    });
 }
 
 // The stencils of the cells the block's edges touch, each built once from
@@ -143,17 +159,23 @@ void fill_trsk_weights(Context &ctx, MpasMesh &m) {
 void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
                MpasMesh &m, bool weights) {
     // The block's cells, sorted (in parallel: this is on the writer's
-    // critical path) and each once.
+    // critical path) and each once; of each cellsOnEdge value, the index of
+    // its cell among them.
     Buffer<uint64_t> keys(static_cast<size_t>(2 * count));
     ctx.parallel_for(2 * count, 1 << 14, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) keys[i] = static_cast<uint32_t>(m.cells_on_edge[i]);  // kNone: last
+        for (int64_t i = b; i < e; ++i)
+            keys[i] = uint64_t(static_cast<uint32_t>(m.cells_on_edge[i])) << 32 | uint64_t(i);  // kNone: last
     });
-    radix_sort(ctx, keys, 0, 32);
+    radix_sort(ctx, keys, 32, 64);
     std::vector<int32_t> cells;
     cells.reserve(static_cast<size_t>(count));
-    for (size_t i = 0; i < keys.size(); ++i)
-        if (keys[i] != uint32_t(kNone) && (cells.empty() || static_cast<int32_t>(keys[i]) != cells.back()))
-            cells.push_back(static_cast<int32_t>(keys[i]));
+    UninitVector<int32_t> index_of(keys.size());
+    for (size_t k = 0; k < keys.size(); ++k) {
+        const uint32_t cell = static_cast<uint32_t>(keys[k] >> 32);
+        if (cell == uint32_t(kNone)) break;
+        if (cells.empty() || static_cast<int32_t>(cell) != cells.back()) cells.push_back(static_cast<int32_t>(cell));
+        index_of[keys[k] & 0xffffffffu] = static_cast<int32_t>(cells.size() - 1);
+    }
     const size_t w = static_cast<size_t>(layout.max_edges());
     Stencils st;
     st.resize(cells.size(), w);
@@ -177,9 +199,8 @@ void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
             kites_to_fractions(&st.fraction[w * i], d);
         }
     });
-    stencil_rows(ctx, first, count, 2 * w, m, [&](int32_t cell) {
-        return st[static_cast<size_t>(std::lower_bound(cells.begin(), cells.end(), cell) - cells.begin())];
-    });
+    stencil_rows(ctx, first, count, 2 * w, m, weights,
+                 [&](int64_t row, int side) { return st[static_cast<size_t>(index_of[2 * row + side])]; });
 }
 
 }  // namespace um::dual
