@@ -1,6 +1,7 @@
 #include "build_command.hpp"
 
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -293,7 +294,9 @@ struct Plot {
 };
 
 // Starts the script before its input is written, so that Python loads its
-// packages (half a second or more) while the build goes on.
+// packages (half a second or more of a processor) while the build goes on;
+// at the lowest priority (nice 19), so that it takes only what the build
+// leaves idle and never slows the mesh.
 Plot start_plot(const std::string &script, const std::vector<std::string> &arguments, const std::string &shown) {
     Plot p{-1, plot_script(script), shown};
     int ends[2];
@@ -304,6 +307,7 @@ Plot start_plot(const std::string &script, const std::vector<std::string> &argum
     argv.push_back(nullptr);
     p.pid = fork();
     if (p.pid == 0) {
+        (void)setpriority(PRIO_PROCESS, 0, 19);  // this process only
         if (dup2(ends[1], STDIN_FILENO) < 0) _exit(127);
         execvp(plot_python(), argv.data());
         _exit(127);
@@ -362,11 +366,13 @@ void write_text(const std::string &path, const std::string &text) {
     if (!f) throw Failure{"cannot write " + path};
 }
 
-// The map of the cells (none above kMapCellLimit cells, with a note).
+// The map of the cells (none above kMapCellLimit cells, with a note),
+// decided on the refined mesh's count (the optimisation changes it by a
+// fraction of a percent).
 std::optional<Plot> start_map(const BuildArgs &a, const std::string &mesh_nc, const std::string &png,
                               const std::string &shown, int64_t cells) {
     if (cells > kMapCellLimit) {
-        std::fprintf(stderr, "unimesh build: note: no %s: %lld cells, more than the map draws (%lld)\n",
+        std::fprintf(stderr, "unimesh build: note: no %s: about %lld cells, more than the map draws (%lld)\n",
                      shown.c_str(), static_cast<long long>(cells), static_cast<long long>(kMapCellLimit));
         return std::nullopt;
     }
@@ -436,6 +442,16 @@ int run_build(const BuildArgs &a) {
         check(um_mesh_refine(ctx, h, f, opts, &m), ctx, "refinement");
         const auto t1 = std::chrono::steady_clock::now();
         const double refine_s = std::chrono::duration<double>(t1 - t0).count();
+        const std::string dir = a.out_dir + "/";
+        const std::string mesh_nc = out->staged("mesh.nc");
+        // The pictures' scripts start now, at the lowest priority, and draw
+        // once told their input (mesh.nc; quality.json) is written: Python
+        // loads its packages on what the mesh leaves of the processors.
+        std::optional<Plot> map = start_map(a, mesh_nc, out->staged("mesh.png"), dir + "mesh.png", cell_count(m));
+        const PlotAwaited map_awaited{map};
+        std::optional<Plot> histograms = start_plot(
+            "plot_quality.py", {out->staged("quality.json"), out->staged("quality.png")}, dir + "quality.png");
+        const PlotAwaited histograms_awaited{histograms};
         // (The refined mesh's quality is printed from the optimised mesh's
         // report, which holds it: asked for here, its JSON would measure an
         // ellipsoid's geodesics once more, seconds at a million cells.)
@@ -444,8 +460,6 @@ int run_build(const BuildArgs &a) {
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
         if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-60s\r", "");
 
-        const std::string dir = a.out_dir + "/";
-        const std::string mesh_nc = out->staged("mesh.nc");
         std::vector<std::string> written{"mesh.nc"}, not_written;
         // Seconds each output took, printed with the mesh's own timings.
         std::vector<std::pair<std::string, double>> took;
@@ -454,14 +468,6 @@ int run_build(const BuildArgs &a) {
             took.emplace_back(what, std::chrono::duration<double>(now - last).count());
             last = now;
         };
-        // The pictures' scripts start now and draw once told their input
-        // (mesh.nc; quality.json) is written: the map while the other
-        // outputs are made.
-        std::optional<Plot> map = start_map(a, mesh_nc, out->staged("mesh.png"), dir + "mesh.png", cell_count(m));
-        const PlotAwaited map_awaited{map};
-        std::optional<Plot> histograms = start_plot(
-            "plot_quality.py", {out->staged("quality.json"), out->staged("quality.png")}, dir + "quality.png");
-        const PlotAwaited histograms_awaited{histograms};
         if (a.components) {
             check(um_mesh_write_components(m, out->staging_directory().c_str()), ctx, "writing the components into " + dir);
             print_river_summary(out->staged("rivers.json"));
