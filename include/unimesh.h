@@ -41,6 +41,11 @@
  *     callback are only ever called from the host thread that made the call, never
  *     from a worker thread. A spacing (user) callback may be called from worker
  *     threads concurrently and must be thread-safe.
+ *   - Writing an MPAS file of 256 MB of values or more in the classic
+ *     formats (64-bit offset, CDF-5: mesh.nc, the component meshes) also
+ *     starts one thread of its own for the writes to the device, whatever
+ *     um_context_set_threads says: it waits on the device, using no processor
+ *     meanwhile, and it has ended when the call returns.
  *   - Only when asked for (um_context_set_worker_placement, or
  *     UNIMESH_WORKER_PLACEMENT=on in the environment; off by default since it
  *     changes the affinity of threads the whole process shares): while a call

@@ -32,8 +32,10 @@ bool write_direct(int fd, uint64_t offset, const unsigned char *data, size_t n,
     return true;
 }
 
-DeviceWrites::DeviceWrites(int fd, Fallback fallback)
-    : fd_(fd), fallback_(std::move(fallback)), thread_([this] { run(); }) {}
+DeviceWrites::DeviceWrites(int fd, Fallback fallback) : fd_(fd), fallback_(std::move(fallback)) {
+    free_.reserve(kBuffers);  // so that giving a buffer back never allocates (nor throws, on the thread)
+    thread_ = std::thread([this] { run(); });
+}
 
 DeviceWrites::~DeviceWrites() {
     {
@@ -69,12 +71,21 @@ DeviceWrites::Staging DeviceWrites::take() {
 void DeviceWrites::FreePiece::operator()(unsigned char *p) const noexcept { free_huge_aligned(p, kPieceBytes); }
 
 void DeviceWrites::write(Staging buffer, uint64_t offset, size_t n) {
-    if (n > kPieceBytes || n % kAlignment != 0) fail(UM_ERR_INTERNAL, "DeviceWrites: a piece of ", n, " bytes");
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
+    std::unique_lock<std::mutex> lock(mutex_);
+    Job job{std::move(buffer), offset, n};
+    // A buffer not queued goes back to the pool (take() counts on it).
+    if (failure_ || n > kPieceBytes || n % kAlignment != 0) {
+        free_.push_back(std::move(job.buffer));
         rethrow_failure_locked();
-        jobs_.push_back({std::move(buffer), offset, n});
+        fail(UM_ERR_INTERNAL, "DeviceWrites: a piece of ", n, " bytes");
     }
+    try {
+        jobs_.push_back(std::move(job));  // strong guarantee: job intact if it throws
+    } catch (...) {
+        free_.push_back(std::move(job.buffer));
+        throw;
+    }
+    lock.unlock();
     changed_.notify_all();
 }
 

@@ -1,12 +1,14 @@
 // Direct (O_DIRECT) writes of whole 4 KiB blocks, done in order on a thread
 // of their own. A direct write returns when the device has taken the bytes:
-// on the thread that makes them (the MPAS writer, one of the two threads
-// making blocks of rows) each wait left a processor idle, and the file's
-// final flush (ReplacingFile::commit) was one long wait at the end: 0.46 s
-// for the 0.7 GB of a 30 km mesh.nc on this project's machine, about 40 s
-// for 65 GB at 3 km. Here the waits are on a thread that uses no processor
-// while it waits, and it asks for a data sync every kSyncBytes, so that the
-// device settles the file while the blocks are still being made.
+// on the thread that makes them (the MPAS writer, one of the threads making
+// blocks of rows) each wait left a processor idle; and the flush before the
+// file is renamed into place (ReplacingFile::commit) waits for the device's
+// own part of every byte written, which grows with the file and came all at
+// the end. Here the waits are on a thread that uses no processor while it
+// waits, and it asks for a data sync every kSyncBytes, so that the device
+// settles the file while the blocks are still being made. The caller's
+// thread still copies the bytes into the buffers (and, for the MPAS file,
+// swaps and hashes them). Measurements: tools/bench/HISTORY.md.
 #pragma once
 
 #include <condition_variable>
@@ -31,9 +33,8 @@ public:
     static constexpr size_t kBuffers = 4;
     static constexpr size_t kSyncBytes = size_t(64) << 20;
 
-    // kPieceBytes on huge pages (first touched, 4 KiB pages cost some 100 ms
-    // of page faults per 64 MiB here), aligned as O_DIRECT asks of
-    // the memory it reads.
+    // kPieceBytes on huge pages (fewer page faults on their first touch),
+    // aligned as O_DIRECT asks of the memory it reads.
     struct FreePiece {
         void operator()(unsigned char *p) const noexcept;
     };
@@ -79,7 +80,7 @@ private:
     size_t allocated_ = 0;
     bool busy_ = false, stopping_ = false;
     std::exception_ptr failure_;
-    std::thread thread_;  // last: started once the rest is in place
+    std::thread thread_;  // started in the constructor's body, once the rest is in place
 };
 
 // Writes n bytes at `offset` with pwrite on the O_DIRECT descriptor fd;

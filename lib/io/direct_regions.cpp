@@ -23,7 +23,8 @@ uint64_t round_up(uint64_t x, uint64_t to) { return (x + to - 1) / to * to; }
 }  // namespace
 
 DirectRegions::DirectRegions(const ReplacingFile &file, std::vector<uint64_t> begin, std::vector<uint64_t> end)
-    : file_(file), begin_(std::move(begin)), end_(std::move(end)), next_(begin_), carry_(begin_.size()) {
+    : block_(std::max<uint64_t>(4096, static_cast<uint64_t>(std::max<long>(::sysconf(_SC_PAGESIZE), 0)))),
+      file_(file), begin_(std::move(begin)), end_(std::move(end)), next_(begin_), carry_(begin_.size()) {
     if (end_.size() != begin_.size()) fail(UM_ERR_INTERNAL, "DirectRegions: ", begin_.size(), " begins, ", end_.size(), " ends");
 #ifdef O_DIRECT
     fd_ = ::open(file.temporary_path().c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);  // -1: not here
@@ -42,8 +43,8 @@ void DirectRegions::append(size_t r, uint64_t offset, const void *data, size_t n
         fail(UM_ERR_INTERNAL, "DirectRegions: bytes [", offset, ", ", offset + n, ") of region ", r, " [", begin_[r],
              ", ", end_[r], ") after byte ", at);
     // The whole blocks inside the region: [first, last).
-    const uint64_t first = std::min(round_up(begin_[r], kBlock), end_[r]);
-    const uint64_t last = std::max(round_down(end_[r], kBlock), first);
+    const uint64_t first = std::min(round_up(begin_[r], block_), end_[r]);
+    const uint64_t last = std::max(round_down(end_[r], block_), first);
     auto through_cache = [&](size_t bytes) {  // the next `bytes` of p at `at`
         file_.write_at(at, p, bytes);
         at += bytes, p += bytes, n -= bytes;
@@ -53,7 +54,7 @@ void DirectRegions::append(size_t r, uint64_t offset, const void *data, size_t n
     if (n > 0 && at < last) {
         std::vector<unsigned char> &carry = carry_[r];
         const size_t take = static_cast<size_t>(std::min<uint64_t>(n, last - at));
-        const size_t total = carry.size() + take, whole = static_cast<size_t>(round_down(total, kBlock));
+        const size_t total = carry.size() + take, whole = static_cast<size_t>(round_down(total, block_));
         if (whole > 0) {  // the carry starts where the last whole block written ends
             write_whole_blocks(at - carry.size(), carry, p, whole);
             if (fd_ < 0) flush_carries_but(r);  // refused just now: the other regions' carries too
@@ -94,7 +95,7 @@ void DirectRegions::write_whole_blocks(uint64_t offset, const std::vector<unsign
         return;
     }
     if (staging_bytes_ < whole) {
-        void *memory = std::aligned_alloc(kBlock, static_cast<size_t>(round_up(whole, kBlock)));
+        void *memory = std::aligned_alloc(block_, static_cast<size_t>(round_up(whole, block_)));
         if (!memory) throw std::bad_alloc();
         staging_ = {static_cast<unsigned char *>(memory), std::free};
         staging_bytes_ = whole;
@@ -105,10 +106,12 @@ void DirectRegions::write_whole_blocks(uint64_t offset, const std::vector<unsign
         fd_ = -1;
         return;
     }
+    if (no_thread_) return;
     try {
         device_ = std::make_unique<DeviceWrites>(fd_, cache_fallback());
         staging_.reset(), staging_bytes_ = 0;
     } catch (const std::system_error &) {  // no thread to be had: the writes stay on this one
+        no_thread_ = true;
     }
 }
 

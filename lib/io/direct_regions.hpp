@@ -44,7 +44,11 @@ public:
     void finish();
 
 private:
-    static constexpr uint64_t kBlock = 4096;
+    // The unit of the direct writes: 4 KiB, or the page size where larger,
+    // so that no page the cache holds (a region's ends, written through it
+    // on the caller's thread) shares bytes with a direct write on the
+    // device thread.
+    const uint64_t block_;
     void write_whole_blocks(uint64_t offset, const std::vector<unsigned char> &carry, const unsigned char *p,
                             size_t whole);
     DeviceWrites::Fallback cache_fallback() const;
@@ -53,7 +57,7 @@ private:
 
     const ReplacingFile &file_;
     std::vector<uint64_t> begin_, end_, next_;
-    // Per region, the bytes past its last whole block written (fewer than kBlock).
+    // Per region, the bytes past its last whole block written (fewer than block_).
     std::vector<std::vector<unsigned char>> carry_;
     // Until the device thread starts: 4 KiB-aligned, as O_DIRECT asks of
     // the memory it reads.
@@ -62,6 +66,7 @@ private:
     int fd_ = -1;
     // Once the first direct write went through: the writes after it.
     std::unique_ptr<DeviceWrites> device_;
+    bool no_thread_ = false;  // the system gave none: not asked again
 };
 
 }  // namespace um::io

@@ -413,6 +413,9 @@ void write_blocks(Context &ctx, const MpasMesh &probe, const BlockOf &block_of, 
         }
         lock.lock();
     } catch (...) {
+        // The device thread is stopped first (it may be in a write and a
+        // sync), not under the lock every netCDF call in the process waits on.
+        direct.reset();
         if (!lock.owns_lock()) lock.lock();  // nc's destructor removes the partial file under the lock
         throw;
     }
