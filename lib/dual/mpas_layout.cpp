@@ -52,37 +52,10 @@ HugePageVector<int32_t> hilbert_order(Context &ctx, int64_t n, PositionFn positi
     return order;
 }
 
-// What emit(i, put) puts for i in [0, n), in the order of i, gathered in
-// parallel: fixed chunks of i counted, then each written at its offset, so
-// that the order does not depend on the threads (and the values' first
-// touch is in parallel too).
-template <class T, class Emit>
-UninitVector<T> gather_in_order(Context &ctx, int64_t n, Emit emit) {
-    constexpr int64_t kChunk = int64_t(1) << 16;
-    const int64_t chunks = (n + kChunk - 1) / kChunk;
-    std::vector<int64_t> start(static_cast<size_t>(chunks) + 1, 0);
-    ctx.parallel_for(chunks, 1, [&](int64_t b, int64_t e) {
-        for (int64_t c = b; c < e; ++c) {
-            int64_t count = 0;
-            for (int64_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) emit(i, [&](T) { ++count; });
-            start[c + 1] = count;
-        }
-    });
-    for (int64_t c = 0; c < chunks; ++c) start[c + 1] += start[c];
-    UninitVector<T> out(static_cast<size_t>(start[chunks]));
-    ctx.parallel_for(chunks, 1, [&](int64_t b, int64_t e) {
-        for (int64_t c = b; c < e; ++c) {
-            int64_t at = start[c];
-            for (int64_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) emit(i, [&](T v) { out[at++] = v; });
-        }
-    });
-    return out;
-}
-
-// The triangle slots in use, in slot order.
-UninitVector<int32_t> live_triangles(Context &ctx, const tri::Triangulation &tri) {
-    return gather_in_order<int32_t>(ctx, tri.triangle_slots(), [&](int64_t t, auto put) {
-        if (!tri.is_free(static_cast<int32_t>(t))) put(static_cast<int32_t>(t));
+// The triangle slots in use, in slot order (found in parallel).
+std::vector<int32_t> live_triangles(Context &ctx, const tri::Triangulation &tri) {
+    return ctx.collect_in_order<int32_t>(tri.triangle_slots(), 1 << 16, [&](int64_t t, std::vector<int32_t> &out) {
+        if (!tri.is_free(static_cast<int32_t>(t))) out.push_back(static_cast<int32_t>(t));
     });
 }
 
@@ -157,8 +130,7 @@ std::unique_ptr<tri::Triangulation> points_on_sphere(Context &ctx, const tri::Tr
             if (tri.in_triangulation(v))
                 copy->set_lifted(v, geom::norm(tri.lifted(v)) * surface.sphere_unit(tri.direction(v)));
     });
-    const UninitVector<int32_t> live = live_triangles(ctx, tri);
-    copy->restore_regularity(std::vector<int32_t>(live.begin(), live.end()));
+    copy->restore_regularity(live_triangles(ctx, tri));
     for (int32_t v = 0; v < tri.vertex_slots(); ++v)
         if (tri.in_triangulation(v) && !copy->in_triangulation(v))
             fail(UM_ERR_DEGENERATE_INPUT, "MPAS mesh: vertex slot ", v,
@@ -197,7 +169,7 @@ void MpasLayout::number_cells(Context &ctx, const std::vector<int32_t> &slots) {
 }
 
 void MpasLayout::number_vertices(Context &ctx) {
-    const UninitVector<int32_t> live = live_triangles(ctx, *tri_);
+    const std::vector<int32_t> live = live_triangles(ctx, *tri_);
     const int64_t n = static_cast<int64_t>(live.size());
     const HugePageVector<int32_t> order =
         hilbert_order(ctx, n, [&](int64_t i) { return tri_->orthocentre(live[i]); });
@@ -216,12 +188,13 @@ void MpasLayout::number_vertices(Context &ctx) {
 void MpasLayout::number_edges(Context &ctx) {
     const tri::Triangulation &tri = *tri_;
     // 3 * t + k, by slot: independent of the vertex order.
-    const UninitVector<int64_t> halves = gather_in_order<int64_t>(ctx, tri.triangle_slots(), [&](int64_t t, auto put) {
-        const int32_t slot = static_cast<int32_t>(t);
-        if (tri.is_free(slot)) return;
-        for (int k = 0; k < 3; ++k)
-            if (slot < tri.neighbour(slot, k)) put(3 * t + k);
-    });
+    const std::vector<int64_t> halves =
+        ctx.collect_in_order<int64_t>(tri.triangle_slots(), 1 << 16, [&](int64_t t, std::vector<int64_t> &out) {
+            const int32_t slot = static_cast<int32_t>(t);
+            if (tri.is_free(slot)) return;
+            for (int k = 0; k < 3; ++k)
+                if (slot < tri.neighbour(slot, k)) out.push_back(3 * t + k);
+        });
     const int64_t n = static_cast<int64_t>(halves.size());
     const HugePageVector<int32_t> order = hilbert_order(ctx, n, [&](int64_t i) {
         const int32_t t = static_cast<int32_t>(halves[i] / 3);
