@@ -295,8 +295,9 @@ struct Plot {
 
 // Starts the script before its input is written, so that Python loads its
 // packages (half a second or more of a processor) while the build goes on;
-// at the lowest priority (nice 19), so that it takes only what the build
-// leaves idle and never slows the mesh.
+// at the lowest priority (nice 19), so that it takes mostly what the build
+// leaves idle. (It keeps that priority to draw: an unprivileged process
+// cannot raise it again.)
 Plot start_plot(const std::string &script, const std::vector<std::string> &arguments, const std::string &shown) {
     Plot p{-1, plot_script(script), shown};
     int ends[2];
@@ -446,7 +447,7 @@ int run_build(const BuildArgs &a) {
         const std::string mesh_nc = out->staged("mesh.nc");
         // The pictures' scripts start now, at the lowest priority, and draw
         // once told their input (mesh.nc; quality.json) is written: Python
-        // loads its packages on what the mesh leaves of the processors.
+        // loads its packages mostly on what the mesh leaves idle.
         std::optional<Plot> map = start_map(a, mesh_nc, out->staged("mesh.png"), dir + "mesh.png", cell_count(m));
         const PlotAwaited map_awaited{map};
         std::optional<Plot> histograms = start_plot(
@@ -538,6 +539,9 @@ int run_build(const BuildArgs &a) {
     } catch (const Failure &e) {
         if (isatty(fileno(stderr))) std::fprintf(stderr, "\r%-60s\r", "");
         std::fprintf(stderr, "unimesh build: %s\n", e.message.c_str());
+        rc = 1;
+    } catch (const std::exception &e) {  // the command line's own (out of memory): the scripts stopped on the way out
+        std::fprintf(stderr, "unimesh build: %s\n", e.what());
         rc = 1;
     }
     um_mesh_destroy(m);
