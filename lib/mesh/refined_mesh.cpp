@@ -189,10 +189,12 @@ geom::Surface surface_of(const Options &options) {
     return f == 0 ? geom::Surface::sphere(a) : geom::Surface::ellipsoid(a, f);
 }
 
-void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs) {
+// how: in place after the optimisation, whose undo is then alive (a copy
+// of the triangles would add to the peak there).
+void finish(Context &ctx, RefinedMesh &m, const geom::ArcTree &arcs, tri::Triangulation::Reorder how) {
     separate_degenerate_dual_edges(ctx, m.tri, m.cover_vertices(ctx));
     m.on_segment.resize(static_cast<size_t>(m.tri.vertex_slots()), -1);
-    const std::vector<int32_t> old_slot = m.tri.reorder_spatially(ctx);
+    const std::vector<int32_t> old_slot = m.tri.reorder_spatially(ctx, how);
     std::vector<int32_t> on_segment(old_slot.size());
     for (size_t v = 0; v < old_slot.size(); ++v) on_segment[v] = m.on_segment[old_slot[v]];
     m.on_segment.swap(on_segment);
@@ -351,7 +353,7 @@ RefinedMesh refine_mesh(Context &ctx, hfun::SpacingPtr h,
                                     relaxed.outside_after));
     }
     ctx.progress("refine tags", 0.0);  // (not from the optimisation's finish: its stage is "optimise")
-    finish(ctx, m, arcs);
+    finish(ctx, m, arcs, tri::Triangulation::Reorder::copying);
     m.filtered = refine::count_bad(m.tri, m.restricted, hr, bo);
     if (m.domain) require_region_cells(ctx, m);
     return m;
@@ -447,7 +449,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
         m.refined_quality = before;
         m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o, m.domain.get());
         m.optimised = true, m.ocean_floor = o.ocean_floor;
-        finish(ctx, m, features::segment_arc_tree(m.gamma.get()));
+        finish(ctx, m, features::segment_arc_tree(m.gamma.get()), tri::Triangulation::Reorder::in_place);
         if (m.domain) require_region_cells(ctx, m);  // (the mesh is put back if not)
     } catch (...) {
         put_back(m, std::move(undo));

@@ -198,7 +198,7 @@ void Triangulation::compact() {
     q_.shrink_to_fit(), id_.shrink_to_fit(), vertex_tri_.shrink_to_fit();
 }
 
-std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
+std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx, Reorder how) {
     compact();
     const int32_t n = vertex_slots();
     // Hilbert key above the slot: unique, so the order is the same for any
@@ -213,67 +213,124 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx) {
     });
     radix_sort(ctx, keys, 32, 64);  // the slot below makes every key unique
     std::vector<int32_t> old_of_new(static_cast<size_t>(n)), new_of_old(static_cast<size_t>(n));
-    for (int32_t i = 0; i < n; ++i) {
-        old_of_new[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
-        new_of_old[old_of_new[i]] = i;
-    }
+    ctx.parallel_for(n, 1 << 14, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            old_of_new[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
+            new_of_old[old_of_new[i]] = static_cast<int32_t>(i);
+        }
+    });
     release(keys);
-    // In place, cycle by cycle: this runs after the optimisation too, with
-    // its undo alive, and copies of the largest arrays would set the peak.
-    std::vector<bool> placed;
-    auto permute = [&](auto &values, const std::vector<int32_t> &new_index, auto &&remap) {
-        placed.assign(values.size(), false);
-        for (size_t start = 0; start < values.size(); ++start) {
-            if (placed[start]) continue;
-            auto carried = values[start];
-            size_t at = start;
-            do {  // carried is the old value of slot `at`: it goes to new_index[at]
-                const size_t to = static_cast<size_t>(new_index[at]);
-                auto next = values[to];
-                values[to] = remap(carried);
-                placed[to] = true;
-                carried = next, at = to;
-            } while (at != start);
-        }
-    };
-    // The three vertex arrays in one walk of the cycles: the walk is a chain
-    // of dependent cache misses (most of the time here), the moves are not.
-    {
-        struct Vertex {
-            Vec3 q;
-            int32_t id, tri;
-        };
-        placed.assign(static_cast<size_t>(n), false);
-        for (int32_t start = 0; start < n; ++start) {
-            if (placed[start]) continue;
-            Vertex carried{q_[start], id_[start], vertex_tri_[start]};
-            int32_t at = start;
-            do {  // carried is the old value of slot `at`: it goes to new_of_old[at]
-                const int32_t to = new_of_old[at];
-                const Vertex next{q_[to], id_[to], vertex_tri_[to]};
-                q_[to] = carried.q, id_[to] = carried.id, vertex_tri_[to] = carried.tri;
-                placed[to] = true;
-                carried = next, at = to;
-            } while (at != start);
-        }
+    const bool copying = how == Reorder::copying;
+    if (copying) {
+        gather_copy(ctx, q_, old_of_new), gather_copy(ctx, id_, old_of_new), gather_copy(ctx, vertex_tri_, old_of_new);
+    } else {
+        permute_vertices_in_place(new_of_old);
     }
-
-    // Triangles by smallest new vertex (a stable counting sort).
-    const int32_t nt = triangle_slots();
-    std::vector<int32_t> first(static_cast<size_t>(n) + 1, 0), new_tri(static_cast<size_t>(nt));
+    // Triangles by smallest new vertex, ties in slot order.
     auto smallest = [&](const Tri &t) {
         return std::min({new_of_old[t.v[0]], new_of_old[t.v[1]], new_of_old[t.v[2]]});
     };
+    auto remap = [&](const std::vector<int32_t> &new_tri) {
+        return [&](Tri t) {
+            for (int k = 0; k < 3; ++k) t.v[k] = new_of_old[t.v[k]], t.n[k] = new_tri[t.n[k]];
+            return t;
+        };
+    };
+    const std::vector<int32_t> new_tri =
+        copying ? reorder_triangles_copying(ctx, smallest, remap) : reorder_triangles_in_place(n, smallest, remap);
+    ctx.parallel_for(static_cast<int64_t>(vertex_tri_.size()), 1 << 14, [&](int64_t b, int64_t e) {
+        for (int64_t v = b; v < e; ++v)
+            if (vertex_tri_[v] >= 0) vertex_tri_[v] = new_tri[vertex_tri_[v]];
+    });
+    return old_of_new;
+}
+
+// values[i] = values[old_of_new[i]], through a copy gathered in parallel.
+template <class Vector>
+void Triangulation::gather_copy(Context &ctx, Vector &values, const std::vector<int32_t> &old_of_new) {
+    Vector out(values.get_allocator());
+    out.resize(values.size());  // unwritten: every element gathered below
+    ctx.parallel_for(static_cast<int64_t>(values.size()), 1 << 14, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) out[i] = values[old_of_new[i]];
+    });
+    values.swap(out);
+}
+
+// The three vertex arrays in one walk of the cycles: the walk is a chain of
+// dependent cache misses (most of the time here), the moves are not.
+void Triangulation::permute_vertices_in_place(const std::vector<int32_t> &new_of_old) {
+    struct Vertex {
+        Vec3 q;
+        int32_t id, tri;
+    };
+    const int32_t n = vertex_slots();
+    std::vector<bool> placed(static_cast<size_t>(n), false);
+    for (int32_t start = 0; start < n; ++start) {
+        if (placed[start]) continue;
+        Vertex carried{q_[start], id_[start], vertex_tri_[start]};
+        int32_t at = start;
+        do {  // carried is the old value of slot `at`: it goes to new_of_old[at]
+            const int32_t to = new_of_old[at];
+            const Vertex next{q_[to], id_[to], vertex_tri_[to]};
+            q_[to] = carried.q, id_[to] = carried.id, vertex_tri_[to] = carried.tri;
+            placed[to] = true;
+            carried = next, at = to;
+        } while (at != start);
+    }
+}
+
+// The triangles' new slots by their key smallest(t) (a radix sort of key
+// and slot, in parallel), and the triangles gathered into a copy.
+template <class Smallest, class Remap>
+std::vector<int32_t> Triangulation::reorder_triangles_copying(Context &ctx, Smallest smallest, Remap remap) {
+    const int64_t nt = triangle_slots();
+    Buffer<uint64_t> keys(static_cast<size_t>(nt));
+    ctx.parallel_for(nt, 1 << 14, [&](int64_t b, int64_t e) {
+        for (int64_t t = b; t < e; ++t) keys[t] = uint64_t(uint32_t(smallest(tris_[t]))) << 32 | uint64_t(t);
+    });
+    radix_sort(ctx, keys, 32, 64);  // stable: ties stay in slot order
+    std::vector<int32_t> old_of_new(static_cast<size_t>(nt)), new_tri(static_cast<size_t>(nt));
+    ctx.parallel_for(nt, 1 << 14, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            old_of_new[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
+            new_tri[old_of_new[i]] = static_cast<int32_t>(i);
+        }
+    });
+    release(keys);
+    const auto moved = remap(new_tri);
+    HugePageVector<Tri> out(tris_.get_allocator());
+    out.resize(tris_.size());  // unwritten: every triangle gathered below
+    ctx.parallel_for(nt, 1 << 14, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) out[i] = moved(tris_[old_of_new[i]]);
+    });
+    tris_.swap(out);
+    return new_tri;
+}
+
+// The same order by a stable counting sort, the triangles moved cycle by
+// cycle on this thread.
+template <class Smallest, class Remap>
+std::vector<int32_t> Triangulation::reorder_triangles_in_place(int32_t n, Smallest smallest, Remap remap) {
+    const int32_t nt = triangle_slots();
+    std::vector<int32_t> first(static_cast<size_t>(n) + 1, 0), new_tri(static_cast<size_t>(nt));
     for (const Tri &t : tris_) ++first[smallest(t) + 1];
     for (int32_t i = 0; i < n; ++i) first[i + 1] += first[i];
     for (int32_t t = 0; t < nt; ++t) new_tri[t] = first[smallest(tris_[t])]++;
-    permute(tris_, new_tri, [&](Tri t) {
-        for (int k = 0; k < 3; ++k) t.v[k] = new_of_old[t.v[k]], t.n[k] = new_tri[t.n[k]];
-        return t;
-    });
-    for (int32_t &t : vertex_tri_)
-        if (t >= 0) t = new_tri[t];
-    return old_of_new;
+    const auto moved = remap(new_tri);
+    std::vector<bool> placed(static_cast<size_t>(nt), false);
+    for (size_t start = 0; start < tris_.size(); ++start) {
+        if (placed[start]) continue;
+        Tri carried = tris_[start];
+        size_t at = start;
+        do {  // carried is the old value of slot `at`: it goes to new_tri[at]
+            const size_t to = static_cast<size_t>(new_tri[at]);
+            const Tri next = tris_[to];
+            tris_[to] = moved(carried);
+            placed[to] = true;
+            carried = next, at = to;
+        } while (at != start);
+    }
+    return new_tri;
 }
 
 std::vector<int32_t> Triangulation::triangles_around(const std::vector<int32_t> &vertices) const {

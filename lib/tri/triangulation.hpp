@@ -123,8 +123,13 @@ public:
     // in memory: the optimisation sweeps read every star's link, and with
     // the refinement's frontal order those reads miss the cache. Compacts
     // first. Returns the old slot of each new slot, for the caller's
-    // per-slot arrays.
-    std::vector<int32_t> reorder_spatially(Context &ctx);
+    // per-slot arrays. Reorder::copying gathers each array into a copy in
+    // parallel, one array at a time (24 bytes a triangle slot more while
+    // the triangles are); Reorder::in_place moves the values cycle by cycle
+    // on this thread, a chain of dependent cache misses (seconds at millions
+    // of cells), for a caller near its memory peak.
+    enum class Reorder { copying, in_place };
+    std::vector<int32_t> reorder_spatially(Context &ctx, Reorder how = Reorder::copying);
 
     // Room for that share more vertex slots and triangle slots without
     // reallocating: a caller about to add a few (the optimisation) reserves
@@ -495,6 +500,13 @@ private:
     int32_t reinsert(int32_t v, std::vector<int32_t> *buried, int32_t hint = 0);
     std::vector<int32_t> replace_point(int32_t v, const Vec3 &lifted);
     void compact_triangles(int32_t vertex_shift);
+    template <class Vector>
+    static void gather_copy(Context &ctx, Vector &values, const std::vector<int32_t> &old_of_new);
+    void permute_vertices_in_place(const std::vector<int32_t> &new_of_old);
+    template <class Smallest, class Remap>
+    std::vector<int32_t> reorder_triangles_copying(Context &ctx, Smallest smallest, Remap remap);
+    template <class Smallest, class Remap>
+    std::vector<int32_t> reorder_triangles_in_place(int32_t n, Smallest smallest, Remap remap);
     void compact_after_build(Context &ctx);
     [[noreturn]] void fail_on_duplicates() const;
 

@@ -588,8 +588,25 @@ void spatial_reordering_keeps_the_triangulation(void **) {
     std::vector<Vec3> where(static_cast<size_t>(t.vertex_slots()));
     for (int32_t v = 0; v < t.vertex_slots(); ++v) where[v] = t.lifted(v);
     const double gap_before = mean_edge_gap(t);
+    // The copy gathered on several threads and the moves in place give the
+    // same slots, triangles, neighbours and incident triangles.
+    tri::Triangulation in_place = t;
+    Context serial;
+    const std::vector<int32_t> old_slot_in_place = in_place.reorder_spatially(serial, tri::Triangulation::Reorder::in_place);
     Context ctx;
+    ctx.set_threads(3);
     const std::vector<int32_t> old_slot = t.reorder_spatially(ctx);
+    assert_true(old_slot == old_slot_in_place);
+    for (int32_t f = 0; f < t.triangle_slots(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            assert_int_equal(t.vertex(f, k), in_place.vertex(f, k));
+            assert_int_equal(t.neighbour(f, k), in_place.neighbour(f, k));
+        }
+    for (int32_t v = 0; v < t.vertex_slots(); ++v) {
+        assert_int_equal(t.id(v), in_place.id(v));
+        assert_int_equal(t.incident_triangle(v), in_place.incident_triangle(v));
+        assert_memory_equal(t.lifted(v).data(), in_place.lifted(v).data(), sizeof(Vec3));
+    }
     expect_valid(t);
     assert_true(triangle_set(t) == before);
     assert_int_equal(static_cast<int64_t>(old_slot.size()), t.vertex_slots());
