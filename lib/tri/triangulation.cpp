@@ -198,6 +198,25 @@ void Triangulation::compact() {
     q_.shrink_to_fit(), id_.shrink_to_fit(), vertex_tri_.shrink_to_fit();
 }
 
+namespace {
+
+// From keys sorted with the old slot in their low 32 bits: each new slot's
+// old one and each old slot's new one (keys released).
+void orders_of_sorted(Context &ctx, Buffer<uint64_t> &keys, std::vector<int32_t> &old_of_new,
+                      std::vector<int32_t> &new_of_old) {
+    const int64_t n = static_cast<int64_t>(keys.size());
+    old_of_new.resize(static_cast<size_t>(n)), new_of_old.resize(static_cast<size_t>(n));
+    ctx.parallel_for(n, 1 << 14, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            old_of_new[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
+            new_of_old[old_of_new[i]] = static_cast<int32_t>(i);
+        }
+    });
+    release(keys);
+}
+
+}  // namespace
+
 std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx, Reorder how) {
     compact();
     const int32_t n = vertex_slots();
@@ -212,14 +231,8 @@ std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx, Reorder how)
         }
     });
     radix_sort(ctx, keys, 32, 64);  // the slot below makes every key unique
-    std::vector<int32_t> old_of_new(static_cast<size_t>(n)), new_of_old(static_cast<size_t>(n));
-    ctx.parallel_for(n, 1 << 14, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) {
-            old_of_new[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
-            new_of_old[old_of_new[i]] = static_cast<int32_t>(i);
-        }
-    });
-    release(keys);
+    std::vector<int32_t> old_of_new, new_of_old;
+    orders_of_sorted(ctx, keys, old_of_new, new_of_old);
     const bool copying = how == Reorder::copying;
     if (copying) {
         gather_copy(ctx, q_, old_of_new), gather_copy(ctx, id_, old_of_new), gather_copy(ctx, vertex_tri_, old_of_new);
@@ -289,14 +302,8 @@ std::vector<int32_t> Triangulation::reorder_triangles_copying(Context &ctx, Smal
         for (int64_t t = b; t < e; ++t) keys[t] = uint64_t(uint32_t(smallest(tris_[t]))) << 32 | uint64_t(t);
     });
     radix_sort(ctx, keys, 32, 64);  // stable: ties stay in slot order
-    std::vector<int32_t> old_of_new(static_cast<size_t>(nt)), new_tri(static_cast<size_t>(nt));
-    ctx.parallel_for(nt, 1 << 14, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) {
-            old_of_new[i] = static_cast<int32_t>(keys[i] & 0xffffffffu);
-            new_tri[old_of_new[i]] = static_cast<int32_t>(i);
-        }
-    });
-    release(keys);
+    std::vector<int32_t> old_of_new, new_tri;
+    orders_of_sorted(ctx, keys, old_of_new, new_tri);
     const auto moved = remap(new_tri);
     HugePageVector<Tri> out(tris_.get_allocator());
     out.resize(tris_.size());  // unwritten: every triangle gathered below
