@@ -124,8 +124,8 @@ public:
     // the refinement's frontal order those reads miss the cache. Compacts
     // first. Returns the old slot of each new slot, for the caller's
     // per-slot arrays. Reorder::copying gathers each array into a copy in
-    // parallel, one array at a time (24 bytes a triangle slot more while
-    // the triangles are); Reorder::in_place moves the values cycle by cycle
+    // parallel, one array at a time (about 26 bytes a triangle slot more
+    // than in place while the triangles are); Reorder::in_place moves the values cycle by cycle
     // on this thread, a chain of dependent cache misses (seconds at millions
     // of cells), for a caller near its memory peak.
     enum class Reorder { copying, in_place };

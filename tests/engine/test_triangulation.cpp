@@ -592,11 +592,14 @@ void spatial_reordering_keeps_the_triangulation(void **) {
     // same slots, triangles, neighbours and incident triangles.
     tri::Triangulation in_place = t;
     Context serial;
+    serial.set_threads(1);
     const std::vector<int32_t> old_slot_in_place = in_place.reorder_spatially(serial, tri::Triangulation::Reorder::in_place);
     Context ctx;
     ctx.set_threads(3);
     const std::vector<int32_t> old_slot = t.reorder_spatially(ctx);
     assert_true(old_slot == old_slot_in_place);
+    assert_int_equal(t.triangle_slots(), in_place.triangle_slots());
+    assert_int_equal(t.vertex_slots(), in_place.vertex_slots());
     for (int32_t f = 0; f < t.triangle_slots(); ++f)
         for (int k = 0; k < 3; ++k) {
             assert_int_equal(t.vertex(f, k), in_place.vertex(f, k));
