@@ -218,7 +218,14 @@ void orders_of_sorted(Context &ctx, Buffer<uint64_t> &keys, std::vector<int32_t>
 }  // namespace
 
 std::vector<int32_t> Triangulation::reorder_spatially(Context &ctx, Reorder how) {
-    compact();
+    if (how == Reorder::copying) {
+        // Only the free slots go first: the copies below are sized exactly,
+        // and compact()'s shrinking would copy each array once more, serially.
+        if (!free_.empty()) compact_triangles(0);
+        mark_.shrink_to_fit(), free_.shrink_to_fit();
+    } else {
+        compact();
+    }
     const int32_t n = vertex_slots();
     // Hilbert key above the slot: unique, so the order is the same for any
     // sort; slots outside the triangulation get a key past every curve index.
