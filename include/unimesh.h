@@ -815,9 +815,9 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * limited-area layers bdyMaskCell (7 on cells with a missing neighbour, 6
  * on their neighbours, ... down to 1, 0 inside: MPAS-Atmosphere's
  * specified zone 6-7 and relaxation zone 1-5), bdyMaskEdge and
- * bdyMaskVertex (the least of their cells'). It is made whole in memory
- * (about 1.6 kB per cell of the triangulation while it is cut), not
- * streamed. The quality report counts the domain's cells and the triangles
+ * bdyMaskVertex (the least of their cells'). It is streamed as a global
+ * mesh is (never held whole), its rows the region's elements in the order of
+ * the whole triangulation's numbering. The quality report counts the domain's cells and the triangles
  * and edges between them only. Not made for regional meshes yet
  * (UM_ERR_USAGE): um_mesh_write_jigsaw and um_mesh_write_components. */
 

@@ -46,18 +46,6 @@ um::dual::MpasField field_of(const um::dual::MpasMesh &probe, const char *name, 
 template <class Put>
 void copy_variable(const um_mesh *m, const char *name, int32_t type, int64_t capacity, const void *out, Put put) {
     require_pointer(name, "name");
-    if (m->mesh.regional()) {  // held whole: one block
-        const um::dual::MpasMesh &whole = m->regional_staggered();
-        const um::dual::MpasField f = field_of(whole, name, type);
-        const int64_t values = f.rows(whole) * f.columns(whole);
-        check_capacity(capacity, values, name);
-        require_pointer(out, "out");
-        const size_t have = f.reals ? f.reals->size() : f.ints ? f.ints->size() : size_t(values);
-        if (have < static_cast<size_t>(values))
-            fail(UM_ERR_INTERNAL, "MPAS mesh: ", name, " has ", have, " values, not ", values);
-        put(f, values, 0);
-        return;
-    }
     const um::dual::MpasSource &source = m->staggered();
     um::dual::MpasMesh probe = source.probe(*m->context);
     const um::dual::MpasField f = field_of(probe, name, type);
@@ -83,9 +71,7 @@ UM_API um_status um_mesh_mpas_dimensions(const um_mesh *m, int64_t *n_cells, int
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
-    um::dual::MpasMesh shape;
-    if (!m->mesh.regional()) shape = m->staggered().shape();
-    const um::dual::MpasMesh &mpas = m->mesh.regional() ? m->regional_staggered() : shape;
+    const um::dual::MpasMesh mpas = m->staggered().shape();
     if (n_cells) *n_cells = mpas.n_cells;
     if (n_edges) *n_edges = mpas.n_edges;
     if (n_vertices) *n_vertices = mpas.n_vertices;
@@ -100,8 +86,7 @@ UM_API um_status um_mesh_mpas_variable(const um_mesh *m, const char *name, int32
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
     require_pointer(name, "name");
-    const um::dual::MpasMesh probe = m->mesh.regional() ? um::dual::MpasMesh{} : m->staggered().probe(*m->context);
-    const um::dual::MpasMesh &fields = m->mesh.regional() ? m->regional_staggered() : probe;
+    const um::dual::MpasMesh fields = m->staggered().probe(*m->context);
     const um::dual::MpasField f = field_of(fields, name, 0);
     if (type) *type = f.kind == um::dual::MpasKind::real ? UM_MPAS_REAL : UM_MPAS_INT;
     if (n_rows) *n_rows = f.rows(fields);
@@ -180,17 +165,13 @@ UM_API um_status um_mesh_write_mpas_as(const um_mesh *m, const char *path, int32
     ctx.progress("MPAS mesh", 0.0);
     um::io::MpasWriteOptions options;
     if (format == UM_MPAS_FILE_NETCDF4) options.format = um::io::MpasFileFormat::netcdf4;
-    if (m->mesh.regional()) {  // cut from the whole sphere's staggered mesh, in memory
-        um::io::write_mpas_mesh(m->regional_staggered(), path, options);
-        return UM_OK;
-    }
     // Streamed: the file is written a block of rows at a time from the
     // numbering, so the staggered mesh is never held whole.
     // The copy-out's source when there is one, else one for this file
     // (judged as if made here either way, so that the cap's answer does not
     // depend on earlier calls).
     ctx.check_memory(um::dual::mpas_stream_bytes(m->mesh.vertex_count(), m->mesh.gamma != nullptr,
-                                                 !m->mesh.surface.is_sphere()),
+                                                 !m->mesh.surface.is_sphere(), m->mesh.regional()),
                      "the MPAS mesh file");
     std::unique_ptr<um::dual::MpasSource> own;
     if (!m->mpas) own = std::make_unique<um::dual::MpasSource>(ctx, m->mesh);

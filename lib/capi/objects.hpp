@@ -8,7 +8,6 @@
 #include <optional>
 
 #include "capi/api.hpp"
-#include "components/regional.hpp"
 #include "dual/mpas_source.hpp"
 #include "features/network.hpp"
 #include "hfun/spacing.hpp"
@@ -45,24 +44,13 @@ struct um_mesh {
     const um::dual::MpasSource &staggered() const {
         if (!mpas) {
             context->check_memory(um::dual::mpas_copy_out_bytes(mesh.vertex_count(), mesh.gamma != nullptr,
-                                                                !mesh.surface.is_sphere()),
+                                                                !mesh.surface.is_sphere(), mesh.regional()),
                                   "the MPAS copy-out");
             mpas = std::make_unique<um::dual::MpasSource>(*context, mesh);
         }
         return *mpas;
     }
-    // A regional mesh's MPAS mesh (components/regional.hpp), whole in memory:
-    // made from the staggered mesh of the whole sphere, cut. Made on the
-    // first request, kept as `mpas` is.
-    mutable std::unique_ptr<um::dual::MpasMesh> region_mpas;
-    const um::dual::MpasMesh &regional_staggered() const {
-        if (!region_mpas) {
-            context->check_memory(2 * um::dual::kMpasBytesPerCell * mesh.vertex_count(), "the regional MPAS mesh");
-            region_mpas = std::make_unique<um::dual::MpasMesh>(um::components::regional_mpas_mesh(*context, mesh));
-        }
-        return *region_mpas;
-    }
-    void release_staggered() const { mpas.reset(), region_mpas.reset(); }
+    void release_staggered() const { mpas.reset(); }
     // Set while a call uses the mesh: a call on it from inside another's
     // callback (progress, log, a spacing callback) or from a second thread
     // gets UM_ERR_USAGE instead of a mesh that changes or vanishes under

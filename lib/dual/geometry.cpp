@@ -56,7 +56,7 @@ void ring_geometry(const MpasLayout &layout, double radius, int32_t c, RingGeome
 void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
                MpasMesh &m, bool areas) {
     const double r2 = radius * radius;
-    const size_t w = static_cast<size_t>(layout.max_edges()), n = static_cast<size_t>(count);
+    const size_t w = static_cast<size_t>(layout.row_max_edges()), n = static_cast<size_t>(count);
     const Placed placed{&m.x_cell, &m.y_cell, &m.z_cell, &m.lat_cell, &m.lon_cell};
     resize_rows(placed, n);
     if (areas) m.area_cell.resize(n);
@@ -67,15 +67,18 @@ void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
         CellRing ring;
         std::vector<Vec3> corner;
         for (int64_t i = b; i < e; ++i) {
-            const int32_t c = static_cast<int32_t>(first + i);
+            const int32_t c = layout.cell_of_row(first + i);
             layout.cell_ring(c, ring);
             const int d = ring.degree();
             m.n_edges_on_cell[i] = d;
-            for (auto [from, to] : {std::pair{&ring.edges, &m.edges_on_cell}, std::pair{&ring.vertices, &m.vertices_on_cell},
-                                    std::pair{&ring.cells, &m.cells_on_cell}}) {
-                int32_t *row = &(*to)[w * i];
-                std::fill(std::copy(from->begin(), from->end(), row), row + w, kNone);
+            int32_t *edges = &m.edges_on_cell[w * i], *vertices = &m.vertices_on_cell[w * i],
+                    *cells = &m.cells_on_cell[w * i];
+            for (int j = 0; j < d; ++j) {
+                edges[j] = layout.row_of_edge(ring.edges[j]);
+                vertices[j] = layout.row_of_vertex(ring.vertices[j]);
+                cells[j] = layout.row_of_cell(ring.cells[j]);
             }
+            for (int32_t *row : {edges, vertices, cells}) std::fill(row + d, row + w, kNone);
             place(placed, layout.cell_unit(c), radius, i);
             if (!areas) continue;
             // The power cell's polygon fanned from the centroid of its corners:
@@ -103,12 +106,18 @@ void vertex_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t 
     m.cells_on_vertex.resize(3 * n);
     m.edges_on_vertex.resize(3 * n);
     if (areas) m.area_triangle.resize(n), m.kite_areas_on_vertex.resize(3 * n);
-    m.boundary_vertex.assign(n, 0);
+    m.boundary_vertex.resize(n);
     ctx.parallel_for(count, 4096, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
-            const int32_t v = static_cast<int32_t>(first + i);
-            int32_t *cell = &m.cells_on_vertex[3 * i], *edge = &m.edges_on_vertex[3 * i];
+            const int32_t v = layout.vertex_of_row(first + i);
+            int32_t cell[3], edge[3];
             layout.vertex_corners(v, cell, edge);
+            m.boundary_vertex[i] = 0;
+            for (int j = 0; j < 3; ++j) {
+                m.cells_on_vertex[3 * i + j] = layout.row_of_cell(cell[j]);
+                m.edges_on_vertex[3 * i + j] = layout.row_of_edge(edge[j]);
+                if (m.cells_on_vertex[3 * i + j] == kNone) m.boundary_vertex[i] = 1;
+            }
             const Vec3 o = layout.vertex_unit(v);
             place(placed, o, radius, i);
             if (!areas) continue;
@@ -132,20 +141,29 @@ void edge_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
     m.vertices_on_edge.resize(2 * n);
     ctx.parallel_for(count, 4096, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
-            const EdgeEnds ends = layout.edge_ends(static_cast<int32_t>(first + i));
+            const EdgeEnds ends = layout.edge_ends(layout.edge_of_row(first + i));
             const Vec3 c1 = layout.cell_unit(ends.cell[0]), c2 = layout.cell_unit(ends.cell[1]);
             const Vec3 v1 = layout.vertex_unit(ends.vertex[0]), v2 = layout.vertex_unit(ends.vertex[1]);
             const Vec3 x = layout.edge_unit(ends, c1, c2, v1, v2);
             place(placed, x, radius, i);
-            m.cells_on_edge[2 * i] = ends.cell[0], m.cells_on_edge[2 * i + 1] = ends.cell[1];
-            m.vertices_on_edge[2 * i] = ends.vertex[0], m.vertices_on_edge[2 * i + 1] = ends.vertex[1];
+            const bool turned = layout.turned(ends);  // (its cell outside the region last)
+            const int first_end = turned ? 1 : 0;
+            m.cells_on_edge[2 * i] = layout.row_of_cell(ends.cell[first_end]);
+            m.cells_on_edge[2 * i + 1] = layout.row_of_cell(ends.cell[1 - first_end]);
+            m.vertices_on_edge[2 * i] = layout.row_of_vertex(ends.vertex[first_end]);
+            m.vertices_on_edge[2 * i + 1] = layout.row_of_vertex(ends.vertex[1 - first_end]);
             m.dc_edge[i] = radius * arc(c1, c2);
             m.dv_edge[i] = radius * arc(v1, v2);
             // n_e is the direction of the arc c1 -> c2 at xEdge, (c1 x c2) x xEdge.
             // The dual arc is exactly perpendicular, so this is the normal of
             // recompute_angle_edge, (v2 - v1) x xEdge, without its rounding on
             // the metre-long dual edges of nearly cocircular quadruples.
-            m.angle_edge[i] = angle_from_east(geom::cross(geom::cross(c1, c2), x), x);
+            double angle = angle_from_east(geom::cross(geom::cross(c1, c2), x), x);
+            if (turned) {
+                angle += M_PI;
+                if (angle > M_PI) angle -= 2 * M_PI;
+            }
+            m.angle_edge[i] = angle;
         }
     });
 }

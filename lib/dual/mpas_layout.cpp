@@ -113,6 +113,25 @@ bool walk_ring(const tri::Triangulation &tri, int32_t s, Walk &walk) {
     return true;
 }
 
+// The largest ring of the cells at slot_of(0..n-1); `broken` set where the
+// links do not lead round one.
+template <class SlotOf>
+int32_t widest_ring(Context &ctx, const tri::Triangulation &tri, int64_t n, SlotOf slot_of, std::atomic<bool> &broken) {
+    std::atomic<int32_t> widest{0};
+    ctx.parallel_for(n, 1024, [&](int64_t b, int64_t e) {
+        Walk walk;
+        int32_t local = 0;
+        for (int64_t i = b; i < e; ++i) {
+            if (!walk_ring(tri, slot_of(i), walk)) broken = true;
+            local = std::max(local, static_cast<int32_t>(walk.tris.size()));
+        }
+        int32_t seen = widest.load();
+        while (local > seen && !widest.compare_exchange_weak(seen, local)) {
+        }
+    });
+    return widest.load();
+}
+
 // A copy of tri with each point at the geodetic lon/lat of its surface
 // point on the unit sphere, keeping its weight, made regular again: the move
 // (up to 0.2 degrees for WGS84, smooth, within 2f of conformal) keeps every
@@ -141,7 +160,7 @@ std::unique_ptr<tri::Triangulation> points_on_sphere(Context &ctx, const tri::Tr
 }  // namespace
 
 MpasLayout::MpasLayout(Context &ctx, const tri::Triangulation &tri, std::vector<int32_t> slot_of_vertex,
-                       const geom::Surface &surface)
+                       const geom::Surface &surface, const std::vector<uint8_t> &region)
     : tri_(&tri) {
     if (!surface.is_sphere()) tri_ = (on_sphere_ = points_on_sphere(ctx, tri, surface)).get();
     // nEdges = 3 nTriangles / 2 is the largest count; every index is int32.
@@ -152,6 +171,7 @@ MpasLayout::MpasLayout(Context &ctx, const tri::Triangulation &tri, std::vector<
     number_vertices(ctx);
     number_edges(ctx);
     check_rings(ctx);
+    if (!region.empty()) number_rows(ctx, region);
 }
 
 void MpasLayout::number_cells(Context &ctx, const std::vector<int32_t> &slots) {
@@ -229,20 +249,42 @@ void MpasLayout::number_edges(Context &ctx) {
 // maxEdges is the largest ring.
 void MpasLayout::check_rings(Context &ctx) {
     std::atomic<bool> broken{false};
-    std::atomic<int32_t> widest{0};
-    ctx.parallel_for(n_cells(), 1024, [&](int64_t b, int64_t e) {
-        Walk walk;
-        int32_t local = 0;
-        for (int64_t c = b; c < e; ++c) {
-            if (!walk_ring(*tri_, cell_slot_[c], walk)) broken = true;
-            local = std::max(local, static_cast<int32_t>(walk.tris.size()));
-        }
-        int32_t seen = widest.load();
-        while (local > seen && !widest.compare_exchange_weak(seen, local)) {
-        }
-    });
+    max_edges_ = widest_ring(ctx, *tri_, n_cells(), [&](int64_t c) { return cell_slot_[c]; }, broken);
     check_links(broken);
-    max_edges_ = widest.load();
+}
+
+// A regional mesh's rows: of each kind, the elements whole[] of the whole
+// numbering that are the region's cells or touch one, in that numbering's
+// order (found in parallel in fixed chunks: the same for any thread count).
+void MpasLayout::number_rows(Context &ctx, const std::vector<uint8_t> &region) {
+    if (region.size() != static_cast<size_t>(tri_->vertex_slots()))
+        fail(UM_ERR_INTERNAL, "MPAS mesh: ", region.size(), " region flags for ", tri_->vertex_slots(), " vertex slots");
+    auto in_region = [&](int32_t slot) { return region[slot] != 0; };
+    auto rows_where = [&](Rows &rows, int64_t n, auto kept) {
+        std::vector<int32_t> whole = ctx.collect_in_order<int32_t>(n, 1 << 14, [&](int64_t i, std::vector<int32_t> &out) {
+            if (kept(static_cast<int32_t>(i))) out.push_back(static_cast<int32_t>(i));
+        });
+        size_on_huge_pages(rows.whole, whole.size());
+        std::copy(whole.begin(), whole.end(), rows.whole.begin());
+        fill_in_parallel(ctx, rows.row, static_cast<size_t>(n), kNone);
+        ctx.parallel_for(rows.count(), 4096, [&](int64_t b, int64_t e) {
+            for (int64_t r = b; r < e; ++r) rows.row[rows.whole[r]] = static_cast<int32_t>(r);
+        });
+    };
+    rows_where(cells_, n_cells(), [&](int32_t c) { return in_region(cell_slot_[c]); });
+    if (cells_.count() == 0) fail(UM_ERR_INTERNAL, "MPAS mesh: the region has no cell");
+    rows_where(vertices_, n_vertices(), [&](int32_t v) {
+        const int32_t t = vertex_tri_[v];
+        return in_region(tri_->vertex(t, 0)) || in_region(tri_->vertex(t, 1)) || in_region(tri_->vertex(t, 2));
+    });
+    rows_where(edges_, n_edges(), [&](int32_t e) {
+        const int32_t t = static_cast<int32_t>(edge_half_[e] / 3);
+        const int k = static_cast<int>(edge_half_[e] % 3);
+        return in_region(tri_->vertex(t, next3(k))) || in_region(tri_->vertex(t, prev3(k)));
+    });
+    regional_ = true;
+    std::atomic<bool> broken{false};  // (checked by check_rings)
+    row_max_edges_ = widest_ring(ctx, *tri_, cells_.count(), [&](int64_t r) { return cell_slot_[cells_.whole[r]]; }, broken);
 }
 
 EdgeEnds MpasLayout::edge_ends(int32_t e) const {

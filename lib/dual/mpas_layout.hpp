@@ -4,6 +4,13 @@
 // positions of each. It holds only the maps between the numbering and the
 // triangulation (about 76 bytes per cell), so that the staggered mesh can be
 // produced a block of rows at a time (mpas_source.hpp) instead of whole.
+//
+// Two numberings: the whole triangulation's, in which the walks and the
+// positions below take and give their indices, and the rows the mesh's
+// variables list. They are the same but for a regional mesh, whose rows are
+// the region's cells and every edge and vertex of theirs, in the whole
+// numbering's order, with kNone for a neighbour outside (cut_mesh.hpp's
+// convention: an edge whose first cell is outside is turned around).
 // Internal to lib/dual.
 #pragma once
 
@@ -13,6 +20,7 @@
 
 #include "core/context.hpp"
 #include "core/uninit_vector.hpp"
+#include "dual/mpas_mesh.hpp"
 #include "geom/sphere.hpp"
 #include "geom/surface.hpp"
 #include "tri/triangulation.hpp"
@@ -49,14 +57,37 @@ public:
     // regularity), and every position below is of that copy: the staggered
     // mesh is then the power diagram of the generators so placed on the
     // sphere MPAS assumes (orthogonal), its vertices their power vertices.
+    // region: per vertex slot, 1 for the cells of a regional mesh (at least
+    // one); empty: every cell.
     MpasLayout(Context &ctx, const tri::Triangulation &tri, std::vector<int32_t> slot_of_vertex,
-               const geom::Surface &surface = geom::Surface::sphere(1.0));
+               const geom::Surface &surface = geom::Surface::sphere(1.0),
+               const std::vector<uint8_t> &region = {});
 
     const tri::Triangulation &tri() const { return *tri_; }
+    // The whole numbering's counts and widest ring.
     int32_t n_cells() const { return static_cast<int32_t>(cell_slot_.size()); }
     int32_t n_edges() const { return static_cast<int32_t>(edge_half_.size()); }
     int32_t n_vertices() const { return static_cast<int32_t>(vertex_tri_.size()); }
     int32_t max_edges() const { return max_edges_; }
+
+    // The rows: their counts and widest ring (maxEdges), the element of the
+    // whole numbering each row is, and the row of each element (kNone:
+    // outside the region; kNone gives kNone).
+    bool regional() const { return regional_; }
+    int32_t cell_rows() const { return regional_ ? cells_.count() : n_cells(); }
+    int32_t edge_rows() const { return regional_ ? edges_.count() : n_edges(); }
+    int32_t vertex_rows() const { return regional_ ? vertices_.count() : n_vertices(); }
+    int32_t row_max_edges() const { return regional_ ? row_max_edges_ : max_edges_; }
+    int32_t cell_of_row(int64_t r) const { return regional_ ? cells_.whole[r] : static_cast<int32_t>(r); }
+    int32_t edge_of_row(int64_t r) const { return regional_ ? edges_.whole[r] : static_cast<int32_t>(r); }
+    int32_t vertex_of_row(int64_t r) const { return regional_ ? vertices_.whole[r] : static_cast<int32_t>(r); }
+    int32_t row_of_cell(int32_t c) const { return regional_ && c != kNone ? cells_.row[c] : c; }
+    int32_t row_of_edge(int32_t e) const { return regional_ && e != kNone ? edges_.row[e] : e; }
+    int32_t row_of_vertex(int32_t v) const { return regional_ && v != kNone ? vertices_.row[v] : v; }
+    // Whether the row of an edge runs the other way from the whole
+    // numbering's (its cellsOnEdge(1) outside the region): cells and
+    // vertices swapped, angleEdge and the river's direction reversed.
+    bool turned(const EdgeEnds &ends) const { return regional_ && cells_.row[ends.cell[0]] == kNone; }
 
     // The mesh vertex (index into slot_of_vertex) and the slot of cell c; the
     // triangle slot of MPAS vertex v.
@@ -83,6 +114,13 @@ private:
     void number_vertices(Context &ctx);
     void number_edges(Context &ctx);
     void check_rings(Context &ctx);
+    void number_rows(Context &ctx, const std::vector<uint8_t> &region);
+
+    // The elements of a kind that are rows: row -> whole and whole -> row.
+    struct Rows {
+        HugePageVector<int32_t> whole, row;
+        int32_t count() const { return static_cast<int32_t>(whole.size()); }
+    };
 
     // On huge pages, sized without being written and filled in parallel:
     // filled on one thread with 4 KiB pages, their first touches (page
@@ -94,6 +132,9 @@ private:
     HugePageVector<int64_t> edge_half_;     // edge -> 3 * lower triangle slot + k
     HugePageVector<int32_t> edge_of_half_;  // 3 * triangle slot + k -> edge across edge k
     int32_t max_edges_ = 0;
+    bool regional_ = false;
+    Rows cells_, edges_, vertices_;
+    int32_t row_max_edges_ = 0;
 };
 
 }  // namespace um::dual

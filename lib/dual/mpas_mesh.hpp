@@ -133,6 +133,12 @@ struct MpasMeshInput {
     // (min h / h)^4 as MPAS-Tools' inject_meshDensity (the minimum taken over
     // the cells); empty = 1.0 everywhere.
     std::vector<double> cell_width_km;
+    // Per triangulation vertex slot, 1 for the cells of a regional mesh
+    // (RefinedMesh::region_cells): the mesh is then those cells and every
+    // edge and vertex of theirs (mpas_layout.hpp), kNone where a neighbour
+    // is missing, with the limited-area layers bdyMask*
+    // (boundary_layers.hpp). Empty: every cell.
+    std::vector<uint8_t> region;
 };
 
 // Builds the MPAS mesh of tri (free triangle slots are skipped). Throws

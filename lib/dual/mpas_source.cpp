@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "dual/boundary_layers.hpp"
 #include "dual/river_routing.hpp"
 #include "dual/spherical.hpp"
 #include "dual/stages.hpp"
@@ -40,6 +41,7 @@ void check_input(const tri::Triangulation &tri, const MpasLayout &layout, const 
 MpasMeshInput input_of(Context &ctx, const mesh::RefinedMesh &refined) {
     MpasMeshInput input;
     input.slot_of_vertex = refined.slot_of_vertex;
+    if (refined.regional()) input.region = refined.region_cells(ctx);
     const geom::Surface &surface = refined.surface;
     input.surface = surface;
     input.radius_m = surface.authalic_radius_m();
@@ -161,9 +163,10 @@ std::vector<uint8_t> river_crossings(Context &ctx, const MpasLayout &layout, con
 // The input is taken by value and its arrays moved (8 + 4 bytes per cell,
 // held while the mesh's own are).
 MpasSource::MpasSource(Context &ctx, const tri::Triangulation &tri, MpasMeshInput input)
-    : layout_(ctx, tri, std::move(input.slot_of_vertex), input.surface), radius_m_(input.radius_m),
+    : layout_(ctx, tri, std::move(input.slot_of_vertex), input.surface, input.region), radius_m_(input.radius_m),
       surface_(input.surface) {
     check_input(tri, layout_, input);
+    boundary_layer_ = cell_boundary_layers(ctx, layout_);
     cell_width_km_ = std::move(input.cell_width_km);
     if (!cell_width_km_.empty()) min_width_km_ = *std::min_element(cell_width_km_.begin(), cell_width_km_.end());
 }
@@ -187,8 +190,11 @@ MpasSource::MpasSource(Context &ctx, const mesh::RefinedMesh &refined)
     std::sort(t.restricted.begin(), t.restricted.end());
     t.edge_on_river = river_crossings(ctx, layout_, refined);
     // The routing needs the whole river graph: the topology and tags it reads,
-    // for every cell and edge, held only while it runs.
-    MpasMesh graph = shape();
+    // for every cell and edge (of the whole triangulation, a regional
+    // mesh's too), held only while it runs.
+    MpasMesh graph;
+    graph.n_cells = layout_.n_cells(), graph.n_edges = layout_.n_edges(), graph.n_vertices = layout_.n_vertices();
+    graph.max_edges = layout_.max_edges();
     const size_t w = static_cast<size_t>(layout_.max_edges());
     graph.n_edges_on_cell.resize(static_cast<size_t>(graph.n_cells));
     graph.cells_on_cell.assign(w * graph.n_cells, kNone);
@@ -200,7 +206,7 @@ MpasSource::MpasSource(Context &ctx, const mesh::RefinedMesh &refined)
             std::copy(ring.cells.begin(), ring.cells.end(), &graph.cells_on_cell[w * c]);
         }
     });
-    if (t.sides) cell_sides(0, graph.n_cells, graph);
+    if (t.sides) cell_sides(0, graph.n_cells, graph, true);
     graph.cells_on_edge.resize(2 * static_cast<size_t>(graph.n_edges));
     graph.edge_feature_kind.resize(static_cast<size_t>(graph.n_edges));
     ctx.parallel_for(graph.n_edges, 4096, [&](int64_t b, int64_t e) {
@@ -220,8 +226,8 @@ MpasMesh MpasSource::shape() const {
     MpasMesh m;
     m.radius_m = radius_m_;
     if (!surface_.is_sphere()) m.ellipsoid_a_m = surface_.a(), m.ellipsoid_f = surface_.f();
-    m.n_cells = layout_.n_cells(), m.n_edges = layout_.n_edges(), m.n_vertices = layout_.n_vertices();
-    m.max_edges = layout_.max_edges();
+    m.n_cells = layout_.cell_rows(), m.n_edges = layout_.edge_rows(), m.n_vertices = layout_.vertex_rows();
+    m.max_edges = layout_.row_max_edges();
     return m;
 }
 
@@ -266,25 +272,28 @@ void MpasSource::rows(Context &ctx, MpasDim kind, int64_t first, int64_t count, 
             block.cell_source_vertex.resize(n);
             block.mesh_density.assign(n, 1.0);
             for (size_t i = 0; i < n; ++i) {
-                block.cell_source_vertex[i] = layout_.cell_source_vertex(static_cast<int32_t>(first + i));
+                block.cell_source_vertex[i] = layout_.cell_source_vertex(layout_.cell_of_row(first + i));
                 if (cell_width_km_.empty()) continue;
                 // MPAS-Tools' inject_meshDensity: (min h / h)^4.
                 const double r = min_width_km_ / cell_width_km_[block.cell_source_vertex[i]];
                 block.mesh_density[i] = (r * r) * (r * r);
             }
             cell_tags(first, count, block);
+            boundary_masks(kind, first, count, block);
             return;
         case MpasDim::nEdges:
             edge_rows(ctx, layout_, radius_m_, first, count, block);
             if (parts.stencils) trsk_rows(ctx, layout_, radius_m_, first, count, block, parts.weights);
             edge_tags(first, count, block);
+            boundary_masks(kind, first, count, block);
             return;
         case MpasDim::nVertices:
             vertex_rows(ctx, layout_, radius_m_, first, count, block, parts.areas);
             block.vertex_source_triangle.resize(n);
             for (size_t i = 0; i < n; ++i)
-                block.vertex_source_triangle[i] = layout_.vertex_triangle(static_cast<int32_t>(first + i));
+                block.vertex_source_triangle[i] = layout_.vertex_triangle(layout_.vertex_of_row(first + i));
             vertex_tags(first, count, block);
+            boundary_masks(kind, first, count, block);
             return;
         default: fail(UM_ERR_INTERNAL, "MPAS mesh: rows along ", mpas_dim_name(kind), " asked for");
     }
@@ -293,13 +302,15 @@ void MpasSource::rows(Context &ctx, MpasDim kind, int64_t first, int64_t count, 
 // The ocean mesh takes the cells of RefinedMesh::ocean_cells (the ocean
 // cells, the coastal ones mostly on the ocean side and those a passage keeps
 // open); the land + river mesh takes every other cell, so the two are exact
-// complements.
-void MpasSource::cell_sides(int64_t first, int64_t count, MpasMesh &block) const {
+// complements. whole: first and count in the whole numbering (the routing's
+// graph), else rows.
+void MpasSource::cell_sides(int64_t first, int64_t count, MpasMesh &block, bool whole) const {
     const Tags &t = *tags_;
     const size_t n = static_cast<size_t>(count);
     block.cell_side.resize(n), block.cell_ocean_mask.resize(n), block.cell_land_mask.resize(n);
     for (size_t i = 0; i < n; ++i) {
-        const int32_t slot = layout_.cell_slot(static_cast<int32_t>(first + i));
+        const int64_t c = first + static_cast<int64_t>(i);
+        const int32_t slot = layout_.cell_slot(whole ? static_cast<int32_t>(c) : layout_.cell_of_row(c));
         block.cell_side[i] = static_cast<int32_t>(t.refined->vertex_side[slot]);
         block.cell_ocean_mask[i] = t.ocean[slot] != 0 ? 1 : 0;
         block.cell_land_mask[i] = 1 - block.cell_ocean_mask[i];
@@ -311,10 +322,13 @@ void MpasSource::cell_tags(int64_t first, int64_t count, MpasMesh &block) const 
     const Tags &t = *tags_;
     if (t.sides) cell_sides(first, count, block);
     if (!t.features()) return;
-    block.cell_downstream.assign(t.routing.cell_downstream.begin() + first,
-                                 t.routing.cell_downstream.begin() + first + count);
-    block.cell_river_kind.assign(t.routing.cell_river_kind.begin() + first,
-                                 t.routing.cell_river_kind.begin() + first + count);
+    const size_t n = static_cast<size_t>(count);
+    block.cell_downstream.resize(n), block.cell_river_kind.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        const int32_t c = layout_.cell_of_row(first + static_cast<int64_t>(i));
+        block.cell_downstream[i] = layout_.row_of_cell(t.routing.cell_downstream[c]);  // (kNone: outside)
+        block.cell_river_kind[i] = t.routing.cell_river_kind[c];
+    }
 }
 
 void MpasSource::edge_tags(int64_t first, int64_t count, MpasMesh &block) const {
@@ -322,13 +336,17 @@ void MpasSource::edge_tags(int64_t first, int64_t count, MpasMesh &block) const 
     const Tags &t = *tags_;
     const size_t n = static_cast<size_t>(count);
     block.edge_feature_kind.resize(n), block.edge_feature_id.resize(n);
+    block.edge_on_river.resize(n), block.edge_river_downstream.resize(n);
     for (size_t i = 0; i < n; ++i) {
-        const auto feature = t.edge_feature(layout_, layout_.edge_ends(static_cast<int32_t>(first + i)));
+        const int32_t e = layout_.edge_of_row(first + static_cast<int64_t>(i));
+        const EdgeEnds ends = layout_.edge_ends(e);
+        const auto feature = t.edge_feature(layout_, ends);
         block.edge_feature_kind[i] = feature.first, block.edge_feature_id[i] = feature.second;
+        block.edge_on_river[i] = t.edge_on_river[e];
+        // (Relative to cellsOnEdge: reversed with a turned row.)
+        const int32_t downstream = t.routing.edge_river_downstream[e];
+        block.edge_river_downstream[i] = layout_.turned(ends) ? -downstream : downstream;
     }
-    block.edge_on_river.assign(t.edge_on_river.begin() + first, t.edge_on_river.begin() + first + count);
-    block.edge_river_downstream.assign(t.routing.edge_river_downstream.begin() + first,
-                                       t.routing.edge_river_downstream.begin() + first + count);
 }
 
 void MpasSource::vertex_tags(int64_t first, int64_t count, MpasMesh &block) const {
@@ -337,7 +355,29 @@ void MpasSource::vertex_tags(int64_t first, int64_t count, MpasMesh &block) cons
     block.vertex_side.resize(n);
     for (size_t i = 0; i < n; ++i)
         block.vertex_side[i] = static_cast<int32_t>(
-            tags_->refined->triangle_side[layout_.vertex_triangle(static_cast<int32_t>(first + i))]);
+            tags_->refined->triangle_side[layout_.vertex_triangle(layout_.vertex_of_row(first + static_cast<int64_t>(i)))]);
+}
+
+// A regional mesh's bdyMask* of the rows (their cellsOnEdge and
+// cellsOnVertex made).
+void MpasSource::boundary_masks(MpasDim kind, int64_t first, int64_t count, MpasMesh &block) const {
+    if (boundary_layer_.empty()) return;
+    const size_t n = static_cast<size_t>(count);
+    switch (kind) {
+        case MpasDim::nCells:
+            block.bdy_mask_cell.assign(boundary_layer_.begin() + first, boundary_layer_.begin() + first + count);
+            return;
+        case MpasDim::nEdges:
+            block.bdy_mask_edge.resize(n);
+            for (size_t i = 0; i < n; ++i)
+                block.bdy_mask_edge[i] = least_boundary_layer(&block.cells_on_edge[2 * i], 2, boundary_layer_);
+            return;
+        default:
+            block.bdy_mask_vertex.resize(n);
+            for (size_t i = 0; i < n; ++i)
+                block.bdy_mask_vertex[i] =
+                    least_boundary_layer(&block.cells_on_vertex[kVertexDegree * i], kVertexDegree, boundary_layer_);
+    }
 }
 
 }  // namespace um::dual

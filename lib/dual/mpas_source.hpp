@@ -42,7 +42,8 @@ public:
     MpasSource(Context &ctx, const mesh::RefinedMesh &refined);
     ~MpasSource();
 
-    // The whole mesh's radius, counts and maxEdges, without rows.
+    // The mesh's radius, counts and maxEdges, without rows (a regional
+    // mesh's: its region's).
     MpasMesh shape() const;
     // shape() with one row of every kind: every variable this mesh has (the
     // tags only when known), for a file's or a copy-out's list of them.
@@ -58,21 +59,24 @@ public:
               const char *only = nullptr) const;
     // The river report of the routing (all zero without features).
     RiverReport river_report() const;
-    // Cell c's latitude and longitude (radians), as latCell and lonCell.
+    // Cell c's latitude and longitude (radians), as latCell and lonCell;
+    // c in the whole triangulation's numbering (the river report's).
     void cell_lat_lon(int32_t c, double &lat, double &lon) const;
 
 private:
     struct Tags;
-    void cell_sides(int64_t first, int64_t count, MpasMesh &block) const;
+    void cell_sides(int64_t first, int64_t count, MpasMesh &block, bool whole = false) const;
     void cell_tags(int64_t first, int64_t count, MpasMesh &block) const;
     void edge_tags(int64_t first, int64_t count, MpasMesh &block) const;
     void vertex_tags(int64_t first, int64_t count, MpasMesh &block) const;
+    void boundary_masks(MpasDim kind, int64_t first, int64_t count, MpasMesh &block) const;
 
     MpasLayout layout_;
     double radius_m_;
     geom::Surface surface_;
     std::vector<double> cell_width_km_;  // per mesh vertex; empty: meshDensity 1
     double min_width_km_ = 0;
+    std::vector<int8_t> boundary_layer_;  // per cell row of a regional mesh
     std::unique_ptr<Tags> tags_;
 };
 
@@ -86,24 +90,27 @@ constexpr int64_t kMpasBlockRows = int64_t(1) << 17;
 void for_each_block_of(Context &ctx, const MpasSource &source, MpasMesh probe, const MpasField &variable,
                        const std::function<void(const MpasField &, int64_t, int64_t)> &take);
 
-// What a source holds (kMpasSource*BytesPerCell).
-inline int64_t mpas_source_bytes(int64_t cells, bool features, bool ellipsoid = false) {
+// What a source holds (kMpasSource*BytesPerCell); a regional mesh's also
+// the maps between its rows and the whole numbering (MpasLayout: 8 bytes a
+// cell, 3 edges and 2 vertices per cell).
+constexpr int64_t kMpasRegionalRowsBytesPerCell = 48;
+inline int64_t mpas_source_bytes(int64_t cells, bool features, bool ellipsoid = false, bool regional = false) {
     return cells * ((features ? kMpasSourceWithFeaturesBytesPerCell : kMpasSourceBytesPerCell) +
-                    (ellipsoid ? kMpasEllipsoidCopyBytesPerCell : 0));
+                    (ellipsoid ? kMpasEllipsoidCopyBytesPerCell : 0) + (regional ? kMpasRegionalRowsBytesPerCell : 0));
 }
 // What streaming the file of a mesh of `cells` cells adds to the mesh: the
 // source, and two blocks of rows (one written while the next is made), each
 // holding a block of every kind (a cell row about 190 B with maxEdges 9, an
 // edge row 316 B and the stencils of its cells 160 B, a vertex row 108 B).
-inline int64_t mpas_stream_bytes(int64_t cells, bool features, bool ellipsoid = false) {
+inline int64_t mpas_stream_bytes(int64_t cells, bool features, bool ellipsoid = false, bool regional = false) {
     auto rows = [](int64_t n) { return std::min(n, kMpasBlockRows); };
     const int64_t block = rows(cells) * 190 + rows(3 * cells) * (316 + 160) + rows(2 * cells) * 108;
-    return mpas_source_bytes(cells, features, ellipsoid) + 2 * block;
+    return mpas_source_bytes(cells, features, ellipsoid, regional) + 2 * block;
 }
 // What the copy-out of one variable holds: the source and a block of rows
 // of one kind (the largest, an edge block with its stencils).
-inline int64_t mpas_copy_out_bytes(int64_t cells, bool features, bool ellipsoid = false) {
-    return mpas_source_bytes(cells, features, ellipsoid) + std::min(3 * cells, kMpasBlockRows) * (316 + 160);
+inline int64_t mpas_copy_out_bytes(int64_t cells, bool features, bool ellipsoid = false, bool regional = false) {
+    return mpas_source_bytes(cells, features, ellipsoid, regional) + std::min(3 * cells, kMpasBlockRows) * (316 + 160);
 }
 
 }  // namespace um::dual

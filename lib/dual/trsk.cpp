@@ -176,30 +176,34 @@ void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
         if (cells.empty() || static_cast<int32_t>(cell) != cells.back()) cells.push_back(static_cast<int32_t>(cell));
         index_of[keys[k] & 0xffffffffu] = static_cast<int32_t>(cells.size() - 1);
     }
+    // (A block's cells are rows; their rings are walked in the whole
+    // numbering, their edges given as rows.)
     const size_t w = static_cast<size_t>(layout.max_edges());
     Stencils st;
     st.resize(cells.size(), w);
     ctx.parallel_for(static_cast<int64_t>(cells.size()), 256, [&](int64_t b, int64_t e) {
         RingGeometry g;
         for (int64_t i = b; i < e; ++i) {
+            const int32_t c = layout.cell_of_row(cells[i]);
             if (!weights) {  // the edges of the ring are all edgesOnEdge needs
-                layout.cell_ring(cells[i], g.ring);
-                st.degree[i] = g.ring.degree();
-                std::copy(g.ring.edges.begin(), g.ring.edges.end(), &st.edges[w * i]);
+                layout.cell_ring(c, g.ring);
+                const int d = st.degree[i] = g.ring.degree();
+                for (int j = 0; j < d; ++j) st.edges[w * i + j] = layout.row_of_edge(g.ring.edges[j]);
                 continue;
             }
-            ring_geometry(layout, radius, cells[i], g);
+            ring_geometry(layout, radius, c, g);
             const int d = st.degree[i] = g.ring.degree();
             for (int j = 0; j < d; ++j) {
-                st.edges[w * i + j] = g.ring.edges[j];
+                const EdgeEnds &ends = g.ends[j];
+                st.edges[w * i + j] = layout.row_of_edge(g.ring.edges[j]);
                 st.fraction[w * i + j] = g.kite[j];
                 st.dv[w * i + j] = g.dv[j];
-                st.cell_first[w * i + j] = g.ends[j].cell[0] == cells[i];
+                st.cell_first[w * i + j] = ends.cell[layout.turned(ends) ? 1 : 0] == c;
             }
             kites_to_fractions(&st.fraction[w * i], d);
         }
     });
-    stencil_rows(ctx, first, count, 2 * w, m, weights,
+    stencil_rows(ctx, first, count, 2 * static_cast<size_t>(layout.row_max_edges()), m, weights,
                  [&](int64_t row, int side) { return st[static_cast<size_t>(index_of[2 * row + side])]; });
 }
 

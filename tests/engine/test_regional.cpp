@@ -1,20 +1,26 @@
 // Engine tests: regional meshes (issue "Regional meshes and the WGS84
 // ellipsoid", item 1): the domain rule (features/domain.hpp), the spacing of
 // the cover outside it (hfun/region_cover.hpp), and the MPAS mesh of a
-// regional mesh with its boundary layers (components/regional.hpp).
+// regional mesh with its boundary layers (dual/boundary_layers.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
 #include <cstddef>
 #include <csetjmp>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
 
-#include "components/regional.hpp"
 #include "core/error.hpp"
 #include "core/options.hpp"
+#include "components/cut_mesh.hpp"
+#include "dual/boundary_layers.hpp"
+#include "dual/mpas_mesh.hpp"
+#include "dual/mpas_source.hpp"
+#include "io/mpas_writer.hpp"
 #include "features/domain.hpp"
 #include "hfun/region_cover.hpp"
 #include "mesh/refined_mesh.hpp"
@@ -265,7 +271,7 @@ void a_regional_mesh_of_a_dateline_box(void **) {
         mesh::RefinedMesh m = mesh::refine_mesh(ctx, hfun::make_constant(150), rings_network({box(160, -160, -20, 20)}), options);
         assert_true(m.regional());
         optimise_keeping_the_cover(ctx, m, options);
-        meshes.push_back(components::regional_mpas_mesh(ctx, m));
+        meshes.push_back(dual::build_mpas_mesh(ctx, m));
         const std::vector<uint8_t> cells = m.region_cells(ctx);
         const quality::Report r = quality::measure(ctx, m.tri, mesh::spacing_radians(*m.spacing, m.surface),
                                                    &m.on_segment, &cells);
@@ -297,7 +303,7 @@ void a_regional_mesh_of_a_dateline_box(void **) {
             }
             assert_true(std::abs(layer - mpas.bdy_mask_cell[n]) <= 1);
         }
-        assert_true(missing == (layer == components::kBoundaryLayers));
+        assert_true(missing == (layer == dual::kBoundaryLayers));
     }
     for (int k = 0; k <= 7; ++k) assert_true(per_layer[k] > 0);
     for (int32_t e = 0; e < mpas.n_edges; ++e) {
@@ -310,6 +316,62 @@ void a_regional_mesh_of_a_dateline_box(void **) {
     assert_int_equal(mpas.n_cells, other.n_cells);
     assert_true(mpas.x_cell == other.x_cell && mpas.cells_on_cell == other.cells_on_cell &&
                 mpas.weights_on_edge == other.weights_on_edge && mpas.bdy_mask_cell == other.bdy_mask_cell);
+}
+
+// A regional mesh's rows (the region's elements of the whole numbering,
+// made a block at a time) are the whole triangulation's MPAS mesh cut to the
+// region by the component meshes' cut (components/cut_mesh.hpp), the same
+// way whatever the block size of the file.
+void a_regional_mesh_is_the_whole_mesh_cut(void **) {
+    Context ctx;
+    Options options;
+    mesh::RefinedMesh m = mesh::refine_mesh(ctx, hfun::make_constant(300), rings_network({box(160, -160, -20, 20)}), options);
+    optimise_keeping_the_cover(ctx, m, options);
+    const dual::MpasMesh regional = dual::build_mpas_mesh(ctx, m);
+    dual::MpasMeshInput input;
+    input.slot_of_vertex = m.slot_of_vertex, input.radius_m = m.surface.authalic_radius_m();
+    const dual::MpasMesh whole = dual::build_mpas_mesh(ctx, m.tri, input);
+    const std::vector<uint8_t> region = m.region_cells(ctx);
+    std::vector<uint8_t> keep(static_cast<size_t>(whole.n_cells));
+    for (int32_t c = 0; c < whole.n_cells; ++c) keep[c] = region[m.slot_of_vertex[whole.cell_source_vertex[c]]];
+    const dual::MpasMesh cut = components::cut_mesh(ctx, whole, keep);
+    assert_true(cut.n_cells < whole.n_cells);
+    assert_int_equal(regional.n_cells, cut.n_cells);
+    assert_int_equal(regional.n_edges, cut.n_edges);
+    assert_int_equal(regional.n_vertices, cut.n_vertices);
+    assert_int_equal(regional.max_edges, cut.max_edges);
+    assert_true(regional.x_cell == cut.x_cell && regional.lat_cell == cut.lat_cell && regional.area_cell == cut.area_cell);
+    assert_true(regional.edges_on_cell == cut.edges_on_cell && regional.vertices_on_cell == cut.vertices_on_cell &&
+                regional.cells_on_cell == cut.cells_on_cell && regional.n_edges_on_cell == cut.n_edges_on_cell);
+    assert_true(regional.cells_on_edge == cut.cells_on_edge && regional.vertices_on_edge == cut.vertices_on_edge);
+    assert_true(regional.x_edge == cut.x_edge && regional.dc_edge == cut.dc_edge && regional.dv_edge == cut.dv_edge &&
+                regional.angle_edge == cut.angle_edge);
+    assert_true(regional.cells_on_vertex == cut.cells_on_vertex && regional.edges_on_vertex == cut.edges_on_vertex &&
+                regional.kite_areas_on_vertex == cut.kite_areas_on_vertex &&
+                regional.area_triangle == cut.area_triangle && regional.boundary_vertex == cut.boundary_vertex);
+    assert_true(regional.n_edges_on_edge == cut.n_edges_on_edge && regional.edges_on_edge == cut.edges_on_edge);
+    for (size_t i = 0; i < cut.weights_on_edge.size(); ++i)
+        assert_true(std::abs(regional.weights_on_edge[i] - cut.weights_on_edge[i]) <= 1e-14);
+    // The file in blocks of a few rows, of one row and whole: the same bytes.
+    const std::string path = std::string(UNIMESH_TEST_OUTPUT_DIR) + "/test_regional.nc";
+    auto bytes = [&] {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    };
+    io::write_mpas_mesh(regional, path, io::MpasWriteOptions{});
+    const std::string expected = bytes();
+    for (int threads : {1, 3}) {
+        Context streaming;
+        streaming.set_threads(threads);
+        const dual::MpasSource source(streaming, m);
+        for (int64_t rows : {int64_t(1), int64_t(97)}) {
+            io::MpasWriteOptions o;
+            o.block_rows = rows;
+            io::write_mpas_mesh(streaming, source, path, o);
+            assert_true(bytes() == expected);
+        }
+    }
+    std::remove(path.c_str());
 }
 
 void a_domain_smaller_than_the_spacing_is_refused(void **) {
@@ -333,6 +395,7 @@ int main() {
         cmocka_unit_test(the_memo_and_the_rough_distance_agree_with_the_search),
         cmocka_unit_test(the_cover_grows_away_from_the_domain),
         cmocka_unit_test(a_regional_mesh_of_a_dateline_box),
+        cmocka_unit_test(a_regional_mesh_is_the_whole_mesh_cut),
         cmocka_unit_test(the_cover_stays_beside_notches_and_zigzags),
         cmocka_unit_test(a_domain_smaller_than_the_spacing_is_refused),
     };
