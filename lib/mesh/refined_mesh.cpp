@@ -483,14 +483,17 @@ std::vector<uint8_t> RefinedMesh::region_cells(Context &ctx) const {
     // inside with no vertex of the cover in their stars, so that each lies
     // within the domain.
     const std::vector<uint8_t> cover = cover_vertices(ctx);
-    for (int32_t v = 0; v < n; ++v) {
-        const int32_t s = static_cast<size_t>(v) < on_segment.size() ? on_segment[v] : -1;
-        if (!tri.in_triangulation(v) || cover[v] || domain->is_ring_segment(s)) continue;
-        bool enclosed = true;
-        for (int32_t t : tri.star(v))
-            for (int k = 0; k < 3; ++k) enclosed = enclosed && !cover[tri.vertex(t, k)];
-        kept[v] = enclosed;
-    }
+    ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
+        for (int32_t v = static_cast<int32_t>(b); v < e; ++v) {
+            const int32_t s = static_cast<size_t>(v) < on_segment.size() ? on_segment[v] : -1;
+            if (!tri.in_triangulation(v) || cover[v] || domain->is_ring_segment(s)) continue;
+            bool enclosed = true;
+            tri.for_each_in_star(v, [&](int32_t t) {
+                for (int k = 0; k < 3; ++k) enclosed = enclosed && !cover[tri.vertex(t, k)];
+            });
+            kept[v] = enclosed;
+        }
+    });
     return kept;
 }
 
