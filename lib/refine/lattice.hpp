@@ -32,8 +32,13 @@ int64_t lattice_frequency(double spacing, int64_t max_points);
 // and only lattice points inside it are kept (and the corners outside, for
 // the cover); no lattice when the whole sphere's would hold more than
 // kRegionalLatticeRatio times the points the domain needs and over
-// kRegionalLatticeFloor points (a small fine domain: it is generated whole).
-constexpr double kRegionalLatticeRatio = 20;
+// kRegionalLatticeFloor points (a small fine domain). The lattice is
+// relaxed and placed around the domain only, but its levels still index
+// the whole sphere's points (about 30 ns each), while a domain refined
+// from the icosahedron instead needs the re-seeding rounds and more
+// optimisation (about 25-50 us more per cell): the ratio is about half
+// where the two cost the same (tools/bench/HISTORY.md).
+constexpr double kRegionalLatticeRatio = 600;
 constexpr int64_t kRegionalLatticeFloor = int64_t(1) << 21;
 std::vector<geom::Vec3> background_lattice(Context &ctx, const SpacingRadians &h, const geom::ArcTree &gamma,
                                            const features::Domain *domain = nullptr);
