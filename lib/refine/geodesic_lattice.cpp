@@ -436,12 +436,17 @@ std::vector<Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t n) {
 LatticeRegion relaxed_lattice_region(Context &ctx, int64_t n, const Cap &cap) {
     Placed placed;
     const Points points = relaxed_lattice(ctx, n, &cap, placed);
+    // (Found in parallel in fixed chunks: the whole sphere's points are
+    // scanned, and pushed one at a time the vectors grew by copies.)
     LatticeRegion region;
-    for (int64_t p = 0; p < static_cast<int64_t>(points.size()); ++p)
-        if (placed[p]) {
-            region.points.push_back(points[p]);
-            region.index.push_back(p);
-        }
+    region.index = ctx.collect_in_order<int64_t>(static_cast<int64_t>(points.size()), 1 << 16,
+                                                 [&](int64_t p, std::vector<int64_t> &out) {
+                                                     if (placed[p]) out.push_back(p);
+                                                 });
+    region.points.resize(region.index.size());
+    ctx.parallel_for(static_cast<int64_t>(region.index.size()), 1 << 14, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) region.points[i] = points[region.index[i]];
+    });
     return region;
 }
 
