@@ -816,9 +816,10 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * on their neighbours, ... down to 1, 0 inside: MPAS-Atmosphere's
  * specified zone 6-7 and relaxation zone 1-5), bdyMaskEdge and
  * bdyMaskVertex (the least of their cells'). It is streamed as a global
- * mesh is (never held whole), its rows the region's elements in the order of
- * the whole triangulation's numbering. The quality report counts the domain's cells and the triangles
- * and edges between them only. Not made for regional meshes yet
+ * mesh is (never held whole), its rows the region's elements in the order
+ * of the whole triangulation's numbering. The quality report counts the
+ * domain's cells and the triangles and edges between them only. Not made
+ * for regional meshes yet
  * (UM_ERR_USAGE): um_mesh_write_jigsaw and um_mesh_write_components. */
 
 /* -------------------------------------------------------------- MPAS output */
@@ -881,7 +882,7 @@ UM_API um_status um_mesh_write_mpas_as(const um_mesh *m, const char *path, int32
  * "areaCell", "weightsOnEdge", the tags "cellOceanMask", "edgeFeatureKind",
  * ...). The staggered mesh is never held whole: the first call numbers it
  * (about 160 bytes per cell, 280 while the rivers of a mesh with features
- * are routed) and that numbering is kept with m until um_mesh_release_mpas,
+ * are routed, 48 more for a regional mesh's rows) and that numbering is kept with m until um_mesh_release_mpas,
  * um_mesh_optimise or um_mesh_destroy; each copy makes its variable's
  * values a block of rows at a time straight into out. A copy therefore
  * costs about as much time as making that variable's share of the file:

@@ -7,15 +7,13 @@ namespace um::dual {
 
 namespace {
 
-// Every row of every kind, each kind as one block. (Edge rows asked for
-// dcEdge alone hold every edge variable but the TRSK stencils:
-// MpasSource::rows.)
-MpasMesh whole_mesh(Context &ctx, const MpasSource &source, TrskStencils stencils = TrskStencils::made) {
+// Every row of every kind, each kind as one block.
+MpasMesh whole_mesh(Context &ctx, const MpasSource &source) {
     MpasMesh m = source.shape();
     ctx.check_memory(kMpasBytesPerCell * static_cast<int64_t>(m.n_cells), "the MPAS mesh");
     source.rows(ctx, MpasDim::nCells, 0, m.n_cells, m);
     source.rows(ctx, MpasDim::nVertices, 0, m.n_vertices, m);
-    source.rows(ctx, MpasDim::nEdges, 0, m.n_edges, m, stencils == TrskStencils::made ? nullptr : "dcEdge");
+    source.rows(ctx, MpasDim::nEdges, 0, m.n_edges, m);
     return m;
 }
 
@@ -25,8 +23,8 @@ MpasMesh build_mpas_mesh(Context &ctx, const tri::Triangulation &tri, const Mpas
     return whole_mesh(ctx, MpasSource(ctx, tri, input));
 }
 
-MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined, TrskStencils stencils) {
-    return whole_mesh(ctx, MpasSource(ctx, refined), stencils);
+MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined) {
+    return whole_mesh(ctx, MpasSource(ctx, refined));
 }
 
 }  // namespace um::dual

@@ -147,15 +147,9 @@ struct MpasMeshInput {
 // context's memory cap.
 MpasMesh build_mpas_mesh(Context &ctx, const tri::Triangulation &tri, const MpasMeshInput &input);
 
-// Whether build_mpas_mesh makes the TRSK stencils (nEdgesOnEdge,
-// edgesOnEdge, weightsOnEdge: the costly part of the edges' rows). A mesh
-// that is cut before any use leaves them out: the cut makes its own.
-enum class TrskStencils { made, left_out };
-
 // The same for the refinement stage's mesh, with its vertex numbering, its
 // sphere radius, meshDensity from the spacing it was refined to (evaluated
 // at the generators) and its ocean/land sides as tags.
-MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined,
-                         TrskStencils stencils = TrskStencils::made);
+MpasMesh build_mpas_mesh(Context &ctx, const mesh::RefinedMesh &refined);
 
 }  // namespace um::dual

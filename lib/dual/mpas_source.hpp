@@ -1,5 +1,6 @@
 // The MPAS staggered mesh of a triangulation as rows made on request: the
-// layout (numbering and maps, about 76 bytes per cell) plus the tags, from
+// layout (numbering and maps, about 76 bytes per cell, 48 more for a
+// regional mesh's rows) plus the tags, from
 // which any block of cell, edge or vertex rows is computed with every
 // variable of the contract. The netCDF writer streams a file from it a
 // block at a time and the C API's copy-out one variable at a time, so the

@@ -2,7 +2,8 @@
 // (mpas_source.cpp puts them together with the tags): geometry.cpp for the
 // connectivity, positions, lengths, angles and areas, trsk.cpp for the TRSK
 // stencils. Each fills rows [first, first + count) of its element kind into
-// block's arrays, resized to `count` rows; indices are the whole mesh's.
+// block's arrays, resized to `count` rows. Rows and the indices in them are
+// the layout's rows (a regional mesh's region: mpas_layout.hpp).
 // Internal to lib/dual.
 #pragma once
 

@@ -11,8 +11,9 @@
 // and the orderings, so it holds for power cells with signed kites; it makes
 // W dc dv antisymmetric and the dual divergence of the reconstructed
 // tangential flux the kite average of the primal divergences. On a cut mesh
-// (lib/components) an edge of the boundary has only the stencil of its one
-// cell, c1, as on MPAS's culled meshes.
+// (a component mesh, lib/components, or a regional mesh's rows) an edge of
+// the boundary has only the stencil of its one cell, c1, as on MPAS's
+// culled meshes.
 #include <algorithm>
 
 #include "core/buffer.hpp"

@@ -283,7 +283,9 @@ MeshEstimate estimate_mesh(Context &ctx, const hfun::Spacing &h) {
     e.cells = estimated_cells(ctx, h);
     const int64_t cells = std::min<int64_t>(e.cells, int64_t(1) << 50);  // the products below fit int64
     e.refine_bytes = cells * std::max(kRefineBytesPerCell, kOptimiseBytesPerCell);
-    e.mpas_bytes = dual::mpas_stream_bytes(cells, true);  // features or not: the larger
+    // Features or not, regional or not: the larger (an estimate of the spacing
+    // alone knows neither).
+    e.mpas_bytes = dual::mpas_stream_bytes(cells, true, false, true);
     return e;
 }
 

@@ -25,6 +25,7 @@
 #include "available_memory.hpp"
 #include "components_command.hpp"
 #include "mpas_extras.hpp"
+#include "nc_read.hpp"
 #include "output_set.hpp"
 #include "hdf5_trial.hpp"
 #include "unimesh.h"
@@ -478,6 +479,11 @@ int run_build(const BuildArgs &a) {
             check(um_mesh_write_mpas_as(m, mesh_nc.c_str(), format), ctx, "writing " + dir + "mesh.nc");
             lap("MPAS mesh");
         }
+        // A regional mesh's cells, read from mesh.nc (the library's counts are
+        // the whole triangulation's; asking it would number the mesh again).
+        size_t file_cells = 0;
+        if (regional && !NcFile(mesh_nc).dim("nCells", &file_cells))
+            throw Failure{"cannot read nCells back from " + dir + "mesh.nc"};
         if (map) tell_plot(*map);
         std::vector<std::string> &component_files = a.components ? written : not_written;
         component_files.insert(component_files.end(), kComponentFiles.begin(), kComponentFiles.end());
@@ -514,11 +520,9 @@ int run_build(const BuildArgs &a) {
         int64_t nv = 0, nt = 0, nr = 0, nf = 0;
         um_mesh_counts(m, &nv, &nt, &nr, &nf);
         std::string region;
-        if (regional) {  // mesh.nc's cells; the counts are the whole triangulation's
-            int64_t cells = 0;
-            check(um_mesh_mpas_dimensions(m, &cells, nullptr, nullptr, nullptr), ctx, "the regional mesh");
+        if (regional) {
             region = " (" + std::to_string(nv) + " with the cover outside the domain)";
-            nv = cells;
+            nv = static_cast<int64_t>(file_cells);
         }
         std::printf("mesh: %lld cells%s, %lld triangles, %lld restricted edges (%lld left coarser "
                     "than the features); refined in %.2f s, optimised in %.2f s\n",
