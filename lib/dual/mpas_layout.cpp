@@ -52,13 +52,6 @@ HugePageVector<int32_t> hilbert_order(Context &ctx, int64_t n, PositionFn positi
     return order;
 }
 
-// The triangle slots in use, in slot order (found in parallel).
-std::vector<int32_t> live_triangles(Context &ctx, const tri::Triangulation &tri) {
-    return ctx.collect_in_order<int32_t>(tri.triangle_slots(), 1 << 16, [&](int64_t t, std::vector<int32_t> &out) {
-        if (!tri.is_free(static_cast<int32_t>(t))) out.push_back(static_cast<int32_t>(t));
-    });
-}
-
 // v sized to n values, every one `value`, written in parallel.
 template <class T>
 void fill_in_parallel(Context &ctx, HugePageVector<T> &v, size_t n, T value) {
@@ -149,7 +142,7 @@ std::unique_ptr<tri::Triangulation> points_on_sphere(Context &ctx, const tri::Tr
             if (tri.in_triangulation(v))
                 copy->set_lifted(v, geom::norm(tri.lifted(v)) * surface.sphere_unit(tri.direction(v)));
     });
-    copy->restore_regularity(live_triangles(ctx, tri));
+    copy->restore_regularity(tri.live_triangles(ctx));
     for (int32_t v = 0; v < tri.vertex_slots(); ++v)
         if (tri.in_triangulation(v) && !copy->in_triangulation(v))
             fail(UM_ERR_DEGENERATE_INPUT, "MPAS mesh: vertex slot ", v,
@@ -189,7 +182,7 @@ void MpasLayout::number_cells(Context &ctx, const std::vector<int32_t> &slots) {
 }
 
 void MpasLayout::number_vertices(Context &ctx) {
-    const std::vector<int32_t> live = live_triangles(ctx, *tri_);
+    const std::vector<int32_t> live = tri_->live_triangles(ctx);
     const int64_t n = static_cast<int64_t>(live.size());
     const HugePageVector<int32_t> order =
         hilbert_order(ctx, n, [&](int64_t i) { return tri_->orthocentre(live[i]); });

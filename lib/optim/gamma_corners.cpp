@@ -70,7 +70,7 @@ int64_t GammaCorners::support_gamma_corners() {
         const int k = l[0] >= l[1] && l[0] >= l[2] ? 0 : (l[1] >= l[2] ? 1 : 2);
         return s_.on_segment[s_.tri.vertex(t, k)] >= 0 && largest_angle_cosine(x[0], x[1], x[2]) < 0 ? k : -1;
     };
-    const std::vector<int32_t> found = s_.live_triangles_where([&](int32_t t) { return gamma_corner(t) >= 0; });
+    const std::vector<int32_t> found = s_.tri.live_triangles_where(s_.ctx, [&](int32_t t) { return gamma_corner(t) >= 0; });
     std::vector<uint8_t> locked(static_cast<size_t>(s_.tri.vertex_slots()), 0);
     int64_t done = 0;
     for (int32_t t : found) {

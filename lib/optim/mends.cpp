@@ -58,7 +58,7 @@ Mends::Mended Mends::mend_off_centre_triangles(bool keep_obtuse) {
         return !s_.touches_cover(t) && staggering_score(s_.generator(s_.tri.vertex(t, 0)), s_.generator(s_.tri.vertex(t, 1)),
                                 s_.generator(s_.tri.vertex(t, 2))) < 0;
     };
-    const std::vector<int32_t> found = s_.live_triangles_where(off_centre);
+    const std::vector<int32_t> found = s_.tri.live_triangles_where(s_.ctx, off_centre);
     Mended out;
     out.met = static_cast<int64_t>(found.size());
     if (found.empty()) return out;
@@ -126,7 +126,7 @@ Mends::Mended Mends::mend_obtuse_triangles() {
         return !s_.touches_cover(t) && largest_angle_cosine(s_.tri.direction(s_.tri.vertex(t, 0)), s_.tri.direction(s_.tri.vertex(t, 1)),
                                     s_.tri.direction(s_.tri.vertex(t, 2))) < 0;
     };
-    const std::vector<int32_t> found = s_.live_triangles_where(obtuse);
+    const std::vector<int32_t> found = s_.tri.live_triangles_where(s_.ctx, obtuse);
     Mended out;
     out.met = static_cast<int64_t>(found.size());
     if (found.empty()) return out;

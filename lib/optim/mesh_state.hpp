@@ -204,14 +204,6 @@ public:
     bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
-    // The live triangles t with pred(t), found in parallel, in slot order
-    // (the mends then work through them serially).
-    template <class Pred>
-    std::vector<int32_t> live_triangles_where(Pred pred) const {
-        return ctx.collect_in_order<int32_t>(tri.triangle_slots(), 8192, [&](int64_t t, std::vector<int32_t> &out) {
-            if (!tri.is_free(static_cast<int32_t>(t)) && pred(static_cast<int32_t>(t))) out.push_back(static_cast<int32_t>(t));
-        });
-    }
 
     // Gamma guard (gamma_guard.cpp) ----------------------------------------
     // Gamma and the cells off it. The refinement leaves Gamma crossing the

@@ -680,14 +680,6 @@ bool any_bad(Context &ctx, const tri::Triangulation &tri, const std::vector<uint
     return found.load();
 }
 
-std::vector<int32_t> live_triangles(const tri::Triangulation &tri) {
-    std::vector<int32_t> all;
-    all.reserve(static_cast<size_t>(tri.triangle_count()));
-    for (int32_t t = 0; t < tri.triangle_slots(); ++t)
-        if (!tri.is_free(t)) all.push_back(t);
-    return all;
-}
-
 // Appends b's near-Gamma vertices and counts to a's, and takes its next id.
 void add_stats(SurfaceStats &a, SurfaceStats &&b) {
     a.inserted += b.inserted, a.rejected += b.rejected;
@@ -790,7 +782,7 @@ void refine_in_territories(Context &ctx, tri::Triangulation &tri, const SpacingR
 SurfaceStats refine_by_territories(Context &ctx, tri::Triangulation &tri, const SpacingRadians &h,
                                    const SurfaceOptions &options, int32_t next_id) {
     std::vector<uint8_t> state;
-    std::vector<int32_t> all = live_triangles(tri);
+    std::vector<int32_t> all = tri.live_triangles(ctx);
     // Seeds only serve the territories. A seed is a point no front placed:
     // the fronts that meet around it leave 5-7 defects there (measurements:
     // tools/bench/HISTORY.md). When they are too few for territories (a
@@ -807,21 +799,21 @@ SurfaceStats refine_by_territories(Context &ctx, tri::Triangulation &tri, const 
     seed_options.smallest_scale = kSeedSpacing;
     SurfaceStats stats = SurfaceRefiner(ctx, tri, seed_spacing, seed_options, next_id, state).run(all, all);
 
-    all = live_triangles(tri);
+    all = tri.live_triangles(ctx);
     state.clear();
     GivenUp given_up;
     if (tri.vertex_count() >= kTerritories * kMinSeedsPerTerritory) {
         SurfaceRefiner(ctx, tri, h, options, stats.next_id, state).measure(all);
         for (int layout = 0; layout < kLayouts; ++layout)
             refine_in_territories(ctx, tri, h, options, state, given_up, layout, stats);
-        all = live_triangles(tri);
+        all = tri.live_triangles(ctx);
     } else {
         if (enough_already) fail(UM_ERR_INTERNAL, "refine surface: the seed pass took vertices out");
         tri = std::move(unseeded);
         if (options.on_gamma) *options.on_gamma = on_gamma_unseeded;
         stats = SurfaceStats{};
         stats.next_id = next_id;
-        all = live_triangles(tri);
+        all = tri.live_triangles(ctx);
     }
     // What is left (all of it for a small mesh), serially.
     SurfaceRefiner last(ctx, tri, h, options, stats.next_id, state);

@@ -114,6 +114,17 @@ public:
     int32_t triangle_count() const { return static_cast<int32_t>(tris_.size() - free_.size()); }
     int32_t triangle_slots() const { return static_cast<int32_t>(tris_.size()); }
     bool is_free(int32_t t) const { return tris_[t].v[0] == kNone; }
+    // The live triangles t with pred(t) (every live one without), in slot
+    // order, found in parallel in fixed chunks (the same for any thread count).
+    template <class Pred>
+    std::vector<int32_t> live_triangles_where(Context &ctx, Pred pred) const {
+        return ctx.collect_in_order<int32_t>(triangle_slots(), 8192, [&](int64_t t, std::vector<int32_t> &out) {
+            if (!is_free(static_cast<int32_t>(t)) && pred(static_cast<int32_t>(t))) out.push_back(static_cast<int32_t>(t));
+        });
+    }
+    std::vector<int32_t> live_triangles(Context &ctx) const {
+        return live_triangles_where(ctx, [](int32_t) { return true; });
+    }
     // Renumbers the live triangles into 0..triangle_count()-1, keeping their
     // order, and gives back the room insertion left unused.
     void compact();
