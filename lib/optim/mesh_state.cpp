@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "core/growth.hpp"
+#include "core/splitmix.hpp"
 #include "geom/predicates.hpp"
 
 namespace um::optim::detail {
@@ -138,10 +139,7 @@ uint64_t link_fingerprint(const StarGraph &g, int32_t v) {
     for (int k = 0; k < m; ++k) {
         const uint64_t here = static_cast<uint32_t>(link[k]);
         const uint64_t next = static_cast<uint32_t>(link[(k + 1) % m]);
-        uint64_t z = (here << 32 | next) + 0x9e3779b97f4a7c15ull;  // splitmix64
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-        sum += z ^ (z >> 31);
+        sum += splitmix64(here << 32 | next);
     }
     return sum;
 }
@@ -219,48 +217,6 @@ Vec3 MeshState::star_odt_point(int32_t v) const {
         sum = sum + area * tri.orthocentre(s);
     });
     return geom::normalized(sum);
-}
-
-// ---------------------------------------------------------------- stopping
-
-// Min and mean of Q^T and Q^P over the live triangles: blocks of a fixed
-// size reduced in parallel, then combined in block order, so the sums are
-// the same for any thread count.
-MeshState::Summary MeshState::summarise(bool with_largest_angle) const {
-    constexpr int64_t kBlock = 8192;
-    const int32_t n = tri.triangle_slots();
-    const int64_t n_blocks = (n + kBlock - 1) / kBlock;
-    struct Partial {
-        double qt_min = 2, qt_sum = 0, qp_min = 2, qp_sum = 0, largest_angle_cosine = 1;
-        int64_t live = 0;
-    };
-    std::vector<Partial> part(static_cast<size_t>(n_blocks));
-    ctx.parallel_for(n_blocks, 1, [&](int64_t b, int64_t e) {
-        for (int64_t blk = b; blk < e; ++blk) {
-            Partial &p = part[blk];
-            for (int64_t t = blk * kBlock; t < std::min<int64_t>(n, (blk + 1) * kBlock); ++t) {
-                const int32_t ti = static_cast<int32_t>(t);
-                if (tri.is_free(ti) || touches_cover(ti)) continue;
-                const Generator a = generator(tri.vertex(ti, 0)), b = generator(tri.vertex(ti, 1)),
-                                c = generator(tri.vertex(ti, 2));
-                const TriangleCost cost = triangle_cost(a, b, c);
-                if (with_largest_angle)
-                    p.largest_angle_cosine = std::min(p.largest_angle_cosine, largest_angle_cosine(a.x, b.x, c.x));
-                p.qt_min = std::min(p.qt_min, cost.area_length), p.qt_sum += cost.area_length;
-                p.qp_min = std::min(p.qp_min, cost.primal_dual), p.qp_sum += cost.primal_dual;
-                ++p.live;
-            }
-        }
-    });
-    Partial all;
-    for (const Partial &p : part) {
-        all.qt_min = std::min(all.qt_min, p.qt_min), all.qt_sum += p.qt_sum;
-        all.qp_min = std::min(all.qp_min, p.qp_min), all.qp_sum += p.qp_sum;
-        all.largest_angle_cosine = std::min(all.largest_angle_cosine, p.largest_angle_cosine);
-        all.live += p.live;
-    }
-    const double live = double(std::max<int64_t>(all.live, 1));
-    return {all.qt_min, all.qt_sum / live, all.qp_min, all.qp_sum / live, all.largest_angle_cosine};
 }
 
 int MeshState::obtuse_touching(const std::vector<int32_t> &vertices) const {

@@ -21,6 +21,7 @@
 #include "geom/arc_tree.hpp"
 #include "optim/local_quality.hpp"
 #include "optim/optimise.hpp"
+#include "optim/quality_summary.hpp"
 #include "optim/star_graph.hpp"
 #include "refine/sides.hpp"
 #include "refine/surface.hpp"
@@ -327,12 +328,12 @@ public:
     int below_floor_at(const std::vector<int32_t> &vertices) const;
 
     // Stopping ---------------------------------------------------------------
-    struct Summary {
-        double qt_min, qt_mean, qp_min, qp_mean;
-        double largest_angle_cosine;  // of the mesh's largest angle
-    };
+    using Summary = detail::Summary;
     // with_largest_angle: also the cosine of the largest angle (else 1).
-    Summary summarise(bool with_largest_angle = false) const;
+    Summary summarise(bool with_largest_angle = false) { return summary_.summarise(*this, with_largest_angle); }
+
+private:
+    QualitySummary summary_;
 };
 
 }  // namespace um::optim::detail

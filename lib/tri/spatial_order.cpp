@@ -5,6 +5,7 @@
 
 #include "core/cyclic.hpp"
 #include "core/radix_sort.hpp"
+#include "core/splitmix.hpp"
 
 
 namespace um::tri {
@@ -93,13 +94,6 @@ uint64_t hilbert_2d(uint32_t x, uint32_t y) {
         state = kHilbert4.next[state][xy];
     }
     return d;
-}
-
-uint64_t splitmix64(uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
 }
 
 }  // namespace

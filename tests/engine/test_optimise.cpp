@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "optim/local_quality.hpp"
+#include "optim/mesh_state.hpp"
 #include "optim/optimise.hpp"
 #include "optim/slide.hpp"
 #include "optim/star_graph.hpp"
@@ -175,6 +176,50 @@ void optimised_mesh_is_regular_and_better(void **) {
     assert_true(after.first > before.first + 0.05);
     assert_true(stats.moves > 0);
     assert_true(stats.outer_iterations >= 1 && stats.outer_iterations <= o.outer_iterations);
+}
+
+// The stopping test's summary, kept in blocks between calls, equals one
+// made anew (bit for bit) after vertices moved and were weighted (with
+// their change stamped, as every pass does) and edges flipped (nothing
+// stamped: the slots' vertices tell).
+void a_kept_summary_equals_one_made_anew(void **) {
+    Context ctx;
+    ctx.set_threads(3);
+    const double h = 0.02;
+    tri::Triangulation tri = uniform_mesh(ctx, h);
+    std::vector<int32_t> on_segment(static_cast<size_t>(tri.vertex_slots()), -1);
+    const refine::SpacingRadians spacing = [h](const Vec3 &) { return h; };
+    const optim::OptimiseOptions o;
+    optim::detail::MeshState kept(ctx, tri, on_segment, nullptr, spacing, o);
+    kept.load_spacing();
+    auto same = [](const optim::detail::Summary &a, const optim::detail::Summary &b) {
+        return a.qt_min == b.qt_min && a.qt_mean == b.qt_mean && a.qp_min == b.qp_min && a.qp_mean == b.qp_mean &&
+               a.largest_angle_cosine == b.largest_angle_cosine;
+    };
+    const optim::detail::Summary first = kept.summarise();
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int round = 0; round < 3; ++round) {
+        ++kept.clock;
+        for (int i = 0; i < 40; ++i) {  // moves and weights, stamped
+            const int32_t v = static_cast<int32_t>(rng() % static_cast<uint64_t>(tri.vertex_slots()));
+            if (!tri.in_triangulation(v)) continue;
+            const Vec3 x = tri.direction(v) + 0.1 * h * Vec3{u(rng), u(rng), u(rng)};
+            kept.set_generator(v, generator(x, 0.05 * h * h * u(rng)));
+            kept.changed_at[v] = kept.clock;
+        }
+        int flipped = 0;
+        for (int32_t t = static_cast<int32_t>(rng() % 997); t < tri.triangle_slots() && flipped < 10; t += 1500)
+            flipped += !tri.is_free(t) && tri.flip(t, 0);  // not stamped
+        assert_true(flipped > 0);
+        for (bool angle : {false, true}) {
+            optim::detail::MeshState anew(ctx, tri, on_segment, nullptr, spacing, o);
+            anew.load_spacing();
+            const optim::detail::Summary a = kept.summarise(angle), b = anew.summarise(angle);
+            assert_true(same(a, b));
+            assert_false(same(a, first));
+        }
+    }
 }
 
 // Section 6.4 on its own (no sweeps, no weights, one outer iteration, so
@@ -377,6 +422,7 @@ int main() {
         cmocka_unit_test(centroidal_pass_centres_the_cells),
         cmocka_unit_test(reseeding_lowers_the_defects),
         cmocka_unit_test(passes_switched_off_change_nothing),
+        cmocka_unit_test(a_kept_summary_equals_one_made_anew),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
