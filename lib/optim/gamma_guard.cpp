@@ -15,19 +15,34 @@ namespace um::optim::detail {
 // moves less than h in an outer iteration.
 constexpr double kNearGamma = 2.5;
 
-// (Without Gamma the flags stay empty: no update is guarded.)
+// (Without Gamma the flags stay empty: no update is guarded.) A flag is
+// kept for a vertex that is the same one (its id), at the same place (not
+// changed since the last call) with the same spacing: a late outer iteration
+// moves a few hundred vertices, and a tree search for every one of them was
+// 3 % of the coastlines' optimisation at 30 km.
 void MeshState::flag_near_gamma() {
     if (arcs.size() == 0) return;
-    near_gamma.assign(static_cast<size_t>(tri.vertex_slots()), 0);
+    const size_t known = near_gamma.size(), n = static_cast<size_t>(tri.vertex_slots());
+    near_gamma.resize(n, 0), flagged_for.resize(n);
     ctx.parallel_for(tri.vertex_slots(), 4096, [&](int64_t b, int64_t e) {
-        for (int64_t v = b; v < e; ++v) {
-            if (!tri.in_triangulation(static_cast<int32_t>(v))) continue;
+        for (int64_t i = b; i < e; ++i) {
+            const int32_t v = static_cast<int32_t>(i);
+            Flagged &was = flagged_for[v];
+            if (!tri.in_triangulation(v)) {
+                near_gamma[v] = 0, was = Flagged{};
+                continue;
+            }
+            if (static_cast<size_t>(v) < known && changed_at[v] < flagged_clock && was.id == tri.id(v) &&
+                was.h == h_at[v])
+                continue;
             geom::Box box;
-            box.add(tri.direction(static_cast<int32_t>(v)));
+            box.add(tri.direction(v));
             box.grow(kNearGamma * static_cast<double>(h_at[v]));
             near_gamma[v] = arcs.any_overlaps(box);
+            was = {tri.id(v), h_at[v]};
         }
     });
+    flagged_clock = clock;
 }
 
 bool MeshState::crosses_gamma(const Vec3 &c0, const Vec3 &c1) const {

@@ -112,6 +112,13 @@ public:
     const double gain;  // the least gain in local quality an update must bring
     const geom::ArcTree arcs;        // Gamma's arcs (empty without Gamma)
     std::vector<uint8_t> near_gamma;  // per slot, from flag_near_gamma
+    // What each flag was found for (id -1: none), and the clock then.
+    struct Flagged {
+        int32_t id = -1;
+        float h = 0;
+    };
+    std::vector<Flagged> flagged_for;
+    int32_t flagged_clock = 0;
     // A regional mesh's domain (else null) and, per slot, whether the vertex
     // is of the cover outside it (optimise.hpp): found with the spacing
     // (load_spacing); a vertex added since counts as not.
