@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "optim/chord_bounds.hpp"
 #include "optim/slide.hpp"
 #include "refine/restricted.hpp"
 
@@ -31,9 +32,11 @@ std::vector<OceanFloor::ShortEdge> OceanFloor::short_ocean_edges() const {
                 if (s_.tri.neighbour(ti, k) < ti) continue;  // each edge once
                 const int32_t a = s_.tri.vertex(ti, (k + 1) % 3), b = s_.tri.vertex(ti, (k + 2) % 3);
                 if (s_.cover(a) || s_.cover(b)) continue;
+                const double mean_h = 0.5 * (s_.h_at[a] + s_.h_at[b]), limit = kScanMargin * floor * mean_h;
+                if (ChordBounds(s_.tri.lifted(a), s_.tri.lifted(b)).surely_at_least(limit)) continue;
                 const Vec3 xa = s_.tri.direction(a), xb = s_.tri.direction(b);
-                const double chord = geom::norm(xa - xb), mean_h = 0.5 * (s_.h_at[a] + s_.h_at[b]);
-                if (!(chord < kScanMargin * floor * mean_h)) continue;
+                const double chord = geom::norm(xa - xb);
+                if (!(chord < limit)) continue;
                 if (!s_.off_land(a) || !s_.off_land(b)) continue;
                 // Until the mends, the guards' measure (MeshState::below_floor_at):
                 // an edge a split or a move let through is not taken out again

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "optim/chord_bounds.hpp"
 #include "optim/local_quality.hpp"
 #include "optim/mesh_state.hpp"
 #include "optim/optimise.hpp"
@@ -176,6 +177,30 @@ void optimised_mesh_is_regular_and_better(void **) {
     assert_true(after.first > before.first + 0.05);
     assert_true(stats.moves > 0);
     assert_true(stats.outer_iterations >= 1 && stats.outer_iterations <= o.outer_iterations);
+}
+
+// The root-free chord bounds of the edge scans never contradict the chord
+// between the two directions as the scans compute it, and decide most
+// edges away from the limit (random weights of the optimisation's size,
+// limits from 0.3 to 1.5 times the chord, and at the chord itself).
+void chord_bounds_agree_with_the_chord(void **) {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int decided = 0, tried = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const double h = 1e-4 * (1 + 100 * std::abs(u(rng)));
+        const Vec3 a = geom::normalized({u(rng), u(rng), u(rng)});
+        const Vec3 b = geom::normalized(a + h * Vec3{u(rng), u(rng), u(rng)});
+        const Generator ga = generator(a, 0.1 * h * h * u(rng)), gb = generator(b, 0.1 * h * h * u(rng));
+        const optim::ChordBounds bounds(ga.lifted(), gb.lifted());
+        const double chord = geom::norm(geom::normalized(ga.lifted()) - geom::normalized(gb.lifted()));
+        for (double limit : {0.3 * chord, 0.9 * chord, chord, std::nextafter(chord, 2.0), 1.1 * chord, 1.5 * chord}) {
+            ++tried;
+            if (bounds.surely_at_least(limit)) assert_true(chord >= limit), ++decided;
+            if (bounds.surely_below(limit)) assert_true(chord < limit), ++decided;
+        }
+    }
+    assert_true(decided > tried / 2);
 }
 
 // The stopping test's summary, kept in blocks between calls, equals one
@@ -423,6 +448,7 @@ int main() {
         cmocka_unit_test(reseeding_lowers_the_defects),
         cmocka_unit_test(passes_switched_off_change_nothing),
         cmocka_unit_test(a_kept_summary_equals_one_made_anew),
+        cmocka_unit_test(chord_bounds_agree_with_the_chord),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
