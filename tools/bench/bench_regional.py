@@ -10,6 +10,7 @@ process of its own with the command line's default outputs; and, with
     pacific          a box across the antimeridian (lon 160..-160, lat -20..20)
     global coast     the shipped coastlines (data/coast_global_l.geojson) at H
     atlantic coast   the North Atlantic box with the same coastlines
+    pacific coast    the Pacific box with the same coastlines (its islands)
 
 For each it prints the cells of mesh.nc (and of the whole triangulation,
 with the cover outside the domain), the refinement, optimisation and MPAS
@@ -38,7 +39,7 @@ COAST = os.path.join(ROOT, "data", "coast_global_l.geojson")
 BOXES = {"atlantic": [[-80, 10], [-5, 10], [-5, 65], [-80, 65], [-80, 10]],
          "pacific": [[160, -20], [-160, -20], [-160, 20], [160, 20], [160, -20]]}
 CASES = {"global": (None, False), "atlantic": ("atlantic", False), "pacific": ("pacific", False),
-         "global coast": (None, True), "atlantic coast": ("atlantic", True)}
+         "global coast": (None, True), "atlantic coast": ("atlantic", True), "pacific coast": ("pacific", True)}
 
 
 def run_case(cli, km, threads, box, coast, surface, folder):
