@@ -18,19 +18,20 @@ public:
         : squared_(geom::dot(qa - qb, qa - qb)),
           slack_(std::fabs(geom::dot(qa, qa) - 1) + std::fabs(geom::dot(qb, qb) - 1)) {}
     // Each answer "surely" holds for the chord as computed from the
-    // directions too: the margin is far above any rounding.
+    // directions too: the margins (relative, and absolute for the roundings
+    // of normalising, about 1e-16) are far above any rounding.
     bool surely_at_least(double limit) const {
         if (!(limit > 0)) return true;
-        const double reach = (1 + kRoundingMargin) * limit + slack_;
+        const double reach = (1 + kRelativeMargin) * limit + slack_ + kAbsoluteMargin;
         return squared_ >= reach * reach;
     }
     bool surely_below(double limit) const {
-        const double reach = (1 - kRoundingMargin) * limit - slack_;
+        const double reach = (1 - kRelativeMargin) * limit - slack_ - kAbsoluteMargin;
         return reach > 0 && squared_ <= reach * reach;
     }
 
 private:
-    static constexpr double kRoundingMargin = 1e-9;
+    static constexpr double kRelativeMargin = 1e-9, kAbsoluteMargin = 1e-14;
     double squared_, slack_;
 };
 

@@ -154,7 +154,9 @@ public:
     std::vector<float> h_at;
     // Stamps of the sweep clock: when a vertex last changed (position,
     // weight or link) and when an update of it last failed. A vertex whose
-    // closed star has not changed since its last failure is skipped.
+    // closed star has not changed since its last failure is skipped. The
+    // kept summary and near-Gamma flags trust them too: every pass stamps
+    // what it changes, and a trial it undoes puts every point back bit for bit.
     std::vector<int32_t> changed_at, move_failed_at, weight_failed_at;
     // Per slot, ocean, land or coastal (ocean_sides.cpp; empty without a
     // floor), and the id of the vertex each was found for (-1: none).

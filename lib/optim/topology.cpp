@@ -19,8 +19,8 @@ std::vector<Topology::EdgeRatio> Topology::edge_ratios(double below, double abov
             const int32_t a = s_.tri.vertex(ti, (k + 1) % 3), b = s_.tri.vertex(ti, (k + 2) % 3);
             if (s_.cover(a) || s_.cover(b)) continue;
             const double mean_h = 0.5 * (s_.h_at[a] + s_.h_at[b]);
-            const ChordBounds chord(s_.tri.lifted(a), s_.tri.lifted(b));
-            if (chord.surely_at_least(below * mean_h) && chord.surely_below(above * mean_h)) continue;
+            const ChordBounds bounds(s_.tri.lifted(a), s_.tri.lifted(b));
+            if (bounds.surely_at_least(below * mean_h) && bounds.surely_below(above * mean_h)) continue;
             const double ratio = geom::norm(s_.tri.direction(a) - s_.tri.direction(b)) / mean_h;
             if (ratio < below || ratio > above) out.push_back({ratio, std::min(a, b), std::max(a, b)});
         }

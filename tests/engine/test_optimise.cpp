@@ -4,6 +4,7 @@
 #include <cstdarg>
 #include <cstddef>
 #include <csetjmp>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "optim/slide.hpp"
 #include "optim/star_graph.hpp"
 #include "refine/surface.hpp"
+#include "support/feature_parts.hpp"
 #include "tri/validate.hpp"
 
 // cmocka last: it defines a fail() macro.
@@ -179,6 +181,56 @@ void optimised_mesh_is_regular_and_better(void **) {
     assert_true(stats.outer_iterations >= 1 && stats.outer_iterations <= o.outer_iterations);
 }
 
+// The near-Gamma flags kept between calls equal flags found anew after a
+// vertex moved onto Gamma (stamped), and another was taken out and a new
+// one put into its slot (nothing stamped: the id tells).
+void kept_near_gamma_flags_equal_flags_found_anew(void **) {
+    Context ctx;
+    ctx.set_threads(2);
+    const double h = 0.02;
+    tri::Triangulation tri = uniform_mesh(ctx, h);
+    features::Network net;  // a closed coastline round a 30 x 30 degree island
+    assert_int_equal(testing::add(net, {{{-20, 10, 10, -20}, {-10, -10, 20, 20}, 1, UM_FEATURE_COASTLINE}}), UM_OK);
+    std::vector<int32_t> on_segment(static_cast<size_t>(tri.vertex_slots()), -1);
+    const refine::SpacingRadians spacing = [h](const Vec3 &) { return h; };
+    const optim::OptimiseOptions o;
+    optim::detail::MeshState kept(ctx, tri, on_segment, &net, spacing, o);
+    kept.load_spacing();
+    ++kept.clock;  // (the slots' first stamps, older than the first call)
+    kept.flag_near_gamma();
+    auto flagged = [](const std::vector<uint8_t> &f) { return std::count(f.begin(), f.end(), 1); };
+    const auto before = flagged(kept.near_gamma);
+    ++kept.clock;
+    // The vertex nearest (lon 90, lat 0), far from the island, and the one
+    // nearest (lon 150, lat 0): the first moves onto the island's coast, the
+    // second's slot gets a new vertex beside the coast.
+    auto nearest = [&](const Vec3 &x) {
+        int32_t best = -1;
+        for (int32_t v = 0; v < tri.vertex_slots(); ++v)
+            if (tri.in_triangulation(v) && (best < 0 || geom::dot(tri.direction(v), x) > geom::dot(tri.direction(best), x)))
+                best = v;
+        return best;
+    };
+    const int32_t far = nearest(geom::unit_from_lonlat_deg(150, 0));
+    const int32_t near_slot = tri.remove(far);
+    int32_t next_id = 0;
+    for (int32_t v = 0; v < tri.vertex_slots(); ++v) next_id = std::max(next_id, tri.id(v) + 1);
+    const int32_t added = tri.insert_into_removed(far, geom::unit_from_lonlat_deg(-5, -10.2), 0.0, next_id, nullptr, near_slot);
+    assert_int_equal(added, far);
+    kept.load_spacing();
+    const int32_t moved = nearest(geom::unit_from_lonlat_deg(90, 0));
+    kept.set_generator(moved, generator(geom::unit_from_lonlat_deg(10.2, 5), 0.0));
+    kept.changed_at[moved] = kept.clock;
+    kept.load_spacing();
+    kept.flag_near_gamma();
+    optim::detail::MeshState anew(ctx, tri, on_segment, &net, spacing, o);
+    anew.load_spacing();
+    anew.flag_near_gamma();
+    assert_true(kept.near_gamma == anew.near_gamma);
+    assert_true(kept.near_gamma[far] && kept.near_gamma[moved]);
+    assert_int_equal(flagged(kept.near_gamma), before + 2);
+}
+
 // The root-free chord bounds of the edge scans never contradict the chord
 // between the two directions as the scans compute it, and decide most
 // edges away from the limit (random weights of the optimisation's size,
@@ -201,6 +253,13 @@ void chord_bounds_agree_with_the_chord(void **) {
         }
     }
     assert_true(decided > tried / 2);
+    // Limits no chord can be below, or above: the answers stay safe.
+    const double kInf = std::numeric_limits<double>::infinity(), kNaN = std::numeric_limits<double>::quiet_NaN();
+    const optim::ChordBounds bounds(Vec3{1, 0, 0}, Vec3{0, 1, 0});
+    for (double limit : {0.0, -1.0, -kInf, kNaN}) assert_true(bounds.surely_at_least(limit));
+    for (double limit : {0.0, -1.0, kNaN}) assert_false(bounds.surely_below(limit));
+    assert_false(bounds.surely_at_least(kInf));
+    assert_true(bounds.surely_below(kInf));
 }
 
 // The stopping test's summary, kept in blocks between calls, equals one
@@ -221,6 +280,7 @@ void a_kept_summary_equals_one_made_anew(void **) {
         return a.qt_min == b.qt_min && a.qt_mean == b.qt_mean && a.qp_min == b.qp_min && a.qp_mean == b.qp_mean &&
                a.largest_angle_cosine == b.largest_angle_cosine;
     };
+    ++kept.clock;  // (the slots' first stamps, older than the first call)
     const optim::detail::Summary first = kept.summarise();
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> u(-1, 1);
@@ -449,6 +509,7 @@ int main() {
         cmocka_unit_test(passes_switched_off_change_nothing),
         cmocka_unit_test(a_kept_summary_equals_one_made_anew),
         cmocka_unit_test(chord_bounds_agree_with_the_chord),
+        cmocka_unit_test(kept_near_gamma_flags_equal_flags_found_anew),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
