@@ -333,8 +333,10 @@ public:
     // infinite without a floor.
     double floor_slack(int32_t v, const Ring &ring, const int32_t *link) const;
     // With a floor: the edges at `vertices` (each once) between two
-    // generators off the land shorter than floor h (0 without a floor).
-    int below_floor_at(const std::vector<int32_t> &vertices) const;
+    // generators off the land shorter than floor h (0 without a floor), or
+    // than `below` h (floor_to_lift: what the floor pass would lift).
+    int below_floor_at(const std::vector<int32_t> &vertices) const { return below_floor_at(vertices, options.ocean_floor); }
+    int below_floor_at(const std::vector<int32_t> &vertices, double below) const;
 
     // Stopping ---------------------------------------------------------------
     using Summary = detail::Summary;

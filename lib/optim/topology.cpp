@@ -182,8 +182,8 @@ int64_t Topology::improve_valence() {
             ++done, ++s_.stats.collapses;
             continue;
         }
-        split_vertex(v, st);
-        ++done, ++s_.stats.splits;
+        const bool split = split_vertex(v, st);
+        done += split, s_.stats.splits += split;
         locked.resize(static_cast<size_t>(s_.tri.vertex_slots()), 1);
     }
     return done;
@@ -198,8 +198,12 @@ void Topology::take_back(int32_t v, const std::vector<int32_t> &buried) {
 
 // Splits a vertex of high degree into two a quarter of its longest spoke
 // either side of where it was, along that spoke: each of the two takes
-// about half of the old link (degree ~ 6 for a link of 8).
-void Topology::split_vertex(int32_t v, const std::vector<int32_t> &star) {
+// about half of the old link (degree ~ 6 for a link of 8). Not where the
+// two would have more edges off the land below the floor the floor pass
+// lifts than v had: that pass would take one out again, and the next
+// split put it back, every outer iteration (a box's ring at 8 km: the
+// shape phase ran to its limit). Whether the split was made.
+bool Topology::split_vertex(int32_t v, const std::vector<int32_t> &star) {
     Vec3 far{};
     double far_l = -1;
     for (int32_t t : star)
@@ -210,7 +214,11 @@ void Topology::split_vertex(int32_t v, const std::vector<int32_t> &star) {
         }
     const Vec3 x = s_.tri.direction(v), along = 0.25 * (far - x);
     const Vec3 back = geom::normalized(x - along), ahead = geom::normalized(x + along);
-    for (int32_t u : s_.tri.move(v, back)) s_.changed_at[u] = s_.clock;
+    const Vec3 was = s_.tri.lifted(v);
+    const float h_was = s_.h_at[v];
+    const int below_was = s_.below_floor_at({v}, s_.floor_to_lift());
+    const std::vector<int32_t> hidden_by_move = s_.tri.move(v, back);
+    for (int32_t u : hidden_by_move) s_.changed_at[u] = s_.clock;
     if (s_.tri.in_triangulation(v)) s_.h_at[v] = static_cast<float>(s_.h(s_.tri.direction(v)));
     s_.changed_at[v] = s_.clock;
     const double w = s_.tri.weight(v);
@@ -221,15 +229,25 @@ void Topology::split_vertex(int32_t v, const std::vector<int32_t> &star) {
     s_.grow_slots();
     if (!s_.tri.in_triangulation(added)) {
         s_.tri.remove(added);
-        return;
+        return false;
     }
     if (s_.beside_cover(added) || s_.any_cover(buried)) {  // (nothing added beside a regional mesh's cover)
         take_back(added, buried);
-        return;
+        return false;
     }
     s_.h_at[added] = static_cast<float>(s_.h(ahead));
+    if (s_.tri.in_triangulation(v) && s_.below_floor_at({v, added}, s_.floor_to_lift()) > below_was) {
+        take_back(added, buried);
+        s_.tri.place(v, was);
+        s_.h_at[v] = h_was;
+        const int32_t near = s_.tri.star(v).front();
+        for (int32_t u : hidden_by_move)
+            if (!s_.tri.in_triangulation(u) && !s_.tri.is_removed(u)) s_.tri.restore_hidden(u, near);
+        return false;
+    }
     for (int32_t t : s_.tri.star(added))
         for (int k = 0; k < 3; ++k) s_.changed_at[s_.tri.vertex(t, k)] = s_.clock;
+    return true;
 }
 
 // A quad whose diagonal joins two vertices of degree 7 (or more) between two

@@ -33,7 +33,7 @@ private:
     bool leaves_long_edge(const Vec3 &x, double h_x, std::initializer_list<int32_t> ends) const;
     bool leaves_short_edge(int32_t a, int32_t b) const;
     int32_t insert_between(int32_t a, int32_t b);
-    void split_vertex(int32_t v, const std::vector<int32_t> &star);
+    bool split_vertex(int32_t v, const std::vector<int32_t> &star);
     void take_back(int32_t v, const std::vector<int32_t> &buried);
     bool relax_into_regularity(const int32_t (&quad)[4]);
 

@@ -15,6 +15,7 @@
 #include "optim/optimise.hpp"
 #include "optim/slide.hpp"
 #include "optim/star_graph.hpp"
+#include "optim/topology.hpp"
 #include "refine/surface.hpp"
 #include "support/feature_parts.hpp"
 #include "tri/validate.hpp"
@@ -354,6 +355,66 @@ void short_edges_collapse_and_long_ones_split(void **) {
 }
 
 
+// The edges of t shorter than `ratio` h (the chord, as the passes' guards
+// measure it; no Gamma: every vertex is off the land).
+int64_t edges_below(const tri::Triangulation &t, double ratio, double h) {
+    int64_t below = 0;
+    for (int32_t f = 0; f < t.triangle_slots(); ++f)
+        if (!t.is_free(f))
+            for (int k = 0; k < 3; ++k)
+                if (t.neighbour(f, k) > f)
+                    below += geom::norm(t.direction(t.vertex(f, (k + 1) % 3)) - t.direction(t.vertex(f, (k + 2) % 3))) <
+                             ratio * h;
+    return below;
+}
+
+// The repair of vertex degrees splits a vertex of degree 8 or more in two,
+// but not where the two would have more edges below the floor the floor
+// pass lifts than the vertex had: that pass would take one out again and
+// the next repair split it again, every outer iteration. Pairs of
+// neighbours taken out of a uniform mesh leave vertices of degree 8 or
+// more around their holes: without a floor their splits make edges below
+// it; with one, the pass makes none (and its undone splits leave a valid
+// triangulation).
+void valence_splits_keep_the_floor(void **) {
+    const double h = 0.05;  // 320 km
+    const double lifted = 0.77;  // the floor pass's floor in the shape phase, for a floor of 0.7
+    constexpr int kHoles = 24;
+    int64_t splits_without = 0;
+    for (const double floor : {0.0, 0.7}) {
+        Context ctx;
+        tri::Triangulation tri = uniform_mesh(ctx, h);
+        for (int i = 0; i < kHoles; ++i) {
+            const int32_t v = 12 + i * (tri.vertex_slots() - 12) / kHoles;  // far apart, past the corners
+            const int32_t u = tri.link(v).front();
+            tri.remove(v);
+            tri.remove(u);
+        }
+        std::vector<int32_t> on_segment(static_cast<size_t>(tri.vertex_slots()), -1);
+        optim::OptimiseOptions o;
+        o.ocean_floor = floor;
+        const refine::SpacingRadians spacing = [h](const Vec3 &) { return h; };  // (held by reference)
+        optim::detail::MeshState s(ctx, tri, on_segment, nullptr, spacing, o);
+        s.load_spacing();
+        s.refresh_sides();
+        if (floor > 0) assert_true(std::abs(s.floor_to_lift() - lifted) < 1e-12);
+        const int64_t below = edges_below(tri, lifted, h);
+        optim::detail::Topology(s).improve_valence();
+        const std::string problem = tri::check_triangulation(tri);
+        if (!problem.empty()) fail_msg("floor %.1f: %s", floor, problem.c_str());
+        const int64_t below_after = edges_below(tri, lifted, h);
+        print_message("floor %.1f: %lld splits, edges below %.2f h %lld -> %lld\n", floor,
+                      (long long)s.stats.splits, lifted, (long long)below, (long long)below_after);
+        if (floor == 0) {
+            splits_without = s.stats.splits;
+            assert_true(below_after > below);  // the case in point: such splits happen
+        } else {
+            assert_true(below_after <= below);
+            assert_true(s.stats.splits < splits_without);
+        }
+    }
+}
+
 // Every pass switched off (optimise.hpp): the schedule still runs its outer
 // iterations, but no vertex moves, no weight changes and the topology stays
 // as it was (the uniform mesh is regular already: no flip either).
@@ -510,6 +571,7 @@ int main() {
         cmocka_unit_test(a_kept_summary_equals_one_made_anew),
         cmocka_unit_test(chord_bounds_agree_with_the_chord),
         cmocka_unit_test(kept_near_gamma_flags_equal_flags_found_anew),
+        cmocka_unit_test(valence_splits_keep_the_floor),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
