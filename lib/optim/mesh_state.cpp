@@ -23,6 +23,10 @@ constexpr double kCrossingMargin = 0.05;
 // tolerances: smaller gains cost a sweep each and change no summary.
 constexpr double kGainOverTolerance = 10;
 
+// changed_near marks the stars of the changed vertices when they are at
+// most one in this many (else every vertex is looked at, as without it).
+constexpr size_t kChangedNearShare = 8;
+
 // ----------------------------------------------------------- per-slot state
 
 MeshState::MeshState(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
@@ -88,6 +92,23 @@ bool MeshState::nothing_changed_since(const StarGraph &g, int32_t v, int32_t tri
     for (int k = 0; k < g.degree(v); ++k)
         if (changed_at[link[k]] >= tried) return false;
     return true;
+}
+
+std::vector<uint8_t> MeshState::changed_near(const StarGraph &g, int32_t since) const {
+    const int32_t n = g.vertex_slots();
+    const std::vector<int32_t> recent =
+        ctx.collect_in_order<int32_t>(n, 1 << 14, [&](int64_t v, std::vector<int32_t> &out) {
+            if (changed_at[v] >= since) out.push_back(static_cast<int32_t>(v));
+        });
+    // (Past that share, marking the stars one by one costs more than the
+    // sweep's own look at every vertex.)
+    if (recent.size() > static_cast<size_t>(n) / kChangedNearShare) return {};
+    std::vector<uint8_t> near(static_cast<size_t>(tri.vertex_slots()), 0);
+    for (int32_t u : recent) {  // (the links are symmetric: v is near u when u is in v's link)
+        near[u] = 1;
+        flag_link(g, u, near);
+    }
+    return near;
 }
 
 bool MeshState::gather_ring(const StarGraph &g, int32_t v, Ring &ring) const {

@@ -165,6 +165,7 @@ public:
     int32_t sides_clock = -1;  // the clock at the last refresh (changed_at since: looked at again)
     bool weighing = false;  // the weight phase has begun (weight_failed_at exists)
     int32_t clock = 1;
+    static constexpr int32_t kNever = -1;  // a clock value before any
     int32_t next_id = 0;
     OptimiseStats stats;
 
@@ -187,31 +188,50 @@ public:
     // One graph-coloured sweep of update(g, v) over every vertex off the
     // cover, or only over those flagged in *only: the vertices of one colour
     // in parallel, colours in sequence (forward or in reverse); the updates
-    // taken.
+    // taken. With `near` (changed_near's flags at the sweep's start), only
+    // the flagged vertices are visited, and each update taken flags its
+    // link for the colours after it: the vertices an update that skips
+    // what has not changed since its last failure could take.
     template <class Update>
-    int64_t sweep(const StarGraph &g, bool forward, const std::vector<uint8_t> *only, Update &&update) {
+    int64_t sweep(const StarGraph &g, bool forward, const std::vector<uint8_t> *only, Update &&update,
+                  std::vector<uint8_t> *near = nullptr) {
         const auto &colours = g.colours();
         const int n_colours = static_cast<int>(colours.size());
         int64_t accepted = 0;
         std::vector<int32_t> subset;
         for (int i = 0; i < n_colours; ++i) {
             const std::vector<int32_t> *list = &colours[forward ? i : n_colours - 1 - i];
-            if (only || !in_cover.empty()) {
+            if (only || near || !in_cover.empty()) {
                 subset.clear();
                 for (int32_t v : *list)
-                    if ((!only || (*only)[v]) && !cover(v)) subset.push_back(v);
+                    if ((!only || (*only)[v]) && (!near || (*near)[v]) && !cover(v)) subset.push_back(v);
                 list = &subset;
             }
             std::vector<uint8_t> took(list->size(), 0);
             ctx.parallel_for(static_cast<int64_t>(list->size()), 256, [&](int64_t b, int64_t e) {
                 for (int64_t k = b; k < e; ++k) took[k] = update(g, (*list)[k]);
             });
-            for (uint8_t t : took) accepted += t;
+            for (size_t k = 0; k < took.size(); ++k) {
+                accepted += took[k];
+                if (near && took[k]) flag_link(g, (*list)[k], *near);
+            }
             ++clock;  // the next colour sees this one's changes as newer than its failures
         }
         return accepted;
     }
     bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
+    // The vertices (flags per slot) whose closed star in g holds one
+    // changed at `since` or later; empty (all of them) when that is more
+    // than a few. After a sweep of every vertex that began at `since`, only
+    // these can be found changed since their last failure: each other one
+    // failed, or was skipped, in that sweep or later, and every change
+    // since is stamped (a new link by rebuild_graph).
+    std::vector<uint8_t> changed_near(const StarGraph &g, int32_t since) const;
+    // Flags v's link in `flags`.
+    static void flag_link(const StarGraph &g, int32_t v, std::vector<uint8_t> &flags) {
+        const int32_t *link = g.link(v);
+        for (int k = 0; k < g.degree(v); ++k) flags[link[k]] = 1;
+    }
     // False when v's degree is beyond Ring::kMax.
     bool gather_ring(const StarGraph &g, int32_t v, Ring &ring) const;
 

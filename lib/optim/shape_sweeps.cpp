@@ -45,8 +45,16 @@ constexpr int kCompassSteps = 5;  // h / 4, h / 8, ...: the compass step halved
 
 }  // namespace
 
-int64_t ShapeSweeps::moves(const StarGraph &g, bool forward, const std::vector<uint8_t> *only) {
-    return s_.sweep(g, forward, only, [&](const StarGraph &g, int32_t v) { return update_position(g, v); });
+int64_t ShapeSweeps::sweep(const StarGraph &g, bool forward) {
+    std::vector<uint8_t> near =
+        last_sweep_began_ == MeshState::kNever ? std::vector<uint8_t>{} : s_.changed_near(g, last_sweep_began_);
+    last_sweep_began_ = s_.clock;
+    return moves(g, forward, nullptr, near.empty() ? nullptr : &near);
+}
+
+int64_t ShapeSweeps::moves(const StarGraph &g, bool forward, const std::vector<uint8_t> *only,
+                           std::vector<uint8_t> *near) {
+    return s_.sweep(g, forward, only, [&](const StarGraph &g, int32_t v) { return update_position(g, v); }, near);
 }
 
 bool ShapeSweeps::wants_polish(int64_t changes) const {

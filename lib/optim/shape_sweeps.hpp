@@ -15,7 +15,9 @@ class ShapeSweeps {
 public:
     explicit ShapeSweeps(MeshState &s) : s_(s) {}
     // One graph-coloured sweep of moves over every vertex; the moves taken.
-    int64_t sweep(const StarGraph &g, bool forward) { return moves(g, forward, nullptr); }
+    // (After the first, over those changed_near the last one's start: no
+    // other can move.)
+    int64_t sweep(const StarGraph &g, bool forward);
     // The same over the vertices near Gamma only (MeshState::near_gamma;
     // none without Gamma).
     int64_t sweep_near_gamma(const StarGraph &g, bool forward) {
@@ -27,8 +29,10 @@ public:
     int64_t polish_poor_stars(const StarGraph &g);
 
 private:
-    // Over every vertex, or only over those flagged in *only.
-    int64_t moves(const StarGraph &g, bool forward, const std::vector<uint8_t> *only);
+    // Over every vertex, or only over those flagged in *only (and `near`:
+    // MeshState::sweep).
+    int64_t moves(const StarGraph &g, bool forward, const std::vector<uint8_t> *only,
+                  std::vector<uint8_t> *near = nullptr);
     bool update_position(const StarGraph &g, int32_t v);
     struct MoveTrial;
     bool move_to_targets(MoveTrial &trial);
@@ -39,6 +43,7 @@ private:
 
     MeshState &s_;
     double poor_star_ = -kInfinity;  // stars scoring below get the compass search
+    int32_t last_sweep_began_ = MeshState::kNever;  // the clock at the start of the last sweep()
 };
 
 }  // namespace um::optim::detail

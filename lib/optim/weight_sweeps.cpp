@@ -17,6 +17,14 @@ constexpr double kWeightedMargin = 0.001;
 
 }  // namespace
 
+int64_t WeightSweeps::sweep(const StarGraph &g, bool forward) {
+    std::vector<uint8_t> near =
+        last_sweep_began_ == MeshState::kNever ? std::vector<uint8_t>{} : s_.changed_near(g, last_sweep_began_);
+    last_sweep_began_ = s_.clock;
+    return s_.sweep(g, forward, nullptr, [&](const StarGraph &g, int32_t v) { return update_weight(g, v); },
+                    near.empty() ? nullptr : &near);
+}
+
 // Eq. 4-6: ascend the Q^P of the worst adjacent triangle, starting from the
 // first-order step that would lift it to the star's mean (here: just past
 // the threshold).

@@ -11,15 +11,16 @@ namespace um::optim::detail {
 class WeightSweeps {
 public:
     explicit WeightSweeps(MeshState &s) : s_(s) {}
-    // One graph-coloured sweep of weight updates; the updates taken.
-    int64_t sweep(const StarGraph &g, bool forward) {
-        return s_.sweep(g, forward, nullptr, [&](const StarGraph &g, int32_t v) { return update_weight(g, v); });
-    }
+    // One graph-coloured sweep of weight updates; the updates taken. (After
+    // the first, over those changed_near the last one's start: no other
+    // can take one.)
+    int64_t sweep(const StarGraph &g, bool forward);
 
 private:
     bool update_weight(const StarGraph &g, int32_t v);
 
     MeshState &s_;
+    int32_t last_sweep_began_ = MeshState::kNever;  // the clock at the start of the last sweep
 };
 
 }  // namespace um::optim::detail

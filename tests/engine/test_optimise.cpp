@@ -16,6 +16,8 @@
 #include "optim/slide.hpp"
 #include "optim/star_graph.hpp"
 #include "optim/topology.hpp"
+#include "optim/shape_sweeps.hpp"
+#include "optim/weight_sweeps.hpp"
 #include "refine/surface.hpp"
 #include "support/feature_parts.hpp"
 #include "tri/validate.hpp"
@@ -355,6 +357,63 @@ void short_edges_collapse_and_long_ones_split(void **) {
 }
 
 
+// A sweep after the first visits only the vertices changed_near the last
+// one's start (and the links of the updates it takes, for the colours
+// after them): it takes the same updates, bit for bit, as sweeps that look
+// at every vertex (a fresh pass each time, with no last sweep). Both
+// meshes get the same 60 stamped moves and weights before each of three
+// rounds of three sweeps, after six sweeps to settle.
+void sweeps_skipping_the_unchanged_take_the_same_updates(void **) {
+    const double h = 0.02;  // 130 km
+    const refine::SpacingRadians spacing = [h](const Vec3 &) { return h; };
+    optim::OptimiseOptions o;
+    o.ocean_floor = 0;
+    for (const bool weights : {false, true}) {
+        Context ctx;
+        ctx.set_threads(2);
+        tri::Triangulation tri_kept = uniform_mesh(ctx, h), tri_anew = uniform_mesh(ctx, h);
+        std::vector<int32_t> on_kept(static_cast<size_t>(tri_kept.vertex_slots()), -1), on_anew = on_kept;
+        optim::detail::MeshState kept(ctx, tri_kept, on_kept, nullptr, spacing, o),
+            anew(ctx, tri_anew, on_anew, nullptr, spacing, o);
+        for (optim::detail::MeshState *s : {&kept, &anew}) {
+            s->load_spacing();
+            s->weighing = weights;
+            s->grow_slots();
+        }
+        const optim::StarGraph g_kept(ctx, tri_kept), g_anew(ctx, tri_anew);
+        optim::detail::ShapeSweeps shape_kept(kept);
+        optim::detail::WeightSweeps weight_kept(kept);
+        auto sweep_both = [&](bool forward) {
+            const int64_t a = weights ? weight_kept.sweep(g_kept, forward) : shape_kept.sweep(g_kept, forward);
+            const int64_t b = weights ? optim::detail::WeightSweeps(anew).sweep(g_anew, forward)
+                                      : optim::detail::ShapeSweeps(anew).sweep(g_anew, forward);
+            assert_int_equal(a, b);
+            return a;
+        };
+        for (int k = 0; k < 6; ++k) sweep_both(k % 2 == 0);
+        std::mt19937_64 rng(17);
+        std::uniform_real_distribution<double> u(-1, 1);
+        int64_t late = 0;
+        for (int round = 0; round < 3; ++round) {
+            ++kept.clock, ++anew.clock;
+            for (int i = 0; i < 60; ++i) {
+                const int32_t v = static_cast<int32_t>(rng() % static_cast<uint64_t>(tri_kept.vertex_slots()));
+                const Vec3 x = tri_kept.direction(v) + 0.05 * h * Vec3{u(rng), u(rng), u(rng)};
+                const double w = weights ? 0.02 * h * h * u(rng) : 0.0;
+                for (optim::detail::MeshState *s : {&kept, &anew}) {
+                    s->set_generator(v, generator(x, w));
+                    s->changed_at[v] = s->clock;
+                }
+            }
+            for (int k = 0; k < 3; ++k) late += sweep_both(k % 2 == 0);
+        }
+        print_message("%s sweeps: %lld updates after the perturbations\n", weights ? "weight" : "shape", (long long)late);
+        assert_true(late > 0);
+        for (int32_t v = 0; v < tri_kept.vertex_slots(); ++v)
+            if (geom::norm(tri_kept.lifted(v) - tri_anew.lifted(v)) != 0) fail_msg("%s sweeps: vertex %d differs", weights ? "weight" : "shape", v);
+    }
+}
+
 // The edges of t shorter than `ratio` h (the chord, as the passes' guards
 // measure it; no Gamma: every vertex is off the land).
 int64_t edges_below(const tri::Triangulation &t, double ratio, double h) {
@@ -572,6 +631,7 @@ int main() {
         cmocka_unit_test(chord_bounds_agree_with_the_chord),
         cmocka_unit_test(kept_near_gamma_flags_equal_flags_found_anew),
         cmocka_unit_test(valence_splits_keep_the_floor),
+        cmocka_unit_test(sweeps_skipping_the_unchanged_take_the_same_updates),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
