@@ -62,6 +62,9 @@ constexpr size_t kFirstTierSites = 1 + std::size(kBisectorSpokes);
 int64_t GammaCorners::support_gamma_corners() {
     if (!s_.gamma) return 0;
     auto gamma_corner = [&](int32_t t) {  // the obtuse corner's index, when on Gamma; else -1
+        // (Most triangles have no vertex on Gamma: known before any geometry.)
+        const int32_t v0 = s_.tri.vertex(t, 0), v1 = s_.tri.vertex(t, 1), v2 = s_.tri.vertex(t, 2);
+        if (s_.on_segment[v0] < 0 && s_.on_segment[v1] < 0 && s_.on_segment[v2] < 0) return -1;
         if (s_.touches_cover(t)) return -1;
         Vec3 x[3];
         for (int k = 0; k < 3; ++k) x[k] = s_.tri.direction(s_.tri.vertex(t, k));
