@@ -222,10 +222,12 @@ public:
     bool nothing_changed_since(const StarGraph &g, int32_t v, int32_t tried) const;
     // The vertices (flags per slot) whose closed star in g holds one
     // changed at `since` or later; empty (all of them) when that is more
-    // than a few. After a sweep of every vertex that began at `since`, only
-    // these can be found changed since their last failure: each other one
-    // failed, or was skipped, in that sweep or later, and every change
-    // since is stamped (a new link by rebuild_graph).
+    // than a few. After a sweep that began at `since` (of every vertex, or
+    // of these flags as it went), only these can be found changed since
+    // their last failure: each other one failed, or was skipped, in that
+    // sweep or later, and every change since is stamped (a new link by
+    // rebuild_graph). What lowers a failure stamp must stamp the vertex or
+    // visit it at once (the re-seeding and the polish do).
     std::vector<uint8_t> changed_near(const StarGraph &g, int32_t since) const;
     // Flags v's link in `flags`.
     static void flag_link(const StarGraph &g, int32_t v, std::vector<uint8_t> &flags) {
@@ -354,9 +356,13 @@ public:
     double floor_slack(int32_t v, const Ring &ring, const int32_t *link) const;
     // With a floor: the edges at `vertices` (each once) between two
     // generators off the land shorter than floor h (0 without a floor), or
-    // than `below` h (floor_to_lift: what the floor pass would lift).
-    int below_floor_at(const std::vector<int32_t> &vertices) const { return below_floor_at(vertices, options.ocean_floor); }
-    int below_floor_at(const std::vector<int32_t> &vertices, double below) const;
+    // than `floor` h (floor_to_lift: what the floor pass would lift).
+    int below_floor_at(const std::vector<int32_t> &vertices) const {
+        return below_floor_at(vertices, options.ocean_floor);
+    }
+    int below_floor_at(const std::vector<int32_t> &vertices, double floor) const;
+    // Whether the floor is kept: one is asked for and the sides are known.
+    bool keeps_floor() const { return options.ocean_floor > 0 && !side_id.empty(); }
 
     // Stopping ---------------------------------------------------------------
     using Summary = detail::Summary;

@@ -173,7 +173,7 @@ bool MeshState::move_keeps_floor(int32_t v, const Vec3 &to, double slack, const 
 
 // (The sides are looked up only for the edges that are short: most are not.)
 int MeshState::below_floor_at(const std::vector<int32_t> &vertices, double floor) const {
-    if (!(options.ocean_floor > 0) || side_id.empty()) return 0;
+    if (!keeps_floor()) return 0;
     int below = 0;
     for (int32_t v : vertices) {
         if (!tri.in_triangulation(v)) continue;

@@ -201,8 +201,10 @@ void Topology::take_back(int32_t v, const std::vector<int32_t> &buried) {
 // about half of the old link (degree ~ 6 for a link of 8). Not where the
 // two would have more edges off the land below the floor the floor pass
 // lifts than v had: that pass would take one out again, and the next
-// split put it back, every outer iteration (a box's ring at 8 km: the
-// shape phase ran to its limit). Whether the split was made.
+// repair split it again, every outer iteration (a box's ring at 8 km ran
+// its shape phase to the limit). Off the land, two closer than that floor
+// are refused before any change. A split not made leaves the mesh as it
+// was. Whether the split was made.
 bool Topology::split_vertex(int32_t v, const std::vector<int32_t> &star) {
     Vec3 far{};
     double far_l = -1;
@@ -214,37 +216,38 @@ bool Topology::split_vertex(int32_t v, const std::vector<int32_t> &star) {
         }
     const Vec3 x = s_.tri.direction(v), along = 0.25 * (far - x);
     const Vec3 back = geom::normalized(x - along), ahead = geom::normalized(x + along);
+    const double floor = s_.floor_to_lift();
+    if (s_.keeps_floor() && s_.off_land(v) && geom::norm(ahead - back) < floor * s_.h_at[v]) return false;
     const Vec3 was = s_.tri.lifted(v);
     const float h_was = s_.h_at[v];
-    const int below_was = s_.below_floor_at({v}, s_.floor_to_lift());
+    const int below_was = s_.below_floor_at({v}, floor);
     const std::vector<int32_t> hidden_by_move = s_.tri.move(v, back);
-    for (int32_t u : hidden_by_move) s_.changed_at[u] = s_.clock;
-    if (s_.tri.in_triangulation(v)) s_.h_at[v] = static_cast<float>(s_.h(s_.tri.direction(v)));
-    s_.changed_at[v] = s_.clock;
-    const double w = s_.tri.weight(v);
-    std::vector<int32_t> buried;
-    const int32_t hint = s_.tri.in_triangulation(v) ? s_.tri.star(v).front() : s_.tri.locate(ahead);
-    const int32_t added = s_.tri.insert(ahead, w, s_.next_id++, &buried, hint);
-    for (int32_t u : buried) s_.changed_at[u] = s_.clock;
-    s_.grow_slots();
-    if (!s_.tri.in_triangulation(added)) {
-        s_.tri.remove(added);
-        return false;
-    }
-    if (s_.beside_cover(added) || s_.any_cover(buried)) {  // (nothing added beside a regional mesh's cover)
-        take_back(added, buried);
-        return false;
-    }
-    s_.h_at[added] = static_cast<float>(s_.h(ahead));
-    if (s_.tri.in_triangulation(v) && s_.below_floor_at({v, added}, s_.floor_to_lift()) > below_was) {
-        take_back(added, buried);
+    auto put_back = [&] {  // v where it was, bit for bit, and what its move hid
         s_.tri.place(v, was);
         s_.h_at[v] = h_was;
         const int32_t near = s_.tri.star(v).front();
         for (int32_t u : hidden_by_move)
-            if (!s_.tri.in_triangulation(u) && !s_.tri.is_removed(u)) s_.tri.restore_hidden(u, near);
+            if (u != v && !s_.tri.in_triangulation(u) && !s_.tri.is_removed(u)) s_.tri.restore_hidden(u, near);
         return false;
+    };
+    if (!s_.tri.in_triangulation(v)) return put_back();  // (its own cell emptied)
+    s_.h_at[v] = static_cast<float>(s_.h(s_.tri.direction(v)));
+    std::vector<int32_t> buried;
+    const int32_t added = s_.tri.insert(ahead, s_.tri.weight(v), s_.next_id++, &buried, s_.tri.star(v).front());
+    s_.grow_slots();
+    if (!s_.tri.in_triangulation(added)) {
+        s_.tri.remove(added);
+        return put_back();
     }
+    s_.h_at[added] = static_cast<float>(s_.h(ahead));
+    // (Nothing added beside a regional mesh's cover.)
+    if (s_.beside_cover(added) || s_.any_cover(buried) || s_.below_floor_at({v, added}, floor) > below_was) {
+        take_back(added, buried);
+        return put_back();
+    }
+    for (int32_t u : hidden_by_move) s_.changed_at[u] = s_.clock;
+    for (int32_t u : buried) s_.changed_at[u] = s_.clock;
+    s_.changed_at[v] = s_.clock;
     for (int32_t t : s_.tri.star(added))
         for (int k = 0; k < 3; ++k) s_.changed_at[s_.tri.vertex(t, k)] = s_.clock;
     return true;

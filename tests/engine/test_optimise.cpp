@@ -13,10 +13,10 @@
 #include "optim/local_quality.hpp"
 #include "optim/mesh_state.hpp"
 #include "optim/optimise.hpp"
+#include "optim/shape_sweeps.hpp"
 #include "optim/slide.hpp"
 #include "optim/star_graph.hpp"
 #include "optim/topology.hpp"
-#include "optim/shape_sweeps.hpp"
 #include "optim/weight_sweeps.hpp"
 #include "refine/surface.hpp"
 #include "support/feature_parts.hpp"
@@ -410,7 +410,8 @@ void sweeps_skipping_the_unchanged_take_the_same_updates(void **) {
         print_message("%s sweeps: %lld updates after the perturbations\n", weights ? "weight" : "shape", (long long)late);
         assert_true(late > 0);
         for (int32_t v = 0; v < tri_kept.vertex_slots(); ++v)
-            if (geom::norm(tri_kept.lifted(v) - tri_anew.lifted(v)) != 0) fail_msg("%s sweeps: vertex %d differs", weights ? "weight" : "shape", v);
+            if (geom::norm(tri_kept.lifted(v) - tri_anew.lifted(v)) != 0)
+                fail_msg("%s sweeps: vertex %d differs", weights ? "weight" : "shape", v);
     }
 }
 
@@ -458,7 +459,10 @@ void valence_splits_keep_the_floor(void **) {
         s.refresh_sides();
         if (floor > 0) assert_true(std::abs(s.floor_to_lift() - lifted) < 1e-12);
         const int64_t below = edges_below(tri, lifted, h);
-        optim::detail::Topology(s).improve_valence();
+        std::vector<Vec3> was;
+        for (int32_t v = 0; v < tri.vertex_slots(); ++v) was.push_back(tri.lifted(v));
+        const int64_t vertices = tri.vertex_count();
+        const int64_t changes = optim::detail::Topology(s).improve_valence();
         const std::string problem = tri::check_triangulation(tri);
         if (!problem.empty()) fail_msg("floor %.1f: %s", floor, problem.c_str());
         const int64_t below_after = edges_below(tri, lifted, h);
@@ -470,6 +474,12 @@ void valence_splits_keep_the_floor(void **) {
         } else {
             assert_true(below_after <= below);
             assert_true(s.stats.splits < splits_without);
+            // Every split refused: the only changes are removals of vertices
+            // of low degree, and every vertex left is where it was.
+            assert_int_equal(tri.vertex_count(), vertices - changes);
+            for (int32_t v = 0; v < static_cast<int32_t>(was.size()); ++v)
+                if (tri.in_triangulation(v) && geom::norm(tri.lifted(v) - was[static_cast<size_t>(v)]) != 0)
+                    fail_msg("vertex %d moved", v);
         }
     }
 }
