@@ -96,7 +96,7 @@ def polylines(lines, river, lon0=0.0):
 
 
 # Longitude ticks of a map centred away from 0 named in [-180, 180).
-LONGITUDE_TICKS = FuncFormatter(lambda x, _: f"{float(wrap(x)):g}")
+LONGITUDE_TICKS = FuncFormatter(lambda x, _: f"{x - 360 if x > 180 else x + 360 if x < -180 else x:g}")
 
 
 def draw_lines(ax, lines, width, lon0=0.0):
@@ -171,7 +171,8 @@ def size_image(mesh, lon0, box):
     count = np.bincount(at, minlength=width * height).reshape(height, width).astype(float)
     image = total / np.maximum(count, 1.0)
     regional = mesh["sphere_share"] < REGIONAL_SHARE
-    km_per_pixel = 111.2 * (y1 - y0) / height
+    # (A pixel is shortest east-west at the box's highest latitude.)
+    km_per_pixel = 111.2 * (y1 - y0) / height * max(0.05, math.cos(math.radians(max(abs(y0), abs(y1)))))
     widest = 2.0 * float(mesh["size_km"].max()) / km_per_pixel + 1.0  # pixels
     rows, cols = np.nonzero(count == 0)
     level = 0
@@ -223,15 +224,16 @@ def draw_globe(ax, fig, mesh, lines):
 
 
 def zoom_centre(mesh, lines):
-    """Where the input lines are densest (5-degree bins holding a cell: a
-    regional mesh's lines go beyond it), else the smallest cells."""
+    """Where the input lines are densest (5-degree bins; on a regional mesh,
+    bins holding a cell: its lines go beyond it), else the smallest cells."""
     if lines:
         lon = wrap(np.concatenate([x for x, _, _ in lines]))
         lat = np.concatenate([y for _, y, _ in lines])
         bins, extent = (72, 36), ((-180, 180), (-90, 90))
         counts, lon_edges, lat_edges = np.histogram2d(lon, lat, bins=bins, range=extent)
-        cells, _, _ = np.histogram2d(mesh["lonCell"], mesh["latCell"], bins=bins, range=extent)
-        counts[cells == 0] = 0
+        if mesh["sphere_share"] < REGIONAL_SHARE:
+            cells, _, _ = np.histogram2d(mesh["lonCell"], mesh["latCell"], bins=bins, range=extent)
+            counts[cells == 0] = 0
     if lines and counts.max() > 0:
         i, j = np.unravel_index(np.argmax(counts), counts.shape)
         inside = (lon >= lon_edges[i]) & (lon <= lon_edges[i + 1]) & (lat >= lat_edges[j]) & (lat <= lat_edges[j + 1])
