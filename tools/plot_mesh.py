@@ -35,6 +35,9 @@ except ImportError as e:
 
 # The zoom shows about this many cells across.
 ZOOM_CELLS_ACROSS = 30
+# A mesh whose cells cover less than this share of the sphere is regional:
+# the map shows the box around its cells, not the globe.
+REGIONAL_SHARE = 0.99
 
 
 def wrap(lon):
@@ -95,7 +98,7 @@ def polylines(lines, river, lon0=0.0):
     return out
 
 
-# Longitude ticks of a map centred away from 0 named in [-180, 180).
+# Longitude ticks of a map centred away from 0, named from -180 to 180.
 LONGITUDE_TICKS = FuncFormatter(lambda x, _: f"{x - 360 if x > 180 else x + 360 if x < -180 else x:g}")
 
 
@@ -118,7 +121,7 @@ def read_mesh(path):
     # a unit sphere, scaled to the Earth's mean radius.)
     metres_per_unit = 1.0 if radius > 1000.0 else 6371220.0 / radius
     mesh["size_km"] = np.sqrt(mesh["areaCell"]) * metres_per_unit / 1000.0
-    mesh["sphere_share"] = float(mesh["areaCell"].sum()) / (4.0 * math.pi * radius * radius)
+    mesh["regional"] = float(mesh["areaCell"].sum()) / (4.0 * math.pi * radius * radius) < REGIONAL_SHARE
     return mesh
 
 
@@ -128,9 +131,6 @@ def read_mesh(path):
 # run's 20.
 RASTER_CELLS = 200_000
 GLOBE_PIXELS = 1440
-# A mesh whose cells cover less than this share of the sphere is regional:
-# the map shows the box around its cells, not the globe.
-REGIONAL_SHARE = 0.99
 
 
 def map_box(mesh):
@@ -139,7 +139,7 @@ def map_box(mesh):
     globe for a whole sphere, else the box around the cells' corners with a
     margin (centred on their mean longitude: a box across the dateline stays
     in one piece)."""
-    if mesh["sphere_share"] >= REGIONAL_SHARE:
+    if not mesh["regional"]:
         return 0.0, (-180.0, 180.0, -90.0, 90.0)
     lon = np.radians(mesh["lonCell"])
     lon0 = math.degrees(math.atan2(float(np.sin(lon).mean()), float(np.cos(lon).mean())))
@@ -161,7 +161,8 @@ def size_image(mesh, lon0, box):
     long_side = max(x1 - x0, y1 - y0)
     width = max(1, round(GLOBE_PIXELS * (x1 - x0) / long_side))
     height = max(1, round(GLOBE_PIXELS * (y1 - y0) / long_side))
-    if box == (-180.0, 180.0, -90.0, 90.0):
+    regional = mesh["regional"]
+    if not regional:
         width, height = GLOBE_PIXELS, GLOBE_PIXELS // 2
     x = lon0 + wrap(mesh["lonCell"] - lon0)
     col = np.clip(((x - x0) / (x1 - x0) * width).astype(np.int64), 0, width - 1)
@@ -170,7 +171,6 @@ def size_image(mesh, lon0, box):
     total = np.bincount(at, weights=mesh["size_km"], minlength=width * height).reshape(height, width)
     count = np.bincount(at, minlength=width * height).reshape(height, width).astype(float)
     image = total / np.maximum(count, 1.0)
-    regional = mesh["sphere_share"] < REGIONAL_SHARE
     # (A pixel is shortest east-west at the box's highest latitude.)
     km_per_pixel = 111.2 * (y1 - y0) / height * max(0.05, math.cos(math.radians(max(abs(y0), abs(y1)))))
     widest = 2.0 * float(mesh["size_km"].max()) / km_per_pixel + 1.0  # pixels
@@ -214,7 +214,7 @@ def draw_globe(ax, fig, mesh, lines):
                               cmap="viridis", shading="flat", rasterized=True)
     draw_lines(ax, lines, 0.25, lon0)
     ax.set_xlim(box[0], box[1]), ax.set_ylim(box[2], box[3])
-    if mesh["sphere_share"] >= REGIONAL_SHARE:
+    if not mesh["regional"]:
         ax.set_aspect("equal")
     else:  # (degrees of longitude shortened as at the box's middle latitude)
         ax.set_aspect(1.0 / max(0.2, math.cos(math.radians(0.5 * (box[2] + box[3])))))
@@ -231,7 +231,7 @@ def zoom_centre(mesh, lines):
         lat = np.concatenate([y for _, y, _ in lines])
         bins, extent = (72, 36), ((-180, 180), (-90, 90))
         counts, lon_edges, lat_edges = np.histogram2d(lon, lat, bins=bins, range=extent)
-        if mesh["sphere_share"] < REGIONAL_SHARE:
+        if mesh["regional"]:
             cells, _, _ = np.histogram2d(mesh["lonCell"], mesh["latCell"], bins=bins, range=extent)
             counts[cells == 0] = 0
     if lines and counts.max() > 0:

@@ -63,15 +63,15 @@ int64_t GammaCorners::support_gamma_corners() {
     if (!s_.gamma) return 0;
     auto gamma_corner = [&](int32_t t) {  // the obtuse corner's index, when on Gamma; else -1
         // (Most triangles have no vertex on Gamma: known before any geometry.)
-        const int32_t v0 = s_.tri.vertex(t, 0), v1 = s_.tri.vertex(t, 1), v2 = s_.tri.vertex(t, 2);
-        if (s_.on_segment[v0] < 0 && s_.on_segment[v1] < 0 && s_.on_segment[v2] < 0) return -1;
+        const int32_t v[3] = {s_.tri.vertex(t, 0), s_.tri.vertex(t, 1), s_.tri.vertex(t, 2)};
+        if (s_.on_segment[v[0]] < 0 && s_.on_segment[v[1]] < 0 && s_.on_segment[v[2]] < 0) return -1;
         if (s_.touches_cover(t)) return -1;
         Vec3 x[3];
-        for (int k = 0; k < 3; ++k) x[k] = s_.tri.direction(s_.tri.vertex(t, k));
+        for (int k = 0; k < 3; ++k) x[k] = s_.tri.direction(v[k]);
         double l[3];
         for (int k = 0; k < 3; ++k) l[k] = geom::dot(x[(k + 1) % 3] - x[(k + 2) % 3], x[(k + 1) % 3] - x[(k + 2) % 3]);
         const int k = l[0] >= l[1] && l[0] >= l[2] ? 0 : (l[1] >= l[2] ? 1 : 2);
-        return s_.on_segment[s_.tri.vertex(t, k)] >= 0 && largest_angle_cosine(x[0], x[1], x[2]) < 0 ? k : -1;
+        return s_.on_segment[v[k]] >= 0 && largest_angle_cosine(x[0], x[1], x[2]) < 0 ? k : -1;
     };
     const std::vector<int32_t> found = s_.tri.live_triangles_where(s_.ctx, [&](int32_t t) { return gamma_corner(t) >= 0; });
     std::vector<uint8_t> locked(static_cast<size_t>(s_.tri.vertex_slots()), 0);

@@ -165,7 +165,6 @@ public:
     int32_t sides_clock = -1;  // the clock at the last refresh (changed_at since: looked at again)
     bool weighing = false;  // the weight phase has begun (weight_failed_at exists)
     int32_t clock = 1;
-    static constexpr int32_t kNever = -1;  // a clock value before any
     int32_t next_id = 0;
     OptimiseStats stats;
 
@@ -371,6 +370,22 @@ public:
 
 private:
     QualitySummary summary_;
+};
+
+// When the last sweep of one kind (the shape moves, or the weights) began,
+// and so what the next one needs to visit (MeshState::changed_near).
+class SweepStart {
+public:
+    // The next sweep's flags (empty: every vertex, as for the first); it
+    // begins now.
+    std::vector<uint8_t> next(const MeshState &s, const StarGraph &g) {
+        std::vector<uint8_t> near = began_ < 0 ? std::vector<uint8_t>{} : s.changed_near(g, began_);
+        began_ = s.clock;
+        return near;
+    }
+
+private:
+    int32_t began_ = -1;  // (clocks start at 1)
 };
 
 }  // namespace um::optim::detail

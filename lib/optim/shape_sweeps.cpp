@@ -46,9 +46,7 @@ constexpr int kCompassSteps = 5;  // h / 4, h / 8, ...: the compass step halved
 }  // namespace
 
 int64_t ShapeSweeps::sweep(const StarGraph &g, bool forward) {
-    std::vector<uint8_t> near =
-        last_sweep_began_ == MeshState::kNever ? std::vector<uint8_t>{} : s_.changed_near(g, last_sweep_began_);
-    last_sweep_began_ = s_.clock;
+    std::vector<uint8_t> near = last_sweep_.next(s_, g);
     return moves(g, forward, nullptr, near.empty() ? nullptr : &near);
 }
 

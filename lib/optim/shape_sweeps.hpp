@@ -43,7 +43,7 @@ private:
 
     MeshState &s_;
     double poor_star_ = -kInfinity;  // stars scoring below get the compass search
-    int32_t last_sweep_began_ = MeshState::kNever;  // the clock at the start of the last sweep()
+    SweepStart last_sweep_;
 };
 
 }  // namespace um::optim::detail

@@ -18,9 +18,7 @@ constexpr double kWeightedMargin = 0.001;
 }  // namespace
 
 int64_t WeightSweeps::sweep(const StarGraph &g, bool forward) {
-    std::vector<uint8_t> near =
-        last_sweep_began_ == MeshState::kNever ? std::vector<uint8_t>{} : s_.changed_near(g, last_sweep_began_);
-    last_sweep_began_ = s_.clock;
+    std::vector<uint8_t> near = last_sweep_.next(s_, g);
     return s_.sweep(g, forward, nullptr, [&](const StarGraph &g, int32_t v) { return update_weight(g, v); },
                     near.empty() ? nullptr : &near);
 }

@@ -20,7 +20,7 @@ private:
     bool update_weight(const StarGraph &g, int32_t v);
 
     MeshState &s_;
-    int32_t last_sweep_began_ = MeshState::kNever;  // the clock at the start of the last sweep
+    SweepStart last_sweep_;
 };
 
 }  // namespace um::optim::detail
