@@ -427,8 +427,10 @@ enum {
     /* A closed ring bounding a regional mesh (at least 3 points). With any
      * domain ring the mesh is regional: its cells are those inside the
      * domain, a point being inside when an odd number of rings enclose it
-     * (a ring encloses the smaller of the two regions it bounds: a ring
-     * inside another is a hole). The boundary conforms to the rings as a
+     * (a ring encloses what it encloses drawn in longitude and latitude,
+     * whichever way it runs, so a box wider than a hemisphere is that box;
+     * a ring round a pole encloses the pole it is nearer; a ring inside
+     * another is a hole). The boundary conforms to the rings as a
      * coastline does; outside them the mesh is a coarse cover, growing from
      * the boundary's spacing at 1/4 km per km to 1000 km, that no output
      * holds (section "Regional meshes" below). Rings may cross the

@@ -1,5 +1,6 @@
 #include "features/domain.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -28,11 +29,37 @@ Vec3 just_left_of(const Network &net, int64_t s) {
     return geom::normalized(std::cos(offset) * mid + std::sin(offset) * left);
 }
 
+// The apex of a fan over closed part p: its first point, unless a point of
+// the part is near that point's antipode (a ring wider than a hemisphere):
+// a fan triangle through the antipode has no defined area, and near it its
+// area is ill-conditioned. Then the one of the six axis directions farthest
+// from every point's antipode.
+constexpr double kApexClearance = 1e-2;  // chord
+Vec3 fan_apex(const Network &net, const Part &part) {
+    auto clearance = [&](const Vec3 &apex) {
+        double least = 2;
+        for (int64_t s = part.first_segment; s < part.first_segment + part.n_segments; ++s)
+            least = std::min(least, geom::norm(apex + net.segment_a(s)));
+        return least;
+    };
+    const Vec3 first = net.segment_a(part.first_segment);
+    if (clearance(first) > kApexClearance) return first;
+    Vec3 best = first;
+    double best_clearance = -1;
+    for (int axis = 0; axis < 6; ++axis) {
+        const double sign = axis % 2 == 0 ? 1.0 : -1.0;
+        const Vec3 candidate{axis / 2 == 0 ? sign : 0.0, axis / 2 == 1 ? sign : 0.0, axis / 2 == 2 ? sign : 0.0};
+        const double c = clearance(candidate);
+        if (c > best_clearance) best = candidate, best_clearance = c;
+    }
+    return best;
+}
+
 // The area of the region on the left of closed part p: the fan of signed
-// triangles from its first point, modulo 4 pi, in [0, 4 pi).
+// triangles from an apex (fan_apex), modulo 4 pi, in [0, 4 pi).
 double left_area(const Network &net, int64_t p) {
     const Part &part = net.part(p);
-    const Vec3 apex = net.segment_a(part.first_segment);
+    const Vec3 apex = fan_apex(net, part);
     double sum = 0;
     for (int64_t s = part.first_segment; s < part.first_segment + part.n_segments; ++s)
         sum += geom::signed_triangle_area(apex, net.segment_a(s), net.segment_b(s));
@@ -101,20 +128,53 @@ Network with_domain_rings_traced(const Network &net) {
     return copy.network(net.flattening());
 }
 
-bool ring_encloses(const Network &net, int64_t p, const Vec3 &x) {
+namespace {
+
+// Whether x is on the left of closed part p: the arc from x to a point just
+// left of its first segment crosses it an even number of times.
+bool on_left_of_ring(const Network &net, int64_t p, const Vec3 &x) {
     const Part &part = net.part(p);
     const int64_t s0 = part.first_segment, s1 = s0 + part.n_segments;
-    const double left = left_area(net, p);
-    const bool left_is_smaller = left > 0 && left < 2 * M_PI;
-    // x is on the left when the arc from x to a point just left of the first
-    // segment crosses the ring an even number of times.
     const Vec3 r = just_left_of(net, s0);
     int crossings = 0;
     for (int64_t s = s0; s < s1; ++s) {
         Vec3 c;
         if (geom::arc_intersection(x, r, net.segment_a(s), net.segment_b(s), c, 0.0)) ++crossings;
     }
-    return (crossings % 2 == 0) == left_is_smaller;
+    return crossings % 2 == 0;
+}
+
+bool smaller_side_on_left(const Network &net, int64_t p) {
+    const double left = left_area(net, p);
+    return left > 0 && left < 2 * M_PI;
+}
+
+// Whether domain ring p holds the region on its left. A ring that does not
+// go round a pole holds what it encloses drawn in longitude and latitude
+// (as its edges are): on its left when it runs counter-clockwise there, by
+// the sign of its area in that plane, longitudes unwrapped along it. So a
+// box wider than a hemisphere is that box, not the rest of the sphere. A
+// ring round a pole encloses nothing in that plane: it holds the smaller of
+// its two sides (the pole it is nearer).
+bool domain_ring_holds_left(const Network &net, int64_t p) {
+    const Part &part = net.part(p);
+    const int64_t first = part.first_point, n = part.n_points;
+    double lon = net.lon_deg(first), twice_area = 0;
+    for (int64_t k = 0; k < n; ++k) {
+        const int64_t i = first + k, j = first + (k + 1) % n;
+        const double next = lon + std::remainder(net.lon_deg(j) - net.lon_deg(i), 360.0);
+        twice_area += lon * net.lat_deg(j) - next * net.lat_deg(i);
+        lon = next;
+    }
+    const bool round_a_pole = std::fabs(lon - net.lon_deg(first)) > 180.0;  // unwrapped by +-360
+    if (round_a_pole || twice_area == 0) return smaller_side_on_left(net, p);
+    return twice_area > 0;
+}
+
+}  // namespace
+
+bool ring_encloses(const Network &net, int64_t p, const Vec3 &x) {
+    return on_left_of_ring(net, p, x) == smaller_side_on_left(net, p);
 }
 
 Domain::Domain(const Network &net) {
@@ -184,16 +244,19 @@ Domain::Domain(const Network &net) {
     }
 
     // Which side of each ring is inside: the parity rule at a point just left of it.
+    std::vector<bool> holds_left;
+    for (int64_t p : rings) holds_left.push_back(domain_ring_holds_left(net, p));
     area_ = 0;
     for (size_t r = 0; r < rings.size(); ++r) {
         const int64_t p = rings[r];
         const Vec3 probe = just_left_of(net, net.part(p).first_segment);
         bool inside = false;
-        for (int64_t q : rings) inside ^= ring_encloses(net, q, probe);
+        for (size_t q = 0; q < rings.size(); ++q) inside ^= on_left_of_ring(net, rings[q], probe) == holds_left[q];
         inside_on_left_.push_back(inside);
-        const double left = left_area(net, p), smaller = std::min(left, 4 * M_PI - left);
-        const bool smaller_on_left = left < 2 * M_PI;
-        area_ += inside == smaller_on_left ? smaller : -smaller;
+        // The area of what the ring holds, added where the domain is on that
+        // side of it (taken away for a hole).
+        const double left = left_area(net, p), held = holds_left[r] ? left : 4 * M_PI - left;
+        area_ += inside == holds_left[r] ? held : -held;
     }
 }
 

@@ -33,7 +33,9 @@ constexpr double kDomainStepDeg = 0.25;
 Network with_domain_rings_traced(const Network &net);
 
 // Whether closed part p of net encloses x: x lies in the smaller of the two
-// regions the ring bounds. O(segments of p).
+// regions the ring bounds (a closed coastline's land). O(segments of p).
+// (A domain ring holds what it encloses drawn in longitude and latitude:
+// Domain.)
 bool ring_encloses(const Network &net, int64_t p, const Vec3 &x);
 
 class Domain {

@@ -101,6 +101,30 @@ void a_ring_around_a_pole(void **) {
     }
 }
 
+// A ring not round a pole holds what it encloses drawn in longitude and
+// latitude, whichever way it is given: a box wider than a hemisphere (its
+// edges under 180 degrees of longitude each) is that box, with its hole, not
+// the rest of the sphere.
+void a_box_wider_than_a_hemisphere_is_that_box(void **) {
+    for (bool reversed : {false, true}) {
+        Ring r = ring({-170, 0, 170, 170, 0, -170}, {-70, -70, -70, 70, 70, 70});
+        if (reversed) std::reverse(r.lon.begin(), r.lon.end()), std::reverse(r.lat.begin(), r.lat.end());
+        const features::Domain d = domain_of({r, box(10, 20, -5, 5)});
+        assert_true(d.contains(at(0, 0)));
+        assert_true(d.contains(at(100, 60)));
+        assert_true(d.contains(at(-169, -69)));
+        assert_false(d.contains(at(15, 0)));  // the hole
+        assert_false(d.contains(at(180, 0)));
+        assert_false(d.contains(at(0, 80)));
+        assert_false(d.contains(at(0, -80)));
+        const double band = [](double dlon, double lat0, double lat1) {
+            return dlon * M_PI / 180 * (std::sin(lat1 * M_PI / 180) - std::sin(lat0 * M_PI / 180));
+        }(340, -70, 70);
+        const double hole = 10 * M_PI / 180 * 2 * std::sin(5 * M_PI / 180);
+        assert_true(std::fabs(d.area() - (band - hole)) < 1e-4 * band);
+    }
+}
+
 // The rings add to a network, but make no domain: UM_ERR_INPUT saying `why`.
 void expect_no_domain(const std::vector<Ring> &rings, const char *why) {
     Network net;
@@ -406,6 +430,7 @@ int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(a_dateline_box_with_a_hole),
         cmocka_unit_test(a_ring_around_a_pole),
+        cmocka_unit_test(a_box_wider_than_a_hemisphere_is_that_box),
         cmocka_unit_test(crossing_open_and_short_rings_are_refused),
         cmocka_unit_test(the_memo_and_the_rough_distance_agree_with_the_search),
         cmocka_unit_test(the_cover_grows_away_from_the_domain),
