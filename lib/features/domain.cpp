@@ -115,12 +115,19 @@ Network with_domain_rings_traced(const Network &net) {
             copy.add_point(net.lon_deg(i), net.lat_deg(i));
             if (!is_domain_ring(p)) continue;
             const int64_t j = p.first_point + (k + 1) % p.n_points;
-            const double dlon = std::remainder(net.lon_deg(j) - net.lon_deg(i), 360.0);  // in [-180, 180]
+            // A pole has no longitude: an edge to or from one runs along the
+            // other end's meridian. (A box up to lat 90 has two corners
+            // there, one point on the sphere: the edges beside them are
+            // its meridians, not a diagonal to the one kept.)
+            const bool from_pole = std::fabs(net.lat_deg(i)) == 90, to_pole = std::fabs(net.lat_deg(j)) == 90;
+            const double lon_i = from_pole && !to_pole ? net.lon_deg(j) : net.lon_deg(i);
+            const double lon_j = to_pole && !from_pole ? net.lon_deg(i) : net.lon_deg(j);
+            const double dlon = std::remainder(lon_j - lon_i, 360.0);  // in [-180, 180]
             const double dlat = net.lat_deg(j) - net.lat_deg(i);
             const int64_t steps = static_cast<int64_t>(std::ceil(std::max(std::fabs(dlon), std::fabs(dlat)) / kDomainStepDeg));
             for (int64_t s = 1; s < steps; ++s) {
                 const double t = static_cast<double>(s) / static_cast<double>(steps);
-                copy.add_point(net.lon_deg(i) + t * dlon, net.lat_deg(i) + t * dlat);
+                copy.add_point(lon_i + t * dlon, net.lat_deg(i) + t * dlat);
             }
         }
         copy.end_part(p);

@@ -125,6 +125,22 @@ void a_box_wider_than_a_hemisphere_is_that_box(void **) {
     }
 }
 
+// A box up to a pole: its two corners there are one point, and the edges
+// beside it run along the box's meridians, not diagonally to that point.
+void a_box_up_to_a_pole(void **) {
+    for (double pole : {90.0, -90.0}) {
+        const double s = pole > 0 ? 1 : -1;
+        const features::Domain d = domain_of({ring({-10, 10, 10, -10}, {80 * s, 80 * s, pole, pole})});
+        assert_true(d.contains(at(0, 89.5 * s)));
+        assert_true(d.contains(at(-9.5, 85 * s)));
+        assert_true(d.contains(at(9.5, 85 * s)));
+        assert_false(d.contains(at(-10.5, 85 * s)));
+        assert_false(d.contains(at(10.5, 85 * s)));
+        const double expected = 20 * M_PI / 180 * (1 - std::sin(80 * M_PI / 180));
+        assert_true(std::fabs(d.area() - expected) < 1e-4 * expected);
+    }
+}
+
 // The rings add to a network, but make no domain: UM_ERR_INPUT saying `why`.
 void expect_no_domain(const std::vector<Ring> &rings, const char *why) {
     Network net;
@@ -431,6 +447,7 @@ int main() {
         cmocka_unit_test(a_dateline_box_with_a_hole),
         cmocka_unit_test(a_ring_around_a_pole),
         cmocka_unit_test(a_box_wider_than_a_hemisphere_is_that_box),
+        cmocka_unit_test(a_box_up_to_a_pole),
         cmocka_unit_test(crossing_open_and_short_rings_are_refused),
         cmocka_unit_test(the_memo_and_the_rough_distance_agree_with_the_search),
         cmocka_unit_test(the_cover_grows_away_from_the_domain),
