@@ -616,6 +616,7 @@ class Errors(unittest.TestCase):
         with tempfile.TemporaryDirectory() as out:
             self.assert_fails(["build", "--spacing-km", "-5", "--out", out], "spacing")
             self.assert_fails(["build", "--spacing-km", "0", "--out", out], "--spacing-km", "0")
+            self.assert_fails(["build", "--spacing-km", "nan", "--out", out], "--spacing-km", "nan is not a number")
             # An impossible size is refused up front under the default cap
             # (the available memory), with the estimate; a cap of 1 MiB too.
             self.assert_fails(["build", "--spacing-km", "0.03", "--out", out], "cells needs about", "memory cap")

@@ -1,4 +1,6 @@
 // unimesh: the command-line tool. Uses only the public C API.
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <functional>
 #include <string>
@@ -62,7 +64,11 @@ int main(int argc, char **argv) {
     build->add_option("--kind,--default-kind", b.default_kind,
                       "kind of a GeoJSON feature without a \"kind\" property: coastline, lake, river, "
                       "watershed, other or passage (default: such a feature is an error)");
-    auto *km = build->add_option("--spacing-km", b.spacing_km, "constant spacing h, km");
+    // (NaN stands for "not given" in BuildArgs: one given is named here.)
+    auto *km = build->add_option("--spacing-km", b.spacing_km, "constant spacing h, km")->check([](const std::string &s) {
+        char *end = nullptr;
+        return std::isnan(std::strtod(s.c_str(), &end)) ? s + " is not a number" : std::string();
+    });
     auto *file = build->add_option("--spacing-file", b.spacing_file,
                                    "MPAS-tools spacing file: netCDF lon, lat, cellWidth(lat, lon) km");
     auto *preset = build->add_option("--spacing-preset", b.spacing_preset,
