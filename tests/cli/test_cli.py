@@ -639,6 +639,20 @@ class Errors(unittest.TestCase):
                 f.write('{"type": "FeatureCollection", "features": [')
             self.assert_fails(["build", "--spacing-km", "500", "--geometry", bad, "--out", out], "bad.geojson")
             self.assert_fails(["check", bad], "netCDF")
+            empty = os.path.join(out, "empty.geojson")
+            with open(empty, "w") as f:
+                f.write('{"type": "FeatureCollection", "features": []}')
+            self.assert_fails(["build", "--spacing-km", "500", "--domain", empty, "--out", out],
+                              "--domain " + empty + ": holds no domain feature")
+            # A run that fails after making its output folder leaves none.
+            bowtie = os.path.join(out, "bowtie.geojson")
+            with open(bowtie, "w") as f:
+                f.write('{"type": "Polygon", "coordinates": [[[0, 0], [10, 10], [10, 0], [0, 10], [0, 0]]]}')
+            fresh = os.path.join(out, "fresh")
+            self.assert_fails(["build", "--spacing-km", "100", "--domain", bowtie, "--out", fresh], "crosses itself")
+            self.assertFalse(os.path.exists(fresh))
+            r = run("build", "--spacing-km", "900", "--geometry", empty, "--out", os.path.join(out, "empty"))
+            self.assertEqual(r.returncode, 0, r.stderr)  # no coastlines: a uniform global mesh
             # A damaged netCDF-4 file that kills libhdf5: read in a trial
             # process first, refused (or, where libhdf5 survives it, an error).
             damaged = os.path.join(os.path.dirname(__file__), "..", "data", "netcdf4_damaged.nc")

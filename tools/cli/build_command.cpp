@@ -131,6 +131,7 @@ void add_parts_of_kind(um_context *ctx, um_features *f, const std::string &flag,
     um_features_counts(f, &before, nullptr, nullptr);
     check(um_features_read_geojson(f, path.c_str(), nullptr, kind_code), ctx, flag + " " + path);
     um_features_counts(f, &after, nullptr, nullptr);
+    if (after == before) throw Failure{flag + " " + path + ": holds no " + kind_name + " feature"};
     std::vector<int32_t> kind(static_cast<size_t>(after)), id(static_cast<size_t>(after));
     check(um_features_copy_parts(f, nullptr, nullptr, kind.data(), id.data(), after), ctx, flag + " " + path);
     for (int64_t p = before; p < after; ++p)
@@ -142,6 +143,7 @@ void add_parts_of_kind(um_context *ctx, um_features *f, const std::string &flag,
 bool holds_domain(um_context *ctx, um_features *f) {
     int64_t parts = 0;
     um_features_counts(f, &parts, nullptr, nullptr);
+    if (parts == 0) return false;  // (the copy below would be of nothing: an error)
     std::vector<int32_t> kind(static_cast<size_t>(parts));
     check(um_features_copy_parts(f, nullptr, nullptr, kind.data(), nullptr, parts), ctx, "features");
     return std::find(kind.begin(), kind.end(), UM_FEATURE_DOMAIN) != kind.end();

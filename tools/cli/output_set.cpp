@@ -32,7 +32,7 @@ void sync_directory(const std::string &dir) {
 
 OutputSet::OutputSet(const std::string &out_dir) : dir_(out_dir.empty() ? "." : out_dir) {
     std::error_code ec;
-    std::filesystem::create_directories(dir_, ec);
+    created_ = std::filesystem::create_directories(dir_, ec);
     if (ec) throw std::runtime_error("--out " + dir_ + ": " + ec.message());
     if (!std::filesystem::is_directory(dir_, ec)) throw std::runtime_error("--out " + dir_ + ": not a directory");
     const std::string lock = dir_ + "/.unimesh.lock";
@@ -58,6 +58,12 @@ OutputSet::OutputSet(const std::string &out_dir) : dir_(out_dir.empty() ? "." : 
 OutputSet::~OutputSet() {
     std::error_code ec;
     if (!staging_.empty()) std::filesystem::remove_all(staging_, ec);
+    // A run that made the output directory and published nothing leaves
+    // none behind (rmdir keeps it if anything else is there by now).
+    if (created_ && !published_ && lock_fd_ >= 0) {
+        std::filesystem::remove(dir_ + "/.unimesh.lock", ec);
+        ::rmdir(dir_.c_str());
+    }
     if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the lock
 }
 
@@ -98,6 +104,7 @@ void OutputSet::publish(const std::vector<std::string> &names, const std::vector
         if (::rename(staged(name).c_str(), (dir_ + "/" + name).c_str()) != 0)
             throw failure("cannot move " + staged(name) + " to " + dir_ + "/" + name, errno);
     sync_directory(dir_);
+    published_ = true;
 }
 
 std::string mesh_file_id(const std::string &mesh_nc) {

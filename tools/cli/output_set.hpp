@@ -18,7 +18,9 @@ public:
     // Creates out_dir if needed, takes its lock and makes the staging
     // directory; throws std::runtime_error with a one-line reason.
     explicit OutputSet(const std::string &out_dir);
-    ~OutputSet();  // removes the staging directory (and what is left in it), releases the lock
+    // Removes the staging directory (and what is left in it), and the output
+    // directory when this run made it and published nothing; releases the lock.
+    ~OutputSet();
     OutputSet(const OutputSet &) = delete;
     OutputSet &operator=(const OutputSet &) = delete;
 
@@ -35,6 +37,7 @@ public:
 private:
     std::string dir_, staging_;
     int lock_fd_ = -1;
+    bool created_ = false, published_ = false;
 };
 
 // The file_id attribute of an MPAS mesh file ("" when it has none), which
