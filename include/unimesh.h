@@ -429,7 +429,8 @@ enum {
      * domain, a point being inside when an odd number of rings enclose it
      * (a ring encloses what it encloses drawn in longitude and latitude,
      * whichever way it runs, so a box wider than a hemisphere is that box;
-     * a ring round a pole encloses the pole it is nearer; a ring inside
+     * a ring round a pole encloses the pole it is nearer, the equator the
+     * side on its left; a ring inside
      * another is a hole). The boundary conforms to the rings as a
      * coastline does; outside them the mesh is a coarse cover, growing from
      * the boundary's spacing at 1/4 km per km to 1000 km, that no output

@@ -162,7 +162,9 @@ bool smaller_side_on_left(const Network &net, int64_t p) {
 // the sign of its area in that plane, longitudes unwrapped along it. So a
 // box wider than a hemisphere is that box, not the rest of the sphere. A
 // ring round a pole encloses nothing in that plane: it holds the smaller of
-// its two sides (the pole it is nearer).
+// its two sides (the pole it is nearer), or, halving the sphere (the
+// equator), the side on its left, not the one the rounding makes smaller.
+constexpr double kHalvesWithin = 1e-9;  // steradians
 bool domain_ring_holds_left(const Network &net, int64_t p) {
     const Part &part = net.part(p);
     const int64_t first = part.first_point, n = part.n_points;
@@ -174,8 +176,8 @@ bool domain_ring_holds_left(const Network &net, int64_t p) {
         lon = next;
     }
     const bool round_a_pole = std::fabs(lon - net.lon_deg(first)) > 180.0;  // unwrapped by +-360
-    if (round_a_pole || twice_area == 0) return smaller_side_on_left(net, p);
-    return twice_area > 0;
+    if (!round_a_pole && twice_area != 0) return twice_area > 0;
+    return std::fabs(left_area(net, p) - 2 * M_PI) <= kHalvesWithin || smaller_side_on_left(net, p);
 }
 
 }  // namespace

@@ -125,6 +125,19 @@ void a_box_wider_than_a_hemisphere_is_that_box(void **) {
     }
 }
 
+// A ring halving the sphere (the equator) holds the side on its left.
+void the_equator_holds_the_hemisphere_on_its_left(void **) {
+    for (bool reversed : {false, true}) {
+        Ring r = ring({0, 90, 180, -90}, {0, 0, 0, 0});
+        if (reversed) std::reverse(r.lon.begin(), r.lon.end());
+        const features::Domain d = domain_of({r});
+        const double north = reversed ? -1 : 1;
+        assert_true(d.contains(at(30, 45 * north)));
+        assert_false(d.contains(at(30, -45 * north)));
+        assert_true(std::fabs(d.area() - 2 * M_PI) < 1e-9);
+    }
+}
+
 // A box up to a pole: its two corners there are one point, and the edges
 // beside it run along the box's meridians, not diagonally to that point.
 void a_box_up_to_a_pole(void **) {
@@ -448,6 +461,7 @@ int main() {
         cmocka_unit_test(a_ring_around_a_pole),
         cmocka_unit_test(a_box_wider_than_a_hemisphere_is_that_box),
         cmocka_unit_test(a_box_up_to_a_pole),
+        cmocka_unit_test(the_equator_holds_the_hemisphere_on_its_left),
         cmocka_unit_test(crossing_open_and_short_rings_are_refused),
         cmocka_unit_test(the_memo_and_the_rough_distance_agree_with_the_search),
         cmocka_unit_test(the_cover_grows_away_from_the_domain),
