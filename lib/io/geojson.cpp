@@ -2,6 +2,7 @@
 #include "io/error_text.hpp"
 #include "io/input_file.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -334,9 +335,11 @@ private:
         } else if (type == "MultiLineString" || type == "Polygon") {
             const json &c = coordinates_of(geometry, type, path);
             PathScope scope(path, field(path, "coordinates"));
+            const size_t exterior = kind_.size();
             for (size_t k = 0; k < c.size(); ++k) {
                 PathScope line(path, concat("[", k, "]"));
                 read_line(c[k], type == "Polygon", attributes, path);
+                if (type == "Polygon" && k > 0) require_inside(exterior, path);
             }
         } else if (type == "MultiPolygon") {
             const json &c = coordinates_of(geometry, type, path);
@@ -345,9 +348,11 @@ private:
                 PathScope polygon(path, concat("[", k, "]"));
                 if (!c[k].is_array())
                     format_error(path, " is ", type_name(c[k]), ", not an array of rings");
+                const size_t exterior = kind_.size();
                 for (size_t r = 0; r < c[k].size(); ++r) {
                     PathScope ring(path, concat("[", r, "]"));
                     read_line(c[k][r], true, attributes, path);
+                    if (r > 0) require_inside(exterior, path);
                 }
             }
         } else if (type == "GeometryCollection") {
@@ -427,6 +432,36 @@ private:
             }
         lon_.push_back(p[0].get<double>());
         lat_.push_back(p[1].get<double>());
+    }
+
+    // A domain polygon's hole (the part just read, at `path`) lies inside
+    // its exterior ring (part `exterior`): else it would be a region of its
+    // own by the parity rule, which the GeoJSON polygon does not mean. Its
+    // first point is tested, in longitude and latitude as the rings are
+    // drawn (rings crossing each other are refused later); an exterior
+    // ring round a pole encloses nothing there and is not tested.
+    void require_inside(size_t exterior, const std::string &path) const {
+        const size_t hole = kind_.size() - 1;
+        if (kind_[hole] != static_cast<int32_t>(features::Kind::domain)) return;
+        const int64_t first = offsets_[exterior], n = offsets_[exterior + 1] - first;
+        const double x = lon_[offsets_[hole]], y = lat_[offsets_[hole]];
+        std::vector<double> lon(static_cast<size_t>(n));
+        lon[0] = lon_[first];
+        for (int64_t k = 1; k < n; ++k)
+            lon[k] = lon[k - 1] + std::remainder(lon_[first + k] - lon_[first + k - 1], 360.0);
+        const double closing = lon[n - 1] + std::remainder(lon_[first] - lon_[first + n - 1], 360.0);
+        if (std::fabs(closing - lon[0]) > 180.0) return;  // round a pole
+        const double west = *std::min_element(lon.begin(), lon.end());
+        // (x and x + 360 k: the one the unwrapped ring spans, if any.)
+        const double shifted = west + std::fmod(std::fmod(x - west, 360.0) + 360.0, 360.0);
+        bool inside = false;
+        for (int64_t k = 0; k < n; ++k) {
+            const double x0 = lon[k], y0 = lat_[first + k];
+            const double x1 = k + 1 < n ? lon[k + 1] : closing, y1 = lat_[first + (k + 1) % n];
+            if ((y0 > y) != (y1 > y) && shifted < x0 + (y - y0) / (y1 - y0) * (x1 - x0)) inside = !inside;
+        }
+        if (!inside)
+            input_error(path, " is a hole of the polygon but lies outside its exterior ring, ", shown_path(part_path_[exterior]));
     }
 
     void end_part(int32_t closed, const Attributes &attributes, const std::string &path) {

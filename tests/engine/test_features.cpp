@@ -544,6 +544,20 @@ void wrong_structures(void **) {
         {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"river\"}, \"geometry\": "
          "{\"type\": \"MultiPolygon\", \"coordinates\": [[[[0, 0], [1, 1], [1, 0]]], 3]}}",
          UM_ERR_FILE_FORMAT, "geometry.coordinates[1] is a number, not an array of rings"},
+        // A domain polygon's hole outside its exterior ring (by the first
+        // point, drawn in lon/lat: the second one's exterior crosses the
+        // antimeridian and its hole at -175 is inside).
+        {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
+         "{\"type\": \"Polygon\", \"coordinates\": [[[0, 0], [20, 0], [20, 20], [0, 20], [0, 0]], "
+         "[[30, 5], [35, 5], [35, 10], [30, 5]]]}}",
+         UM_ERR_INPUT, "geometry.coordinates[1] is a hole of the polygon but lies outside its exterior ring, "
+                       "geometry.coordinates[0]"},
+        {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
+         "{\"type\": \"MultiPolygon\", \"coordinates\": [[[[0, 0], [20, 0], [20, 20], [0, 0]]], "
+         "[[[170, 0], [-170, 0], [-170, 20], [170, 20]], [[-175, 5], [-172, 5], [-172, 10]], "
+         "[[-30, 5], [-25, 5], [-25, 10]]]]}}",
+         UM_ERR_INPUT, "geometry.coordinates[1][2] is a hole of the polygon but lies outside its exterior ring, "
+                       "geometry.coordinates[1][0]"},
         {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"river\"}, \"geometry\": "
          "{\"type\": \"GeometryCollection\"}}",
          UM_ERR_FILE_FORMAT, "geometry.geometries is missing"},
