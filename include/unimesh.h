@@ -459,7 +459,8 @@ UM_API um_status um_features_add(um_features *f, int64_t n_points, const double 
  * bare geometry; LineString and MultiLineString give open or closed parts,
  * each ring of a Polygon or MultiPolygon a closed part, GeometryCollections
  * their members, each position of a Point or MultiPoint a part of one point
- * (which only a passage may be). Per feature:
+ * (which only a passage may be; a hole of a domain Polygon must lie inside its
+ * exterior ring, else UM_ERR_INPUT naming both). Per feature:
  *   kind    the string property kind_property (NULL = "kind"): "coastline",
  *           "lake", "river", "watershed", "other", "passage" or "domain"
  *           (case-insensitive); a
@@ -796,7 +797,8 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
 /* Features holding UM_FEATURE_DOMAIN rings make um_mesh_refine build a
  * regional mesh. Its edges are straight in longitude and latitude, as
  * GeoJSON draws them (divided into great arcs of at most 0.25 degrees), so a
- * box of longitudes and latitudes is that box; each edge goes the shorter
+ * box of longitudes and latitudes is that box (an edge to or from a pole
+ * runs along the other end's meridian: a pole has no longitude); each edge goes the shorter
  * way round in longitude (160 to -160 crosses the antimeridian, as 160 to
  * 200 does), so an edge of 180 degrees of longitude or more needs points
  * between (a ring around a pole: points along its parallel); a ring that crosses itself or

@@ -164,15 +164,28 @@ bool smaller_side_on_left(const Network &net, int64_t p) {
 // ring round a pole encloses nothing in that plane: it holds the smaller of
 // its two sides (the pole it is nearer), or, halving the sphere (the
 // equator), the side on its left, not the one the rounding makes smaller.
+// A ring through a pole does not go round it: the pole's one point stands
+// for an edge along it of any longitude (a box up to lat 90 wider than 180
+// degrees runs 340 degrees west along its top), so the longitude the ring
+// would gain round the pole is taken back at the pole.
 constexpr double kHalvesWithin = 1e-9;  // steradians
 bool domain_ring_holds_left(const Network &net, int64_t p) {
     const Part &part = net.part(p);
     const int64_t first = part.first_point, n = part.n_points;
-    double lon = net.lon_deg(first), twice_area = 0;
+    std::vector<double> dlon(static_cast<size_t>(n));
+    double turned = 0;
+    int64_t at_pole = -1;  // the first edge from a pole point
     for (int64_t k = 0; k < n; ++k) {
         const int64_t i = first + k, j = first + (k + 1) % n;
-        const double next = lon + std::remainder(net.lon_deg(j) - net.lon_deg(i), 360.0);
-        twice_area += lon * net.lat_deg(j) - next * net.lat_deg(i);
+        dlon[k] = std::remainder(net.lon_deg(j) - net.lon_deg(i), 360.0);
+        turned += dlon[k];
+        if (at_pole < 0 && std::fabs(net.lat_deg(i)) == 90) at_pole = k;
+    }
+    if (at_pole >= 0) dlon[at_pole] -= turned;
+    double lon = net.lon_deg(first), twice_area = 0;
+    for (int64_t k = 0; k < n; ++k) {
+        const double next = lon + dlon[k];
+        twice_area += lon * net.lat_deg(first + (k + 1) % n) - next * net.lat_deg(first + k);
         lon = next;
     }
     const bool round_a_pole = std::fabs(lon - net.lon_deg(first)) > 180.0;  // unwrapped by +-360

@@ -1,9 +1,11 @@
 // The region of a regional mesh: the closed Kind::domain rings of Gamma. A
-// point is inside when an odd number of rings enclose it, a ring enclosing
-// the smaller of the two regions it bounds (the rule the land/ocean sides use
-// for coastlines, refine/sides.hpp): a ring inside another is a hole, and a
-// ring may cross the antimeridian or hold a pole. Rings must not cross
-// themselves or each other.
+// point is inside when an odd number of rings enclose it: a ring inside
+// another is a hole, and a ring may cross the antimeridian or hold a pole.
+// A ring encloses what it encloses drawn in longitude and latitude, as its
+// edges are (a ring through a pole does not go round it); a ring round a
+// pole, the smaller of the two regions it bounds (the rule the land/ocean
+// sides use for coastlines, refine/sides.hpp), or for the equator the side
+// on its left. Rings must not cross themselves or each other.
 //
 // Inside tests are local: the side of the nearest ring segment, which the
 // region holds on one side all along a ring (found once per ring by the

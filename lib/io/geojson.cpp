@@ -438,13 +438,20 @@ private:
     // its exterior ring (part `exterior`): else it would be a region of its
     // own by the parity rule, which the GeoJSON polygon does not mean. Its
     // first point is tested, in longitude and latitude as the rings are
-    // drawn (rings crossing each other are refused later); an exterior
-    // ring round a pole encloses nothing there and is not tested.
+    // drawn (rings crossing each other are refused later). Not tested: an
+    // exterior round a pole (it encloses nothing there) or through one (its
+    // edges there run along meridians, features/domain.hpp), and rings too
+    // short to be rings or with a point out of range (the network refuses
+    // them, naming the point).
     void require_inside(size_t exterior, const std::string &path) const {
         const size_t hole = kind_.size() - 1;
         if (kind_[hole] != static_cast<int32_t>(features::Kind::domain)) return;
         const int64_t first = offsets_[exterior], n = offsets_[exterior + 1] - first;
+        if (n < 3 || offsets_[hole + 1] == offsets_[hole]) return;
+        for (int64_t k = first; k < first + n; ++k)
+            if (!(std::fabs(lat_[k]) < 90) || !std::isfinite(lon_[k])) return;
         const double x = lon_[offsets_[hole]], y = lat_[offsets_[hole]];
+        if (!(std::fabs(y) <= 90) || !std::isfinite(x)) return;
         std::vector<double> lon(static_cast<size_t>(n));
         lon[0] = lon_[first];
         for (int64_t k = 1; k < n; ++k)

@@ -558,6 +558,13 @@ void wrong_structures(void **) {
          "[[-30, 5], [-25, 5], [-25, 10]]]]}}",
          UM_ERR_INPUT, "geometry.coordinates[1][2] is a hole of the polygon but lies outside its exterior ring, "
                        "geometry.coordinates[1][0]"},
+        // An empty ring of a domain polygon: the network's refusal, not the hole test's.
+        {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
+         "{\"type\": \"Polygon\", \"coordinates\": [[], [[1, 1], [2, 1], [2, 2], [1, 1]]]}}",
+         UM_ERR_TOO_FEW_POINTS, "geometry.coordinates[0] has 0 distinct points"},
+        {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
+         "{\"type\": \"Polygon\", \"coordinates\": [[[0, 0], [10, 0], [10, 10], [0, 0]], []]}}",
+         UM_ERR_TOO_FEW_POINTS, "geometry.coordinates[1] has 0 distinct points"},
         {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"river\"}, \"geometry\": "
          "{\"type\": \"GeometryCollection\"}}",
          UM_ERR_FILE_FORMAT, "geometry.geometries is missing"},
@@ -619,6 +626,23 @@ void wrong_structures(void **) {
 }
 
 // Passages: points and lines, split off Gamma by parts_of_kind.
+// A domain polygon's holes inside its exterior are read; so is one in an
+// exterior through a pole (its edges there run along meridians: the hole
+// at lon -8 lies in the wedge -10..10, outside the lon/lat triangle).
+void domain_holes_inside_their_exterior_are_read(void **) {
+    for (const char *exterior : {"[[0, 0], [20, 0], [20, 20], [0, 20], [0, 0]]", "[[-10, 80], [10, 80], [0, 90], [-10, 80]]"}) {
+        const std::string text = std::string("{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, "
+                                             "\"geometry\": {\"type\": \"Polygon\", \"coordinates\": [") +
+                                 exterior + ", " +
+                                 (exterior[2] == '0' ? "[[5, 5], [8, 5], [8, 8], [5, 5]]" : "[[-8, 85], [-6, 85], [-6, 87], [-8, 85]]") +
+                                 "]}}";
+        Network net;
+        std::string m;
+        assert_int_equal(read_text(net, text, &m), UM_OK);
+        assert_int_equal(net.part_count(), 2);
+    }
+}
+
 void passages_of_points_and_lines(void **) {
     Network net;
     std::string m;
@@ -747,6 +771,7 @@ int main() {
         cmocka_unit_test(kinds_from_a_caller_table),
         cmocka_unit_test(malformed_files),
         cmocka_unit_test(wrong_structures),
+        cmocka_unit_test(domain_holes_inside_their_exterior_are_read),
         cmocka_unit_test(passages_of_points_and_lines),
         cmocka_unit_test(corrupted_bytes),
         cmocka_unit_test(shipped_data),

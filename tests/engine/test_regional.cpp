@@ -125,6 +125,19 @@ void a_box_wider_than_a_hemisphere_is_that_box(void **) {
     }
 }
 
+// A box up to a pole wider than 180 degrees: its top edge runs 340 degrees
+// west at the pole, so it does not go round it; the box, not the rest.
+void a_box_up_to_a_pole_wider_than_180_degrees(void **) {
+    const features::Domain d = domain_of({ring({-170, 0, 170, 170, -170}, {-30, -30, -30, 90, 90})});
+    assert_true(d.contains(at(0, 0)));
+    assert_true(d.contains(at(100, 60)));
+    assert_true(d.contains(at(0, 89.9)));
+    assert_false(d.contains(at(180, 0)));
+    assert_false(d.contains(at(0, -60)));
+    const double expected = 340 * M_PI / 180 * 1.5;
+    assert_true(std::fabs(d.area() - expected) < 1e-4 * expected);
+}
+
 // A ring halving the sphere (the equator) holds the side on its left.
 void the_equator_holds_the_hemisphere_on_its_left(void **) {
     for (bool reversed : {false, true}) {
@@ -461,6 +474,7 @@ int main() {
         cmocka_unit_test(a_ring_around_a_pole),
         cmocka_unit_test(a_box_wider_than_a_hemisphere_is_that_box),
         cmocka_unit_test(a_box_up_to_a_pole),
+        cmocka_unit_test(a_box_up_to_a_pole_wider_than_180_degrees),
         cmocka_unit_test(the_equator_holds_the_hemisphere_on_its_left),
         cmocka_unit_test(crossing_open_and_short_rings_are_refused),
         cmocka_unit_test(the_memo_and_the_rough_distance_agree_with_the_search),
