@@ -32,38 +32,70 @@ void sync_directory(const std::string &dir) {
 
 OutputSet::OutputSet(const std::string &out_dir) : dir_(out_dir.empty() ? "." : out_dir) {
     std::error_code ec;
-    created_ = std::filesystem::create_directories(dir_, ec);
-    if (ec) throw std::runtime_error("--out " + dir_ + ": " + ec.message());
-    if (!std::filesystem::is_directory(dir_, ec)) throw std::runtime_error("--out " + dir_ + ": not a directory");
-    const std::string lock = dir_ + "/.unimesh.lock";
-    lock_fd_ = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-    if (lock_fd_ < 0) throw failure("--out " + dir_ + ": cannot write there", errno);
-    if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
-        const int error = errno;
-        ::close(lock_fd_);
-        lock_fd_ = -1;
-        if (error == EWOULDBLOCK) throw std::runtime_error("--out " + dir_ + ": another unimesh build is writing there");
-        throw failure("--out " + dir_ + ": cannot lock it", error);
+    // The levels of dir_ this run makes, deepest first: a failed run removes them again.
+    for (std::filesystem::path p = std::filesystem::absolute(dir_, ec); !ec && !p.empty() && !std::filesystem::exists(p, ec);
+         p = p.parent_path()) {
+        made_.push_back(p.string());
+        if (p == p.parent_path()) break;
     }
-    staging_ = dir_ + "/.unimesh-staging-" + std::to_string(static_cast<long long>(::getpid()));
-    std::filesystem::remove_all(staging_, ec);  // a dead run's with this pid
-    if (::mkdir(staging_.c_str(), 0777) != 0) {
-        const int error = errno;
-        ::close(lock_fd_);
+    try {
+        lock_fd_ = locked(dir_);
+        staging_ = dir_ + "/.unimesh-staging-" + std::to_string(static_cast<long long>(::getpid()));
+        std::filesystem::remove_all(staging_, ec);  // a dead run's with this pid
+        if (::mkdir(staging_.c_str(), 0777) != 0) throw failure("--out " + dir_ + ": cannot write there", errno);
+    } catch (...) {
+        staging_.clear();
+        forget_made();
+        if (lock_fd_ >= 0) ::close(lock_fd_);
         lock_fd_ = -1;
-        throw failure("--out " + dir_ + ": cannot write there", error);
+        throw;
     }
+}
+
+// dir (made if needed) with its lock file locked. The lock file a failed
+// run that made dir removes (forget_made) may be the one another run has
+// opened: that one then finds its lock on a file no longer there, and
+// takes the new one.
+int OutputSet::locked(const std::string &dir) {
+    const std::string lock = dir + "/.unimesh.lock";
+    for (int attempt = 0;; ++attempt) {
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (ec) throw std::runtime_error("--out " + dir + ": " + ec.message());
+        if (!std::filesystem::is_directory(dir, ec)) throw std::runtime_error("--out " + dir + ": not a directory");
+        const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+        if (fd < 0) {
+            if (errno == ENOENT && attempt < kLockAttempts) continue;  // dir removed meanwhile
+            throw failure("--out " + dir + ": cannot write there", errno);
+        }
+        if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+            const int error = errno;
+            ::close(fd);
+            if (error == EWOULDBLOCK) throw std::runtime_error("--out " + dir + ": another unimesh build is writing there");
+            throw failure("--out " + dir + ": cannot lock it", error);
+        }
+        struct stat held {}, named {};
+        if (::fstat(fd, &held) == 0 && ::stat(lock.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
+            held.st_ino == named.st_ino)
+            return fd;
+        ::close(fd);
+        if (attempt >= kLockAttempts) throw std::runtime_error("--out " + dir + ": cannot lock it (its lock file keeps changing)");
+    }
+}
+
+// The lock file and the folders this run made (rmdir leaves any that hold
+// something by now), while the lock is held.
+void OutputSet::forget_made() {
+    if (made_.empty() || lock_fd_ < 0) return;
+    std::error_code ec;
+    std::filesystem::remove(dir_ + "/.unimesh.lock", ec);
+    for (const std::string &d : made_) ::rmdir(d.c_str());
 }
 
 OutputSet::~OutputSet() {
     std::error_code ec;
     if (!staging_.empty()) std::filesystem::remove_all(staging_, ec);
-    // A run that made the output directory and published nothing leaves
-    // none behind (rmdir keeps it if anything else is there by now).
-    if (created_ && !published_ && lock_fd_ >= 0) {
-        std::filesystem::remove(dir_ + "/.unimesh.lock", ec);
-        ::rmdir(dir_.c_str());
-    }
+    if (!published_) forget_made();
     if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the lock
 }
 

@@ -19,7 +19,8 @@ public:
     // directory; throws std::runtime_error with a one-line reason.
     explicit OutputSet(const std::string &out_dir);
     // Removes the staging directory (and what is left in it), and the output
-    // directory when this run made it and published nothing; releases the lock.
+    // directory's levels this run made when it published nothing; releases
+    // the lock.
     ~OutputSet();
     OutputSet(const OutputSet &) = delete;
     OutputSet &operator=(const OutputSet &) = delete;
@@ -35,9 +36,14 @@ public:
                  const std::string &file_id);
 
 private:
+    static constexpr int kLockAttempts = 8;
+    static int locked(const std::string &dir);
+    void forget_made();
+
     std::string dir_, staging_;
     int lock_fd_ = -1;
-    bool created_ = false, published_ = false;
+    std::vector<std::string> made_;  // the levels of dir_ this run made, deepest first
+    bool published_ = false;
 };
 
 // The file_id attribute of an MPAS mesh file ("" when it has none), which
