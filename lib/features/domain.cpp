@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "features/lonlat_ring.hpp"
 #include "geom/predicates.hpp"
 #include "geom/surface.hpp"
 
@@ -158,38 +159,20 @@ bool smaller_side_on_left(const Network &net, int64_t p) {
 
 // Whether domain ring p holds the region on its left. A ring that does not
 // go round a pole holds what it encloses drawn in longitude and latitude
-// (as its edges are): on its left when it runs counter-clockwise there, by
-// the sign of its area in that plane, longitudes unwrapped along it. So a
-// box wider than a hemisphere is that box, not the rest of the sphere. A
+// (as its edges are): on its left when it runs counter-clockwise there. So
+// a box wider than a hemisphere is that box, not the rest of the sphere. A
 // ring round a pole encloses nothing in that plane: it holds the smaller of
 // its two sides (the pole it is nearer), or, halving the sphere (the
 // equator), the side on its left, not the one the rounding makes smaller.
-// A ring through a pole does not go round it: the pole's one point stands
-// for an edge along it of any longitude (a box up to lat 90 wider than 180
-// degrees runs 340 degrees west along its top), so the longitude the ring
-// would gain round the pole is taken back at the pole.
 constexpr double kHalvesWithin = 1e-9;  // steradians
 bool domain_ring_holds_left(const Network &net, int64_t p) {
     const Part &part = net.part(p);
-    const int64_t first = part.first_point, n = part.n_points;
-    std::vector<double> dlon(static_cast<size_t>(n));
-    double turned = 0;
-    int64_t at_pole = -1;  // the first edge from a pole point
-    for (int64_t k = 0; k < n; ++k) {
-        const int64_t i = first + k, j = first + (k + 1) % n;
-        dlon[k] = std::remainder(net.lon_deg(j) - net.lon_deg(i), 360.0);
-        turned += dlon[k];
-        if (at_pole < 0 && std::fabs(net.lat_deg(i)) == 90) at_pole = k;
-    }
-    if (at_pole >= 0) dlon[at_pole] -= turned;
-    double lon = net.lon_deg(first), twice_area = 0;
-    for (int64_t k = 0; k < n; ++k) {
-        const double next = lon + dlon[k];
-        twice_area += lon * net.lat_deg(first + (k + 1) % n) - next * net.lat_deg(first + k);
-        lon = next;
-    }
-    const bool round_a_pole = std::fabs(lon - net.lon_deg(first)) > 180.0;  // unwrapped by +-360
-    if (!round_a_pole && twice_area != 0) return twice_area > 0;
+    std::vector<double> lon, lat;
+    for (int64_t i = part.first_point; i < part.first_point + part.n_points; ++i)
+        lon.push_back(net.lon_deg(i)), lat.push_back(net.lat_deg(i));
+    const LonLatRing ring(lon.data(), lat.data(), part.n_points);
+    const double twice_area = ring.twice_area();
+    if (!ring.round_a_pole() && twice_area != 0) return twice_area > 0;
     return std::fabs(left_area(net, p) - 2 * M_PI) <= kHalvesWithin || smaller_side_on_left(net, p);
 }
 

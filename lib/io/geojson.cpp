@@ -1,8 +1,8 @@
 #include "io/geojson.hpp"
+#include "features/lonlat_ring.hpp"
 #include "io/error_text.hpp"
 #include "io/input_file.hpp"
 
-#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -452,23 +452,9 @@ private:
             if (!(std::fabs(lat_[k]) < 90) || !std::isfinite(lon_[k])) return;
         const double x = lon_[offsets_[hole]], y = lat_[offsets_[hole]];
         if (!(std::fabs(y) <= 90) || !std::isfinite(x)) return;
-        std::vector<double> lon(static_cast<size_t>(n));
-        lon[0] = lon_[first];
-        for (int64_t k = 1; k < n; ++k)
-            lon[k] = lon[k - 1] + std::remainder(lon_[first + k] - lon_[first + k - 1], 360.0);
-        const double closing = lon[n - 1] + std::remainder(lon_[first] - lon_[first + n - 1], 360.0);
-        if (std::fabs(closing - lon[0]) > 180.0) return;  // round a pole
-        const double west = *std::min_element(lon.begin(), lon.end());
-        // (x and x + 360 k: the one the unwrapped ring spans, if any.)
-        const double shifted = west + std::fmod(std::fmod(x - west, 360.0) + 360.0, 360.0);
-        bool inside = false;
-        for (int64_t k = 0; k < n; ++k) {
-            const double x0 = lon[k], y0 = lat_[first + k];
-            const double x1 = k + 1 < n ? lon[k + 1] : closing, y1 = lat_[first + (k + 1) % n];
-            if ((y0 > y) != (y1 > y) && shifted < x0 + (y - y0) / (y1 - y0) * (x1 - x0)) inside = !inside;
-        }
-        if (!inside)
-            input_error(path, " is a hole of the polygon but lies outside its exterior ring, ", shown_path(part_path_[exterior]));
+        const features::LonLatRing ring(&lon_[first], &lat_[first], n);
+        if (ring.round_a_pole() || ring.encloses(x, y)) return;
+        input_error(path, " is a hole of the polygon but lies outside its exterior ring, ", shown_path(part_path_[exterior]));
     }
 
     void end_part(int32_t closed, const Attributes &attributes, const std::string &path) {
