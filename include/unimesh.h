@@ -459,8 +459,10 @@ UM_API um_status um_features_add(um_features *f, int64_t n_points, const double 
  * bare geometry; LineString and MultiLineString give open or closed parts,
  * each ring of a Polygon or MultiPolygon a closed part, GeometryCollections
  * their members, each position of a Point or MultiPoint a part of one point
- * (which only a passage may be; a hole of a domain Polygon must lie inside its
- * exterior ring, else UM_ERR_INPUT naming both). Per feature:
+ * (which only a passage may be). A ring of a domain Polygon must end with its
+ * first position, as GeoJSON rings do, and a hole of one must lie inside its
+ * exterior ring: else UM_ERR_INPUT naming the ring (and the exterior); rings
+ * of other kinds given open are closed. Per feature:
  *   kind    the string property kind_property (NULL = "kind"): "coastline",
  *           "lake", "river", "watershed", "other", "passage" or "domain"
  *           (case-insensitive); a

@@ -397,6 +397,7 @@ private:
             PathScope scope(path, concat("[", i, "]"));
             read_position(positions[i], path);
         }
+        if (ring && attributes.kind == static_cast<int32_t>(features::Kind::domain)) require_closed(n, path);
         int32_t closed = ring ? 1 : attributes.closed;
         if (closed < 0) {
             closed = 0;
@@ -432,6 +433,21 @@ private:
             }
         lon_.push_back(p[0].get<double>());
         lat_.push_back(p[1].get<double>());
+    }
+
+    // A domain polygon's ring (the n positions just read, at `path`) ends
+    // where it starts, as GeoJSON draws rings: a ring given open may have
+    // lost its end, and a domain is the region its ring bounds. (Rings of
+    // other kinds are closed as given: a coastline polygon's land is the same
+    // either way.) Rings too short to be rings are the network's to refuse.
+    void require_closed(size_t n, const std::string &path) const {
+        if (n < 2) return;
+        const size_t a = lon_.size() - n, b = lon_.size() - 1;
+        if (features::same_point(lon_[a], lat_[a], geom::unit_from_lonlat_deg(lon_[a], lat_[a]), lon_[b], lat_[b],
+                                 geom::unit_from_lonlat_deg(lon_[b], lat_[b])))
+            return;
+        input_error(path, " is a domain ring but is open: its last position [", lon_[b], ", ", lat_[b],
+                    "] is not its first [", lon_[a], ", ", lat_[a], "] (a GeoJSON ring repeats its first position)");
     }
 
     // A domain polygon's hole (the part just read, at `path`) lies inside

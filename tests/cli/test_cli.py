@@ -644,6 +644,12 @@ class Errors(unittest.TestCase):
                 f.write('{"type": "FeatureCollection", "features": []}')
             self.assert_fails(["build", "--spacing-km", "500", "--domain", empty, "--out", out],
                               "--domain " + empty + ": holds no domain feature")
+            # A domain ring given open (GeoJSON repeats a ring's first position).
+            open_ring = os.path.join(out, "open_ring.geojson")
+            with open(open_ring, "w") as f:
+                f.write('{"type": "Polygon", "coordinates": [[[-80, 10], [-5, 10], [-5, 65], [-80, 65]]]}')
+            self.assert_fails(["build", "--spacing-km", "500", "--domain", open_ring, "--out", out],
+                              "--domain " + open_ring, ": coordinates[0] is a domain ring but is open")
             # A run that fails after making its output folder leaves none.
             bowtie = os.path.join(out, "bowtie.geojson")
             with open(bowtie, "w") as f:

@@ -554,10 +554,24 @@ void wrong_structures(void **) {
                        "geometry.coordinates[0]"},
         {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
          "{\"type\": \"MultiPolygon\", \"coordinates\": [[[[0, 0], [20, 0], [20, 20], [0, 0]]], "
-         "[[[170, 0], [-170, 0], [-170, 20], [170, 20]], [[-175, 5], [-172, 5], [-172, 10]], "
-         "[[-30, 5], [-25, 5], [-25, 10]]]]}}",
+         "[[[170, 0], [-170, 0], [-170, 20], [170, 20], [170, 0]], [[-175, 5], [-172, 5], [-172, 10], [-175, 5]], "
+         "[[-30, 5], [-25, 5], [-25, 10], [-30, 5]]]]}}",
          UM_ERR_INPUT, "geometry.coordinates[1][2] is a hole of the polygon but lies outside its exterior ring, "
                        "geometry.coordinates[1][0]"},
+        // A domain polygon's ring given open (its last position not its
+        // first), in a Polygon and in a MultiPolygon's hole; a domain
+        // LineString given open.
+        {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
+         "{\"type\": \"Polygon\", \"coordinates\": [[[-80, 10], [-5, 10], [-5, 65], [-80, 65]]]}}",
+         UM_ERR_INPUT, "geometry.coordinates[0] is a domain ring but is open: its last position [-80, 65] is not its "
+                       "first [-80, 10] (a GeoJSON ring repeats its first position)"},
+        {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
+         "{\"type\": \"MultiPolygon\", \"coordinates\": [[[[0, 0], [20, 0], [20, 20], [0, 0]], "
+         "[[5, 5], [8, 5], [8, 8]]]]}}",
+         UM_ERR_INPUT, "geometry.coordinates[0][1] is a domain ring but is open"},
+        {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
+         "{\"type\": \"LineString\", \"coordinates\": [[0, 0], [20, 0], [20, 20]]}}",
+         UM_ERR_INPUT, "geometry.coordinates is a domain ring but is open"},
         // An empty ring of a domain polygon: the network's refusal, not the hole test's.
         {"{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
          "{\"type\": \"Polygon\", \"coordinates\": [[], [[1, 1], [2, 1], [2, 2], [1, 1]]]}}",
