@@ -18,6 +18,20 @@ inline std::string to_text(double v) {
     return std::string(buf, r.ptr);
 }
 
+// v with at most `decimals` decimals, trailing zeros dropped ("-0" as "0"):
+// a computed place in a message, whose last bits are rounding.
+inline std::string rounded_text(double v, int decimals) {
+    char buf[400];
+    auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
+    if (r.ec != std::errc()) return to_text(v);
+    std::string s(buf, r.ptr);
+    if (s.find('.') != std::string::npos) {
+        while (s.back() == '0') s.pop_back();
+        if (s.back() == '.') s.pop_back();
+    }
+    return s == "-0" ? "0" : s;
+}
+
 template <class T>
 std::string to_text(T v) {
     if constexpr (std::is_same_v<T, bool>) {

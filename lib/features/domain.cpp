@@ -30,6 +30,10 @@ Vec3 just_left_of(const Network &net, int64_t s) {
     return geom::normalized(std::cos(offset) * mid + std::sin(offset) * left);
 }
 
+// Where two rings cross, in messages: degrees to 1e-7 (about a centimetre);
+// the intersection's last bits are rounding.
+constexpr int kPlaceDecimals = 7;
+
 // The apex of a fan over closed part p: its first point, unless a point of
 // the part is near that point's antipode (a ring wider than a hemisphere):
 // a fan triangle through the antipode has no defined area, and near it its
@@ -230,7 +234,8 @@ Domain::Domain(const Network &net) {
             geom::Surface::ellipsoid(1.0, net.flattening()).geodetic(c, lon, lat);
             fail(UM_ERR_INPUT, "domain ring ", pi, " (id ", net.part(pi).id, ")",
                  pi == pj ? std::string(" crosses itself") : concat(" crosses domain ring ", pj, " (id ", net.part(pj).id, ")"),
-                 " at lon ", lon, ", lat ", lat, ": domain rings must not cross themselves or each other");
+                 " at lon ", rounded_text(lon, kPlaceDecimals), ", lat ", rounded_text(lat, kPlaceDecimals),
+                 ": domain rings must not cross themselves or each other");
         });
     }
 
