@@ -449,7 +449,10 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     Undo undo = set_aside(ctx, m);
     try {
         m.refined_quality = before;
-        m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o, m.domain.get());
+        // (The sides finish found for this triangulation, set aside with it.)
+        const bool sides_known = undo.vertex_side.size() == static_cast<size_t>(m.tri.vertex_slots());
+        m.optimisation = optim::optimise(ctx, m.tri, m.on_segment, m.gamma.get(), hr, o, m.domain.get(),
+                                         sides_known ? &undo.vertex_side : nullptr);
         m.optimised = true, m.ocean_floor = o.ocean_floor;
         finish(ctx, m, features::segment_arc_tree(m.gamma.get()), tri::Triangulation::Reorder::in_place);
         if (m.domain) require_region_cells(ctx, m);  // (the mesh is put back if not)

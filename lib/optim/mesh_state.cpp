@@ -31,9 +31,10 @@ constexpr size_t kChangedNearShare = 8;
 
 MeshState::MeshState(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
                      const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o,
-                     const features::Domain *domain)
+                     const features::Domain *domain, const std::vector<refine::Side> *sides)
     : ctx(ctx), tri(tri), on_segment(on_segment), gamma(gamma), h(h), options(o),
-      gain(kGainOverTolerance * o.tolerance), arcs(features::segment_arc_tree(gamma)), domain(domain) {}
+      gain(kGainOverTolerance * o.tolerance), arcs(features::segment_arc_tree(gamma)), domain(domain),
+      given_sides(sides) {}
 
 void MeshState::grow_slots() {
     const size_t n = static_cast<size_t>(tri.vertex_slots());

@@ -101,7 +101,7 @@ class MeshState {
 public:
     MeshState(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
               const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o,
-              const features::Domain *domain = nullptr);
+              const features::Domain *domain = nullptr, const std::vector<refine::Side> *sides = nullptr);
 
     Context &ctx;
     tri::Triangulation &tri;
@@ -163,6 +163,9 @@ public:
     std::vector<refine::Side> side;
     std::vector<int32_t> side_id;
     int32_t sides_clock = -1;  // the clock at the last refresh (changed_at since: looked at again)
+    // The sides given for the starting triangulation (optimise's `sides`):
+    // what the first refresh takes; null once taken.
+    const std::vector<refine::Side> *given_sides = nullptr;
     bool weighing = false;  // the weight phase has begun (weight_failed_at exists)
     int32_t clock = 1;
     int32_t next_id = 0;

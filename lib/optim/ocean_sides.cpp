@@ -68,9 +68,14 @@ void MeshState::refresh_sides() {
         return;
     }
     if (side_id.empty()) {
-        const std::vector<refine::RestrictedEdge> restricted = refine::restricted_edges(ctx, tri, arcs);
-        const std::vector<refine::Side> triangles = refine::triangle_sides(tri, *gamma, &restricted);
-        side = refine::vertex_sides(tri, triangles, on_segment, *gamma);
+        if (given_sides && given_sides->size() == static_cast<size_t>(n)) {
+            side = *given_sides;
+        } else {
+            const std::vector<refine::RestrictedEdge> restricted = refine::restricted_edges(ctx, tri, arcs);
+            const std::vector<refine::Side> triangles = refine::triangle_sides(tri, *gamma, &restricted);
+            side = refine::vertex_sides(tri, triangles, on_segment, *gamma);
+        }
+        given_sides = nullptr;  // (they are of the starting triangulation only)
         side_id.assign(static_cast<size_t>(n), -1);
         for (int32_t v = 0; v < n; ++v)
             if (tri.in_triangulation(v)) side_id[v] = tri.id(v);

@@ -48,8 +48,8 @@ class Schedule {
 public:
     Schedule(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
              const features::Network *gamma, const refine::SpacingRadians &h, const OptimiseOptions &o,
-             const features::Domain *domain)
-        : s_(ctx, tri, on_segment, gamma, h, o, domain), shape_(s_), weights_(s_), centroidal_(s_), topology_(s_),
+             const features::Domain *domain, const std::vector<refine::Side> *sides)
+        : s_(ctx, tri, on_segment, gamma, h, o, domain, sides), shape_(s_), weights_(s_), centroidal_(s_), topology_(s_),
           corners_(s_), floor_(s_), mends_(s_), reseeding_(s_) {}
 
     OptimiseStats run();
@@ -291,8 +291,9 @@ void Schedule::mend_off_centre_after_moves() {
 
 OptimiseStats optimise(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
                        const features::Network *gamma, const refine::SpacingRadians &h,
-                       const OptimiseOptions &options, const features::Domain *domain) {
-    detail::Schedule schedule(ctx, tri, on_segment, gamma, h, options, domain);
+                       const OptimiseOptions &options, const features::Domain *domain,
+                       const std::vector<refine::Side> *sides) {
+    detail::Schedule schedule(ctx, tri, on_segment, gamma, h, options, domain, sides);
     return schedule.run();
 }
 

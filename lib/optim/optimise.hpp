@@ -34,6 +34,7 @@
 #include "features/domain.hpp"
 #include "features/network.hpp"
 #include "optim/defaults.hpp"
+#include "refine/sides.hpp"
 #include "refine/surface.hpp"
 #include "tri/triangulation.hpp"
 
@@ -100,9 +101,13 @@ struct OptimiseStats {
 // flips that keep the triangulation regular reach there. (A vertex inside
 // may still come to neighbour the cover through later flips, or move out
 // through a gap in the rings: it is then the cover's from the next
-// outer iteration.)
+// outer iteration.) `sides`, when given, are the vertices' sides as
+// refine::vertex_sides finds them for tri as it is (a refined mesh keeps
+// them): the time-step floor then starts from them instead of finding them
+// again (a scan of every dual edge against Gamma).
 OptimiseStats optimise(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
                        const features::Network *gamma, const refine::SpacingRadians &h,
-                       const OptimiseOptions &options, const features::Domain *domain = nullptr);
+                       const OptimiseOptions &options, const features::Domain *domain = nullptr,
+                       const std::vector<refine::Side> *sides = nullptr);
 
 }  // namespace um::optim
