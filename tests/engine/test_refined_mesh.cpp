@@ -145,6 +145,30 @@ void expect_gamma_still_followed(const mesh::RefinedMesh &refined, const mesh::R
     else assert_true(off_after <= off_before);
 }
 
+// The optimisation starts its time-step floor from the sides the refined
+// mesh holds (finish found them for the same triangulation); found again,
+// they are the same: the optimised meshes agree bit for bit.
+void the_optimiser_starts_from_the_sides_the_mesh_holds(void **) {
+    auto gamma = std::make_shared<features::Network>();
+    io::read_geojson_file(UNIMESH_DATA_DIR "/coast_global_l.geojson", {}, *gamma);
+    Context ctx;
+    const Options options;
+    const mesh::RefinedMesh refined = mesh::refine_mesh(ctx, hfun::make_constant(240.0), gamma, options);
+    assert_int_equal(refined.vertex_side.size(), refined.tri.vertex_slots());
+    mesh::RefinedMesh given = refined, found = refined;
+    found.vertex_side.clear();  // (not of the triangulation: found again)
+    mesh::optimise_mesh(ctx, given, options, nullptr);
+    mesh::optimise_mesh(ctx, found, options, nullptr);
+    assert_true(given.optimisation.floor_removals > 0);  // (the floor had work to do)
+    assert_int_equal(given.tri.vertex_slots(), found.tri.vertex_slots());
+    for (int32_t v = 0; v < given.tri.vertex_slots(); ++v) {
+        assert_int_equal(given.tri.in_triangulation(v), found.tri.in_triangulation(v));
+        const Vec3 a = given.tri.direction(v), b = found.tri.direction(v);
+        assert_true(a.x == b.x && a.y == b.y && a.z == b.z);
+    }
+    assert_true(given.vertex_side == found.vertex_side);
+}
+
 void optimised_coastal_mesh_stays_regular(void **) {
     auto gamma = std::make_shared<features::Network>();
     io::read_geojson_file(UNIMESH_DATA_DIR "/coast_global_l.geojson", {}, *gamma);
@@ -348,6 +372,7 @@ int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(coast_global_l_follows_gamma_where_not_filtered),
         cmocka_unit_test(relaxation_leaves_gamma_alone),
+        cmocka_unit_test(the_optimiser_starts_from_the_sides_the_mesh_holds),
         cmocka_unit_test(optimised_coastal_mesh_stays_regular),
         cmocka_unit_test(a_fine_spot_narrower_than_the_mesh_is_meshed),
         cmocka_unit_test(a_fine_spot_is_meshed_the_same_on_one_and_two_threads),
