@@ -436,7 +436,9 @@ enum {
      * the boundary's spacing at 1/4 km per km to 1000 km, that no output
      * holds (section "Regional meshes" below). Rings may cross the
      * antimeridian and hold a pole, but must not cross themselves or each
-     * other (UM_ERR_INPUT from um_mesh_refine). */
+     * other (UM_ERR_INPUT from um_mesh_refine, naming each ring by its part,
+     * id and where it came from - a file's JSON path, or the part in its
+     * um_features_add_parts call - and the point where they cross). */
     UM_FEATURE_DOMAIN = 7
 };
 

@@ -186,7 +186,7 @@ bool ring_encloses(const Network &net, int64_t p, const Vec3 &x) {
     return on_left_of_ring(net, p, x) == smaller_side_on_left(net, p);
 }
 
-Domain::Domain(const Network &net) {
+Domain::Domain(const Network &net, const Origin &origin) {
     std::vector<int64_t> rings;
     std::vector<geom::ArcTree::Arc> arcs;
     ring_segment_.assign(static_cast<size_t>(net.segment_count()), 0);
@@ -232,8 +232,11 @@ Domain::Domain(const Network &net) {
             const int64_t pi = rings[ring_of_arc_[i]], pj = rings[ring_of_arc_[j]];
             double lon, lat;
             geom::Surface::ellipsoid(1.0, net.flattening()).geodetic(c, lon, lat);
-            fail(UM_ERR_INPUT, "domain ring ", pi, " (id ", net.part(pi).id, ")",
-                 pi == pj ? std::string(" crosses itself") : concat(" crosses domain ring ", pj, " (id ", net.part(pj).id, ")"),
+            auto ring = [&](int64_t p) {
+                const std::string from = origin ? origin(p) : std::string();
+                return concat("domain ring ", p, " (id ", net.part(p).id, from.empty() ? "" : ", ", from, ")");
+            };
+            fail(UM_ERR_INPUT, ring(pi), pi == pj ? std::string(" crosses itself") : concat(" crosses ", ring(pj)),
                  " at lon ", rounded_text(lon, kPlaceDecimals), ", lat ", rounded_text(lat, kPlaceDecimals),
                  ": domain rings must not cross themselves or each other");
         });

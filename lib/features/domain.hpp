@@ -17,6 +17,8 @@
 #include <memory>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "features/network.hpp"
@@ -45,8 +47,11 @@ public:
     // The domain of net's Kind::domain parts (none: empty(), the whole
     // sphere). Throws UM_ERR_INPUT naming the parts and segments where two
     // segments of the rings cross (touching at a shared point included),
-    // other than consecutive segments of one ring at their shared point.
-    explicit Domain(const Network &net);
+    // other than consecutive segments of one ring at their shared point;
+    // `origin`, when given, names where part p came from (a file and JSON
+    // path, say; empty: unknown) for that message.
+    using Origin = std::function<std::string(int64_t part)>;
+    explicit Domain(const Network &net, const Origin &origin = {});
 
     bool empty() const { return arcs_.size() == 0; }
     // Whether unit point x is inside (always, when empty). A point on a ring

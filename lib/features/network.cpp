@@ -307,6 +307,10 @@ void Network::add(const PartsInput &in, const Locator &where) {
     staged.segment_part.reserve(static_cast<size_t>(in.n_points));
     for (int64_t p = 0; p < in.n_parts; ++p) checker.add_part(p, staged);
     checker.refuse_repeated_rings(*this, staged);
+    std::vector<std::pair<int64_t, std::string>> origins;
+    if (where)
+        for (int64_t p = 0; p < in.n_parts; ++p)
+            if (staged.parts[static_cast<size_t>(p)].kind == Kind::domain) origins.push_back({part_count() + p, where(p, -1, -1)});
 
     // Commit: reserve everything first (the only step that can throw, and
     // reserve leaves a vector as it was when it throws), then append.
@@ -316,6 +320,7 @@ void Network::add(const PartsInput &in, const Locator &where) {
     parts_.reserve(parts_.size() + staged.parts.size());
     part_length_.reserve(part_length_.size() + staged.length.size());
     segment_part_.reserve(segment_part_.size() + staged.segment_part.size());
+    domain_origin_.reserve(domain_origin_.size() + origins.size());
 
     const int64_t point_base = point_count(), segment_base = segment_count();
     for (Part &part : staged.parts) {
@@ -328,7 +333,14 @@ void Network::add(const PartsInput &in, const Locator &where) {
     append(parts_, staged.parts);
     append(part_length_, staged.length);
     append(segment_part_, staged.segment_part);
+    for (auto &origin : origins) domain_origin_.push_back(std::move(origin));
     for (double length : staged.length) total_length_ += length;
+}
+
+std::string Network::domain_origin(int64_t p) const {
+    auto it = std::lower_bound(domain_origin_.begin(), domain_origin_.end(), p,
+                               [](const std::pair<int64_t, std::string> &o, int64_t q) { return o.first < q; });
+    return it != domain_origin_.end() && it->first == p ? it->second : std::string();
 }
 
 double Network::segment_length(int64_t s) const {

@@ -26,6 +26,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "geom/arc_tree.hpp"
@@ -107,6 +108,11 @@ public:
 
     const Part &part(int64_t p) const { return parts_[p]; }
     const std::vector<Part> &parts() const { return parts_; }
+    // Where domain part p came from, as add's `where` named it ("file:
+    // JSON path" for a file); empty when add had no `where` or p is of
+    // another kind. (Kept for the domain rings only: their errors come
+    // later, when the rings are seen together.)
+    std::string domain_origin(int64_t p) const;
 
     Vec3 point(int64_t i) const { return points_[i]; }
     const std::vector<Vec3> &points() const { return points_; }
@@ -143,6 +149,7 @@ private:
     std::vector<double> part_length_;
     std::vector<int32_t> segment_part_;
     double total_length_ = 0;
+    std::vector<std::pair<int64_t, std::string>> domain_origin_;  // (part, place), ascending parts
 };
 
 // A network made from parts of others (checked and cleaned already): points

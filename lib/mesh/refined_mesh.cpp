@@ -167,6 +167,7 @@ void split_passages(RefinedMesh &m, std::shared_ptr<const features::Network> fea
 // an ellipsoid each point at the direction of its geodetic lon/lat; the
 // domain of those rings (none without any).
 void place_gamma(RefinedMesh &m, std::shared_ptr<const features::Network> features) {
+    const std::shared_ptr<const features::Network> callers = features;  // (for the rings' origins)
     split_passages(m, std::move(features));
     const bool regional = m.gamma && std::any_of(m.gamma->parts().begin(), m.gamma->parts().end(), [](const features::Part &p) {
                               return p.kind == features::Kind::domain;
@@ -178,7 +179,12 @@ void place_gamma(RefinedMesh &m, std::shared_ptr<const features::Network> featur
             m.passages = std::make_shared<const features::Network>(features::on_ellipsoid(*m.passages, m.surface.f()));
     }
     if (!regional) return;
-    auto domain = std::make_shared<const features::Domain>(*m.gamma);
+    // (Gamma's parts are the caller's but the passages, in order: the
+    // traced and ellipsoidal copies keep them.)
+    const features::Domain::Origin origin = [&](int64_t p) {
+        return callers->domain_origin(m.features_part.empty() ? p : m.features_part[static_cast<size_t>(p)]);
+    };
+    auto domain = std::make_shared<const features::Domain>(*m.gamma, origin);
     if (!domain->empty()) m.domain = std::move(domain);
 }
 

@@ -656,7 +656,7 @@ class Errors(unittest.TestCase):
                 f.write('{"type": "Polygon", "coordinates": [[[0, 0], [10, 10], [10, 0], [0, 10], [0, 0]]]}')
             fresh = os.path.join(out, "fresh")
             self.assert_fails(["build", "--spacing-km", "100", "--domain", bowtie, "--out",
-                               os.path.join(fresh, "a", "b")], "crosses itself")
+                               os.path.join(fresh, "a", "b")], "crosses itself", bowtie + ": coordinates[0]")
             self.assertFalse(os.path.exists(fresh))
             r = run("build", "--spacing-km", "900", "--geometry", empty, "--out", os.path.join(out, "empty"))
             self.assertEqual(r.returncode, 0, r.stderr)  # no coastlines: a uniform global mesh

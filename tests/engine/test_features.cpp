@@ -657,6 +657,41 @@ void domain_holes_inside_their_exterior_are_read(void **) {
     }
 }
 
+// A domain ring remembers where it came from (for the errors of the rings
+// seen together, features::Domain): the file and JSON path of a GeoJSON
+// one; nothing for other kinds or for parts added without names.
+void domain_rings_remember_where_they_came_from(void **) {
+    Network net;
+    const std::string text =
+        "{\"type\": \"FeatureCollection\", \"features\": ["
+        "{\"type\": \"Feature\", \"properties\": {\"kind\": \"river\"}, \"geometry\": "
+        "{\"type\": \"LineString\", \"coordinates\": [[0, 0], [1, 1]]}},"
+        "{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
+        "{\"type\": \"Polygon\", \"coordinates\": [[[0, 0], [20, 0], [20, 20], [0, 0]], "
+        "[[5, 2], [15, 2], [15, 12], [5, 2]]]}}]}";
+    assert_int_equal(read_text(net, text), UM_OK);
+    assert_int_equal(net.part_count(), 3);
+    assert_string_equal(net.domain_origin(0).c_str(), "");
+    assert_string_equal(net.domain_origin(1).c_str(), "text: features[1].geometry.coordinates[0]");
+    assert_string_equal(net.domain_origin(2).c_str(), "text: features[1].geometry.coordinates[1]");
+    assert_string_equal(net.domain_origin(3).c_str(), "");
+    // (Two rings: the network refuses a ring it holds already.)
+    const std::vector<double> lon{30, 40, 40, 50, 60, 60}, lat{0, 0, 10, 0, 0, 10};
+    const std::vector<int64_t> offsets{0, 3};
+    const std::vector<int32_t> closed{1}, kind{UM_FEATURE_DOMAIN};
+    auto ring = [&](int k) {
+        features::PartsInput in;
+        in.n_points = 3, in.lon_deg = lon.data() + 3 * k, in.lat_deg = lat.data() + 3 * k, in.n_parts = 1;
+        in.part_offsets = offsets.data(), in.closed = closed.data(), in.kind = kind.data();
+        return in;
+    };
+    net.add(ring(0));
+    assert_string_equal(net.domain_origin(3).c_str(), "");
+    net.add(ring(1), [](int64_t p, int64_t, int) { return concat("batch part ", p); });
+    assert_string_equal(net.domain_origin(4).c_str(), "batch part 0");
+    assert_string_equal(net.domain_origin(2).c_str(), "text: features[1].geometry.coordinates[1]");
+}
+
 void passages_of_points_and_lines(void **) {
     Network net;
     std::string m;
@@ -786,6 +821,7 @@ int main() {
         cmocka_unit_test(malformed_files),
         cmocka_unit_test(wrong_structures),
         cmocka_unit_test(domain_holes_inside_their_exterior_are_read),
+        cmocka_unit_test(domain_rings_remember_where_they_came_from),
         cmocka_unit_test(passages_of_points_and_lines),
         cmocka_unit_test(corrupted_bytes),
         cmocka_unit_test(shipped_data),

@@ -24,6 +24,7 @@
 #include "io/mpas_writer.hpp"
 #include "features/domain.hpp"
 #include "hfun/region_cover.hpp"
+#include "io/geojson.hpp"
 #include "mesh/refined_mesh.hpp"
 #include "quality/metrics.hpp"
 #include "support/feature_parts.hpp"
@@ -193,6 +194,32 @@ void crossing_open_and_short_rings_are_refused(void **) {
     assert_int_equal(add_rings(net, {ring({0, 10}, {0, 0})}, &message), UM_ERR_INPUT);
     assert_non_null(std::strstr(message.c_str(), "at least 3"));
     assert_int_equal(net.part_count(), 0);
+}
+
+// Rings that cross, read from GeoJSON after a passage (split off Gamma,
+// so Gamma's part indices are not the file's): the refinement's refusal
+// names each ring's file and JSON path.
+void crossing_rings_are_named_by_their_file(void **) {
+    const std::string text =
+        "{\"type\": \"FeatureCollection\", \"features\": ["
+        "{\"type\": \"Feature\", \"properties\": {\"kind\": \"passage\"}, \"geometry\": "
+        "{\"type\": \"Point\", \"coordinates\": [3, 3]}},"
+        "{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
+        "{\"type\": \"Polygon\", \"coordinates\": [[[0, 0], [10, 0], [10, 10], [0, 10], [0, 0]]]}},"
+        "{\"type\": \"Feature\", \"properties\": {\"kind\": \"domain\"}, \"geometry\": "
+        "{\"type\": \"Polygon\", \"coordinates\": [[[5, 5], [15, 5], [15, 15], [5, 15], [5, 5]]]}}]}";
+    auto features = std::make_shared<Network>();
+    io::read_geojson_text(text, {}, *features, "boxes.geojson");
+    Context ctx;
+    try {
+        mesh::refine_mesh(ctx, hfun::make_constant(200), features, Options{});
+        fail_msg("crossing rings were taken");
+    } catch (const Error &e) {
+        const char *said = "domain ring 0 (id 1, boxes.geojson: features[1].geometry.coordinates[0]) crosses domain ring 1 "
+                           "(id 2, boxes.geojson: features[2].geometry.coordinates[0]) at lon 10, lat 5";
+        if (!std::strstr(e.what(), said)) std::printf("said: %s\n", e.what());
+        assert_non_null(std::strstr(e.what(), said));
+    }
 }
 
 // Points spread evenly over the sphere (a Fibonacci spiral).
@@ -478,6 +505,7 @@ int main() {
         cmocka_unit_test(a_box_up_to_a_pole_wider_than_180_degrees),
         cmocka_unit_test(the_equator_holds_the_hemisphere_on_its_left),
         cmocka_unit_test(crossing_open_and_short_rings_are_refused),
+        cmocka_unit_test(crossing_rings_are_named_by_their_file),
         cmocka_unit_test(the_memo_and_the_rough_distance_agree_with_the_search),
         cmocka_unit_test(the_cover_grows_away_from_the_domain),
         cmocka_unit_test(a_regional_mesh_of_a_dateline_box),
