@@ -409,7 +409,7 @@ int run_build(const BuildArgs &a) {
         check(um_context_set_threads(ctx, a.threads), ctx, "--threads");
         check(um_context_set_memory_cap(ctx, memory_cap_bytes(a.memory_cap)), ctx, "--memory-cap " + a.memory_cap);
         um_context_set_progress(ctx, report_progress, &stage);
-        if (a.verbose) um_context_set_log(ctx, print_log, nullptr, UM_LOG_DEBUG);
+        if (a.verbose) um_context_set_log(ctx, print_log, nullptr, UM_LOG_INFO);
         check(um_options_create(ctx, &opts), ctx, "options");
         // The case file's options and surface, then the flags': flags win.
         const bool surface_flag = a.surface_source == "--surface";
