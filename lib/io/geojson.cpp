@@ -399,18 +399,16 @@ private:
         }
         if (ring && attributes.kind == static_cast<int32_t>(features::Kind::domain)) require_closed(n, path);
         int32_t closed = ring ? 1 : attributes.closed;
-        if (closed < 0) {
-            closed = 0;
-            if (n >= 2) {
-                const size_t a = lon_.size() - n, b = lon_.size() - 1;
-                closed = features::same_point(lon_[a], lat_[a],
-                                              geom::unit_from_lonlat_deg(lon_[a], lat_[a]), lon_[b],
-                                              lat_[b], geom::unit_from_lonlat_deg(lon_[b], lat_[b]))
-                             ? 1
-                             : 0;
-            }
-        }
+        if (closed < 0) closed = ends_where_it_starts(n) ? 1 : 0;
         end_part(closed, attributes, path);
+    }
+
+    // Whether the last n positions read are at least 2 and end where they start.
+    bool ends_where_it_starts(size_t n) const {
+        if (n < 2) return false;
+        const size_t a = lon_.size() - n, b = lon_.size() - 1;
+        return features::same_point(lon_[a], lat_[a], geom::unit_from_lonlat_deg(lon_[a], lat_[a]), lon_[b], lat_[b],
+                                    geom::unit_from_lonlat_deg(lon_[b], lat_[b]));
     }
 
     // One position -> a part of one point (the network refuses it unless it
@@ -441,11 +439,8 @@ private:
     // other kinds are closed as given: a coastline polygon's land is the same
     // either way.) Rings too short to be rings are the network's to refuse.
     void require_closed(size_t n, const std::string &path) const {
-        if (n < 2) return;
+        if (n < 2 || ends_where_it_starts(n)) return;
         const size_t a = lon_.size() - n, b = lon_.size() - 1;
-        if (features::same_point(lon_[a], lat_[a], geom::unit_from_lonlat_deg(lon_[a], lat_[a]), lon_[b], lat_[b],
-                                 geom::unit_from_lonlat_deg(lon_[b], lat_[b])))
-            return;
         input_error(path, " is a domain ring but is open: its last position [", lon_[b], ", ", lat_[b],
                     "] is not its first [", lon_[a], ", ", lat_[a], "] (a GeoJSON ring repeats its first position)");
     }

@@ -68,7 +68,7 @@ void MeshState::refresh_sides() {
         return;
     }
     if (side_id.empty()) {
-        if (given_sides && given_sides->size() == static_cast<size_t>(n)) {
+        if (given_sides) {
             side = *given_sides;
         } else {
             const std::vector<refine::RestrictedEdge> restricted = refine::restricted_edges(ctx, tri, arcs);

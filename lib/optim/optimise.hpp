@@ -102,8 +102,8 @@ struct OptimiseStats {
 // may still come to neighbour the cover through later flips, or move out
 // through a gap in the rings: it is then the cover's from the next
 // outer iteration.) `sides`, when given, are the vertices' sides as
-// refine::vertex_sides finds them for tri as it is (a refined mesh keeps
-// them): the time-step floor then starts from them instead of finding them
+// refine::vertex_sides finds them for tri as it is, one per vertex slot (a
+// refined mesh keeps them; the caller checks they are of tri): the time-step floor then starts from them instead of finding them
 // again (a scan of every dual edge against Gamma).
 OptimiseStats optimise(Context &ctx, tri::Triangulation &tri, std::vector<int32_t> &on_segment,
                        const features::Network *gamma, const refine::SpacingRadians &h,
