@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "core/growth.hpp"
 #include "core/text.hpp"
+#include "core/uninit_vector.hpp"
 #include "dual/spherical.hpp"
 #include "geom/predicates.hpp"
 #include "refine/boundary.hpp"
@@ -69,16 +71,22 @@ std::string json_operator_diagnostics(const Report &r, const std::string &nl) {
                   "}", nl, "}");
 }
 
-}  // namespace
-
-TriangleQuality triangle_quality(const tri::Triangulation &tri, int32_t t) {
+// A triangle's corners and its edges' arc lengths, l[k] opposite corner k:
+// what its metrics and its edges' spacing ratios share.
+struct Corners {
     Vec3 x[3];
-    for (int k = 0; k < 3; ++k) x[k] = tri.direction(tri.vertex(t, k));
-    double l[3], l2 = 0, lsum = 0;
-    for (int k = 0; k < 3; ++k) {
-        l[k] = geom::arc_length(x[(k + 1) % 3], x[(k + 2) % 3]);  // opposite vertex k
-        l2 += l[k] * l[k], lsum += l[k];
+    double l[3];
+    Corners(const tri::Triangulation &tri, int32_t t) {
+        for (int k = 0; k < 3; ++k) x[k] = tri.direction(tri.vertex(t, k));
+        for (int k = 0; k < 3; ++k) l[k] = geom::arc_length(x[(k + 1) % 3], x[(k + 2) % 3]);
     }
+};
+
+TriangleQuality triangle_quality(const tri::Triangulation &tri, int32_t t, const Corners &corners) {
+    const Vec3 *x = corners.x;
+    const double *l = corners.l;
+    double l2 = 0, lsum = 0;
+    for (int k = 0; k < 3; ++k) l2 += l[k] * l[k], lsum += l[k];
     const double area = geom::signed_triangle_area(x[0], x[1], x[2]);
     TriangleQuality q;
     q.area_length = 4 * std::sqrt(3.0) * area / l2;
@@ -104,6 +112,12 @@ TriangleQuality triangle_quality(const tri::Triangulation &tri, int32_t t) {
     return q;
 }
 
+}  // namespace
+
+TriangleQuality triangle_quality(const tri::Triangulation &tri, int32_t t) {
+    return triangle_quality(tri, t, Corners(tri, t));
+}
+
 namespace {
 
 // Lengths below the rounding of unit vectors count as that long: a dual
@@ -112,15 +126,28 @@ namespace {
 // (hosts may trap them).
 constexpr double kRoundingArc = 0x1p-52;
 
+// Of edge k of t, dcEdge and xEdge (all that its spacing ratio needs), and
+// its ends.
+struct EdgeSpan {
+    Vec3 xi, xj, x_edge;
+    double dc_edge;
+    EdgeSpan(const tri::Triangulation &tri, int32_t t, int k) {
+        const int32_t i = tri.vertex(t, (k + 1) % 3), j = tri.vertex(t, (k + 2) % 3);
+        xi = tri.direction(i), xj = tri.direction(j);
+        // The edge orthocentre as the MPAS writer places it, accurate on small cells.
+        x_edge = dual::edge_point(tri.lifted(i), tri.lifted(j));
+        dc_edge = dual::arc(xi, xj);
+    }
+};
+
 // edge_offsets, given o1, the orthocentre of t (a pass over the triangles
 // computes it once for their three edges).
 EdgeOffsets edge_offsets(const tri::Triangulation &tri, int32_t t, int k, const Vec3 &o1) {
-    const int32_t i = tri.vertex(t, (k + 1) % 3), j = tri.vertex(t, (k + 2) % 3);
-    const Vec3 xi = tri.direction(i), xj = tri.direction(j), o2 = tri.orthocentre(tri.neighbour(t, k));
+    const EdgeSpan span(tri, t, k);
+    const Vec3 &xi = span.xi, &xj = span.xj, o2 = tri.orthocentre(tri.neighbour(t, k));
     EdgeOffsets e;
-    // The edge orthocentre as the MPAS writer places it, accurate on small cells.
-    e.x_edge = dual::edge_point(tri.lifted(i), tri.lifted(j));
-    e.dc_edge = dual::arc(xi, xj);
+    e.x_edge = span.x_edge;
+    e.dc_edge = span.dc_edge;
     e.primal = dual::arc(e.x_edge, geom::normalized(xi + xj)) / e.dc_edge;
     const double dv_edge = dual::arc(o1, o2);
     e.dual = dual::arc(e.x_edge, geom::normalized(o1 + o2)) / std::max(dv_edge, kRoundingArc);
@@ -197,13 +224,23 @@ struct Stream {
 // Offsets crowd near 0 (a Voronoi mesh's primal-edge offsets are all about
 // 1e-13): their fine bins are logarithmic from kLogFloor to hi, so that the
 // 1st percentile's bin stays small (linear, it would hold every value, and
-// the second pass recompute every edge).
+// the second pass recompute every edge). Logarithmic by the bits of the
+// double: those of a positive double grow with it, by an octave per
+// exponent step, and cost no log() (two per edge). Any bins that grow with
+// the value give the same percentile; these only decide how few values
+// the second pass keeps.
 constexpr bool kLogFine[kMetrics] = {false, false, false, false, false, true, true, false, true};
 constexpr double kLogFloor = 1e-16;
 
+double bits_of(double v) {
+    int64_t bits;  // (v > 0: below 2^63)
+    std::memcpy(&bits, &v, sizeof bits);
+    return static_cast<double>(bits);
+}
+
 int fine_bin(double v, Metric m) {
-    if (kLogFine[m] && !(v > kLogFloor)) return 0;  // (no log of 0: hosts may trap its exception)
-    const double x = kLogFine[m] ? std::log(v / kLogFloor) / std::log(kHi[m] / kLogFloor)
+    if (kLogFine[m] && !(v > kLogFloor)) return 0;  // (and NaN)
+    const double x = kLogFine[m] ? (bits_of(v) - bits_of(kLogFloor)) / (bits_of(kHi[m]) - bits_of(kLogFloor))
                                  : (v - kLo[m]) / (kHi[m] - kLo[m]);
     if (!(x >= 0)) return 0;  // below lo (or NaN)
     if (x >= 1) return kFine + 1;
@@ -280,7 +317,9 @@ Counts summarise(Context &ctx, int64_t n, const std::array<Metric, kSlots> &slot
     std::vector<Block> blocks(static_cast<size_t>(n_blocks));
     // Each value's fine bin, per item and slot: the second pass then
     // recomputes only the items with a value in a 1st-percentile bin.
-    std::vector<std::array<uint16_t, kSlots>> bins(static_cast<size_t>(n));
+    // (Written first by the parallel pass: zeroed here, on one thread, its
+    // 14 to 18 bytes a triangle would take every page fault.)
+    UninitVector<std::array<uint16_t, kSlots>> bins(static_cast<size_t>(n));
     // With a heartbeat between runs of blocks: the values may call a slow
     // spacing callback, and cancel must get in.
     ctx.parallel_for_with_heartbeat("quality", n_blocks, 1, [&](int64_t b0, int64_t b1) {
@@ -376,15 +415,16 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
     auto triangle_values = [&](int64_t i, Counts &c, auto &&emit) {
         const int32_t t = static_cast<int32_t>(i);
         if (tri.is_free(t)) return;
+        const Corners corners(tri, t);
         // Every edge between kept cells, whichever of its triangles is kept.
         for (int k = 0; k < 3 && h; ++k) {
             if (!counted(t, k)) continue;
-            const Vec3 a = tri.direction(tri.vertex(t, (k + 1) % 3)), b = tri.direction(tri.vertex(t, (k + 2) % 3));
-            emit(kSpacingRatio + k, geom::arc_length(a, b) / h(geom::normalized(a + b)));
+            const Vec3 &a = corners.x[(k + 1) % 3], &b = corners.x[(k + 2) % 3];
+            emit(kSpacingRatio + k, corners.l[k] / h(geom::normalized(a + b)));
         }
         for (int k = 0; k < 3; ++k) c.edges += counted(t, k);
         if (!kept_triangle(t)) return;
-        const TriangleQuality q = triangle_quality(tri, t);
+        const TriangleQuality q = triangle_quality(tri, t, corners);
         emit(kAreaLength, q.area_length), emit(kPrimalDual, q.primal_dual);
         emit(kAngleMin, q.angle_min), emit(kAngleMax, q.angle_max);
         ++c.triangles, c.obtuse += q.angle_max > 90, c.not_well_centred += !q.well_centred;
@@ -414,10 +454,6 @@ Report measure(Context &ctx, const tri::Triangulation &tri, const refine::Spacin
     return r;
 }
 
-namespace {
-
-}  // namespace
-
 Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &tri, const refine::SpacingRadians &h,
                                        const std::vector<uint8_t> &ocean_cell, double floor,
                                        const std::vector<std::pair<int32_t, int32_t>> &contacts,
@@ -438,7 +474,7 @@ Report::OceanEdges measure_ocean_edges(Context &ctx, const tri::Triangulation &t
                     if (tri.neighbour(t, k) < t) continue;  // each edge once
                     const int32_t a = tri.vertex(t, (k + 1) % 3), b = tri.vertex(t, (k + 2) % 3);
                     if (!ocean(a) || !ocean(b)) continue;
-                    const EdgeOffsets e = edge_offsets(tri, t, k);
+                    const EdgeSpan e(tri, t, k);
                     const double ratio = e.dc_edge / h(e.x_edge);
                     ++o.edges;
                     if (kept_open(a) || kept_open(b)) {
