@@ -451,7 +451,7 @@ void optimise_mesh(Context &ctx, RefinedMesh &m, const Options &options,
     // and, as it also removes about as many vertices (collapses), needs few
     // new triangle slots: their room first, while neither the undo nor the
     // optimiser's state is allocated.
-    m.tri.reserve_extra(kOptimiseNewVertices, kOptimiseNewTriangles);
+    m.tri.reserve_extra(ctx, kOptimiseNewVertices, kOptimiseNewTriangles);
     Undo undo = set_aside(ctx, m);
     try {
         m.refined_quality = before;

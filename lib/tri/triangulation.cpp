@@ -356,12 +356,24 @@ std::vector<int32_t> Triangulation::triangles_around(const std::vector<int32_t> 
     return out;
 }
 
-void Triangulation::reserve_extra(double vertices, double triangles) {
-    auto grow = [](auto &values, double share) {
-        values.reserve(values.size() + static_cast<size_t>(share * double(values.size())) + 16);
+void Triangulation::reserve_extra(Context &ctx, double vertices, double triangles) {
+    auto grow = [&](auto &values, double share) {
+        grow_capacity(ctx, values, values.size() + static_cast<size_t>(share * double(values.size())) + 16);
     };
     grow(q_, vertices), grow(id_, vertices), grow(vertex_tri_, vertices);
     grow(tris_, triangles), grow(mark_, triangles);
+}
+
+template <class Vector>
+void Triangulation::grow_capacity(Context &ctx, Vector &values, size_t capacity) {
+    if (capacity <= values.capacity()) return;
+    Vector out(values.get_allocator());
+    out.reserve(capacity);
+    out.resize(values.size());  // unwritten: every element copied below
+    ctx.parallel_for(static_cast<int64_t>(values.size()), 1 << 14, [&](int64_t b, int64_t e) {
+        std::copy(values.begin() + b, values.begin() + e, out.begin() + b);
+    });
+    values.swap(out);
 }
 
 Triangulation::Snapshot Triangulation::snapshot(Context &ctx) const {

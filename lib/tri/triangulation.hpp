@@ -145,8 +145,9 @@ public:
     // Room for that share more vertex slots and triangle slots without
     // reallocating: a caller about to add a few (the optimisation) reserves
     // it while little else is allocated, since a reallocation holds both
-    // buffers.
-    void reserve_extra(double vertices, double triangles);
+    // buffers. (Copied in parallel: vector::reserve copies on one thread,
+    // taking every page fault of the new buffers.)
+    void reserve_extra(Context &ctx, double vertices, double triangles);
 
     // What restore() needs to put the triangulation back exactly as it was
     // (slots, numbering, incident triangles): the points and the triangles'
@@ -513,6 +514,9 @@ private:
     void compact_triangles(int32_t vertex_shift);
     template <class Vector>
     static void gather_copy(Context &ctx, Vector &values, const std::vector<int32_t> &old_of_new);
+    // values with room for `capacity` (no less than it has), copied in parallel.
+    template <class Vector>
+    static void grow_capacity(Context &ctx, Vector &values, size_t capacity);
     void permute_vertices_in_place(const std::vector<int32_t> &new_of_old);
     template <class Smallest, class Remap>
     std::vector<int32_t> reorder_triangles_copying(Context &ctx, Smallest smallest, Remap remap);

@@ -633,20 +633,23 @@ void spatial_reordering_keeps_the_triangulation(void **) {
 // neighbours and incident triangles (star order), after moves, insertions
 // and removals; taken on several threads (a mesh of more than two of its
 // copying chunks).
+// Slot for slot the same triangles, neighbours, ids and lifted points.
+bool same_slots(const tri::Triangulation &a, const tri::Triangulation &b) {
+    if (a.triangle_slots() != b.triangle_slots() || a.vertex_slots() != b.vertex_slots()) return false;
+    for (int32_t f = 0; f < a.triangle_slots(); ++f)
+        for (int k = 0; k < 3; ++k)
+            if (a.vertex(f, k) != b.vertex(f, k) || (!a.is_free(f) && a.neighbour(f, k) != b.neighbour(f, k)))
+                return false;
+    for (int32_t v = 0; v < a.vertex_slots(); ++v)
+        if (a.id(v) != b.id(v) || std::memcmp(a.lifted(v).data(), b.lifted(v).data(), sizeof(Vec3)) != 0 ||
+            a.star(v) != b.star(v))
+            return false;
+    return true;
+}
+
 void snapshot_restores_exactly(void **) {
     tri::Triangulation t = build(test::random_points(40000, 31));
-    auto same = [](const tri::Triangulation &a, const tri::Triangulation &b) {
-        if (a.triangle_slots() != b.triangle_slots() || a.vertex_slots() != b.vertex_slots()) return false;
-        for (int32_t f = 0; f < a.triangle_slots(); ++f)
-            for (int k = 0; k < 3; ++k)
-                if (a.vertex(f, k) != b.vertex(f, k) || (!a.is_free(f) && a.neighbour(f, k) != b.neighbour(f, k)))
-                    return false;
-        for (int32_t v = 0; v < a.vertex_slots(); ++v)
-            if (a.id(v) != b.id(v) || std::memcmp(a.lifted(v).data(), b.lifted(v).data(), sizeof(Vec3)) != 0 ||
-                a.star(v) != b.star(v))
-                return false;
-        return true;
-    };
+    auto same = same_slots;
     const tri::Triangulation original = t;
     Context ctx;
     ctx.set_threads(3);
@@ -663,6 +666,27 @@ void snapshot_restores_exactly(void **) {
     t.restore(std::move(s));
     expect_valid(t);
     assert_true(same(t, original));
+}
+
+// The room reserve_extra makes (copied on three threads) holds the
+// triangulation as it was, and takes the vertices it was made for without
+// another reallocation.
+void reserved_room_keeps_the_triangulation(void **) {
+    tri::Triangulation t = build(test::random_points(40000, 33));
+    const tri::Triangulation original = t;
+    Context ctx;
+    ctx.set_threads(3);
+    t.reserve_extra(ctx, 0.05, 0.02);
+    assert_true(t.vertex_capacity() >= static_cast<size_t>(1.05 * original.vertex_slots()));
+    assert_true(same_slots(t, original));
+    expect_valid(t);
+    const size_t room = t.vertex_capacity();
+    for (int i = 0; i < 1000; ++i)
+        t.insert(geom::normalized(Vec3{std::sin(i), std::cos(3.0 * i), 0.1 * i - 50}), 0.0, 50000 + i);
+    expect_valid(t);
+    assert_int_equal(t.vertex_capacity(), room);
+    t.reserve_extra(ctx, 0.0, 0.0);  // room enough already: nothing moves
+    assert_int_equal(t.vertex_capacity(), room);
 }
 
 void power_cells_and_orthocentres(void **) {
@@ -1020,6 +1044,7 @@ int main() {
         cmocka_unit_test(removal_with_links_on_one_great_circle),
         cmocka_unit_test(spatial_reordering_keeps_the_triangulation),
         cmocka_unit_test(snapshot_restores_exactly),
+        cmocka_unit_test(reserved_room_keeps_the_triangulation),
         cmocka_unit_test(power_cells_and_orthocentres),
         cmocka_unit_test(weighted_edge_orthocentre_is_on_the_bisector),
         cmocka_unit_test(insert_remove_move_and_reweight),
