@@ -36,6 +36,7 @@
 // cmocka last: it defines a fail() macro.
 extern "C" {
 #include <cmocka.h>
+#include <dirent.h>
 #include <sys/resource.h>
 #include <unistd.h>
 }
@@ -846,6 +847,53 @@ void direct_regions_report_failed_writes(void **) {
     assert_int_equal(::access(path.c_str(), F_OK), -1);  // nothing left under the final name
 }
 
+// The threads of this process: its entries in /proc/self/task.
+int threads_now() {
+    DIR *tasks = ::opendir("/proc/self/task");
+    if (!tasks) return -1;
+    int n = 0;
+    for (const dirent *e = ::readdir(tasks); e; e = ::readdir(tasks)) n += e->d_name[0] != '.';
+    ::closedir(tasks);
+    return n;
+}
+
+// The thread of the direct writes (io/device_writes.hpp) ends with them:
+// after finish, and when the regions are dropped before it, their writes
+// abandoned (as when making the next block fails); a file never committed
+// leaves nothing under its name. First in the suite, before any context's
+// workers exist.
+void direct_writes_end_their_thread(void **) {
+    const std::string path = output_path("test_dual_direct_thread.bin");
+    const size_t piece = size_t(1) << 20;
+    const std::vector<unsigned char> bytes(piece, 0x3c);
+    const int before = threads_now();
+    assert_true(before > 0);
+    for (bool finished : {true, false}) {
+        std::remove(path.c_str());
+        int during = -1;
+        {
+            io::ReplacingFile file(path, "test file");
+            io::DirectRegions regions(file, {0}, {8 * piece});
+            for (size_t k = 0; k < 4; ++k) regions.append(0, k * piece, bytes.data(), piece);
+            during = threads_now();
+            if (finished) {
+                for (size_t k = 4; k < 8; ++k) regions.append(0, k * piece, bytes.data(), piece);
+                regions.finish();
+                file.commit();
+            }
+        }
+        if (during == before) {  // O_DIRECT refused here: no thread was started
+            std::remove(path.c_str());
+            skip();
+        }
+        assert_int_equal(during, before + 1);
+        assert_int_equal(threads_now(), before);
+        assert_int_equal(::access(path.c_str(), F_OK), finished ? 0 : -1);
+        if (finished) assert_true(file_bytes(path) == std::string(8 * piece, 0x3c));
+    }
+    std::remove(path.c_str());
+}
+
 void write_errors_name_the_file(void **) {
     auto pts = test::icosahedral_points(1);
     MpasMesh m = staggered(triangulate(pts, nullptr));
@@ -864,6 +912,7 @@ void write_errors_name_the_file(void **) {
 
 int main() {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(direct_writes_end_their_thread),
         cmocka_unit_test(icosahedral_mesh),
         cmocka_unit_test(weighted_mesh),
         cmocka_unit_test(small_cells_stay_consistent),
