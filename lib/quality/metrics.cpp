@@ -71,6 +71,36 @@ std::string json_operator_diagnostics(const Report &r, const std::string &nl) {
                   "}", nl, "}");
 }
 
+}  // namespace
+
+// Below a quarter circle (a chord below sqrt 2) the arcsine of the half
+// chord is as accurate as atan2(|a x b|, a . b): both err by the rounding of
+// the vectors' differences, ~1e-16 absolute. Beyond it the arcsine nears 1,
+// where it loses digits.
+double arc(const Vec3 &a, const Vec3 &b) {
+    const Vec3 d = a - b;
+    const double chord_sq = geom::dot(d, d);
+    if (chord_sq < 2.0) return 2.0 * std::asin(0.5 * std::sqrt(chord_sq));
+    return dual::arc(a, b);
+}
+
+// Eriksson's tan(E/2) = det / (1 + a.b + b.c + c.a), as dual::signed_area;
+// for |tan(E/2)| up to 1e-2 (triangles to about 1,000 km on the Earth) its
+// arctangent's series to the 7th power, whose next term is below 1.2e-17 of
+// the value.
+double signed_area(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+    const double det = geom::dot(a, geom::cross(b - a, c - a));
+    const double den = 1.0 + geom::dot(a, b) + geom::dot(b, c) + geom::dot(c, a);
+    const double t = det / den;
+    if (den > 0 && std::fabs(t) <= 1e-2) {
+        const double t2 = t * t;
+        return 2.0 * t * (1.0 - t2 * (1.0 / 3.0 - t2 * (1.0 / 5.0 - t2 / 7.0)));
+    }
+    return 2.0 * std::atan2(det, den);
+}
+
+namespace {
+
 // A triangle's corners and its edges' arc lengths, l[k] opposite corner k:
 // what its metrics and its edges' spacing ratios share.
 struct Corners {
@@ -78,7 +108,7 @@ struct Corners {
     double l[3];
     Corners(const tri::Triangulation &tri, int32_t t) {
         for (int k = 0; k < 3; ++k) x[k] = tri.direction(tri.vertex(t, k));
-        for (int k = 0; k < 3; ++k) l[k] = geom::arc_length(x[(k + 1) % 3], x[(k + 2) % 3]);
+        for (int k = 0; k < 3; ++k) l[k] = arc(x[(k + 1) % 3], x[(k + 2) % 3]);
     }
 };
 
@@ -87,16 +117,16 @@ TriangleQuality triangle_quality(const tri::Triangulation &tri, int32_t t, const
     const double *l = corners.l;
     double l2 = 0, lsum = 0;
     for (int k = 0; k < 3; ++k) l2 += l[k] * l[k], lsum += l[k];
-    const double area = geom::signed_triangle_area(x[0], x[1], x[2]);
+    const double area = signed_area(x[0], x[1], x[2]);
     TriangleQuality q;
     q.area_length = 4 * std::sqrt(3.0) * area / l2;
     const Vec3 ortho = tri.orthocentre(t);
     const Vec3 centroid = geom::normalized(x[0] + x[1] + x[2]);
-    const double d_f = geom::arc_length(ortho, centroid);
+    const double d_f = arc(ortho, centroid);
     double edge_term = 0;
     for (int k = 0; k < 3; ++k) {
         Vec3 mid = geom::normalized(x[(k + 1) % 3] + x[(k + 2) % 3]);
-        double d_e = geom::arc_length(tri.edge_orthocentre(t, k), mid);
+        double d_e = arc(tri.edge_orthocentre(t, k), mid);
         edge_term += 1 - (d_e / l[k]) * (d_e / l[k]);
     }
     const double l_mean = lsum / 3;
@@ -136,7 +166,7 @@ struct EdgeSpan {
         xi = tri.direction(i), xj = tri.direction(j);
         // The edge orthocentre as the MPAS writer places it, accurate on small cells.
         x_edge = dual::edge_point(tri.lifted(i), tri.lifted(j));
-        dc_edge = dual::arc(xi, xj);
+        dc_edge = arc(xi, xj);
     }
 };
 
@@ -148,9 +178,9 @@ EdgeOffsets edge_offsets(const tri::Triangulation &tri, int32_t t, int k, const 
     EdgeOffsets e;
     e.x_edge = span.x_edge;
     e.dc_edge = span.dc_edge;
-    e.primal = dual::arc(e.x_edge, geom::normalized(xi + xj)) / e.dc_edge;
-    const double dv_edge = dual::arc(o1, o2);
-    e.dual = dual::arc(e.x_edge, geom::normalized(o1 + o2)) / std::max(dv_edge, kRoundingArc);
+    e.primal = arc(e.x_edge, geom::normalized(xi + xj)) / e.dc_edge;
+    const double dv_edge = arc(o1, o2);
+    e.dual = arc(e.x_edge, geom::normalized(o1 + o2)) / std::max(dv_edge, kRoundingArc);
     return e;
 }
 
@@ -172,10 +202,10 @@ double centroid_offset(const tri::Triangulation &tri, int32_t v) {
     double area = 0;
     bool started = false;
     auto edge = [&](const Vec3 &p, const Vec3 &q) {
-        area += dual::signed_area(x, p, q);
+        area += signed_area(x, p, q);
         const Vec3 normal = dual::arc_normal(p, q);  // p x q, accurate on short arcs
         const double length = geom::norm(normal);
-        if (length > 0) moment = moment + (dual::arc(p, q) / length) * normal;
+        if (length > 0) moment = moment + (arc(p, q) / length) * normal;
     };
     tri.for_each_in_star(v, [&](int32_t t) {
         const Vec3 o = tri.orthocentre(t);
@@ -186,7 +216,7 @@ double centroid_offset(const tri::Triangulation &tri, int32_t v) {
     edge(prev, first);
     const double length = geom::norm(moment);  // 0 only for a cell shrunk to a point
     const Vec3 centroid = length > 0 ? (1.0 / length) * moment : prev;
-    return dual::arc(x, centroid) / std::max(std::sqrt(std::max(area, 0.0)), kRoundingArc);
+    return arc(x, centroid) / std::max(std::sqrt(std::max(area, 0.0)), kRoundingArc);
 }
 
 namespace {

@@ -30,6 +30,15 @@
 
 namespace um::quality {
 
+// The report's arc length (radians) between unit vectors and signed area
+// (steradians) of the geodesic triangle (a, b, c), counter-clockwise seen
+// from outside positive: dual::arc's and dual::signed_area's values to their
+// rounding, at less than half the cost on a mesh's arcs and triangles.
+// (glibc's atan2 saves and restores the rounding mode on every call: a
+// report made about 24 of them a triangle.)
+double arc(const geom::Vec3 &a, const geom::Vec3 &b);
+double signed_area(const geom::Vec3 &a, const geom::Vec3 &b, const geom::Vec3 &c);
+
 struct TriangleQuality {
     double area_length;  // Q^T
     double primal_dual;  // Q^P

@@ -5,6 +5,7 @@
 #include <cstdarg>
 #include <cstddef>
 #include <csetjmp>
+#include <random>
 #include <vector>
 
 #include <string>
@@ -81,7 +82,7 @@ void streamed_report_matches_sorted_values(void **) {
             for (int k = 0; k < 3; ++k) {
                 if (tri.neighbour(t, k) < t) continue;
                 const Vec3 a = tri.direction(tri.vertex(t, (k + 1) % 3)), c = tri.direction(tri.vertex(t, (k + 2) % 3));
-                v[4].push_back(geom::arc_length(a, c) / h(geom::normalized(a + c)));
+                v[4].push_back(quality::arc(a, c) / h(geom::normalized(a + c)));
             }
         }
         assert_int_equal(r.triangles, triangles);
@@ -211,8 +212,64 @@ void json_has_operator_diagnostics(void **) {
 
 }  // namespace
 
+// The report's arcs and areas against the same measures in long double
+// (atan2 of |a x b| and a . b; Eriksson's formula) on the same vectors:
+// within twice dual::arc's and dual::signed_area's error and 4 units in the
+// last place, from arcs of 1e-8 to nearly a half circle (past the quarter
+// where quality::arc takes atan2) and triangles up to a few thousand km.
+void report_arcs_and_areas_are_accurate(void **) {
+    std::mt19937_64 rng(41);
+    std::normal_distribution<double> normal;
+    auto unit = [&] { return geom::normalized(Vec3{normal(rng), normal(rng), normal(rng)}); };
+    auto near = [&](const Vec3 &a, double s) {
+        return geom::normalized(a + s * Vec3{normal(rng), normal(rng), normal(rng)});
+    };
+    auto reference_arc = [](const Vec3 &a, const Vec3 &b) {
+        const long double cx = (long double)a.y * b.z - (long double)a.z * b.y;
+        const long double cy = (long double)a.z * b.x - (long double)a.x * b.z;
+        const long double cz = (long double)a.x * b.y - (long double)a.y * b.x;
+        const long double dot = (long double)a.x * b.x + (long double)a.y * b.y + (long double)a.z * b.z;
+        return static_cast<double>(std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), dot));
+    };
+    auto reference_area = [](const Vec3 &a, const Vec3 &b, const Vec3 &c) {
+        auto d = [](const Vec3 &p, const Vec3 &q) {
+            return (long double)p.x * q.x + (long double)p.y * q.y + (long double)p.z * q.z;
+        };
+        const long double ux = (long double)b.x - a.x, uy = (long double)b.y - a.y, uz = (long double)b.z - a.z;
+        const long double wx = (long double)c.x - a.x, wy = (long double)c.y - a.y, wz = (long double)c.z - a.z;
+        const long double det = a.x * (uy * wz - uz * wy) + a.y * (uz * wx - ux * wz) + a.z * (ux * wy - uy * wx);
+        return static_cast<double>(2 * std::atan2(det, 1 + d(a, b) + d(b, c) + d(c, a)));
+    };
+    auto within = [](double got, double old, double ref) {
+        const double ulp = std::nextafter(std::fabs(ref), HUGE_VAL) - std::fabs(ref);
+        return std::fabs(got - ref) <= 2 * std::fabs(old - ref) + 4 * ulp;
+    };
+    int fallbacks = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const Vec3 a = unit();
+        const double s = std::pow(10.0, -8.0 + 8.5 * double(i % 1000) / 1000.0);  // 1e-8 .. 3
+        const Vec3 b = near(a, s), c = near(a, s);
+        const double ref = reference_arc(a, b);
+        fallbacks += geom::dot(a - b, a - b) >= 2.0;
+        if (!within(quality::arc(a, b), dual::arc(a, b), ref))
+            fail_msg("arc %.17g: report %.17g, dual %.17g", ref, quality::arc(a, b), dual::arc(a, b));
+        const double area = reference_area(a, b, c);
+        if (!within(quality::signed_area(a, b, c), dual::signed_area(a, b, c), area))
+            fail_msg("area %.17g: report %.17g, dual %.17g", area, quality::signed_area(a, b, c),
+                     dual::signed_area(a, b, c));
+    }
+    assert_true(fallbacks > 1000);  // the arcs past a quarter circle were met
+    // Exact cases: no arc, a quarter circle, an octant of the sphere.
+    const Vec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+    assert_true(quality::arc(x, x) == 0.0);
+    assert_true(std::fabs(quality::arc(x, y) - M_PI / 2) <= 4e-16);
+    assert_true(std::fabs(quality::signed_area(x, y, z) - M_PI / 2) <= 4e-16);
+    assert_true(std::fabs(quality::signed_area(x, z, y) + M_PI / 2) <= 4e-16);
+}
+
 int main() {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(report_arcs_and_areas_are_accurate),
         cmocka_unit_test(streamed_report_matches_sorted_values),
         cmocka_unit_test(icosahedral_operator_diagnostics),
         cmocka_unit_test(centroid_offset_is_exact),
