@@ -87,13 +87,13 @@ double arc(const Vec3 &a, const Vec3 &b) {
 // Eriksson's tan(E/2) = det / (1 + a.b + b.c + c.a), as dual::signed_area;
 // for |tan(E/2)| up to 1e-2 (triangles to about 1,000 km on the Earth) its
 // arctangent's series to the 7th power, whose next term is below 1.2e-17 of
-// the value.
+// the value. (Tested before dividing: a den of 0 must raise no
+// floating-point exception, which a host may trap.)
 double signed_area(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
     const double det = geom::dot(a, geom::cross(b - a, c - a));
     const double den = 1.0 + geom::dot(a, b) + geom::dot(b, c) + geom::dot(c, a);
-    const double t = det / den;
-    if (den > 0 && std::fabs(t) <= 1e-2) {
-        const double t2 = t * t;
+    if (den > 0 && std::fabs(det) <= 1e-2 * den) {
+        const double t = det / den, t2 = t * t;
         return 2.0 * t * (1.0 - t2 * (1.0 / 3.0 - t2 * (1.0 / 5.0 - t2 / 7.0)));
     }
     return 2.0 * std::atan2(det, den);

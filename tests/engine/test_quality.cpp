@@ -1,6 +1,7 @@
 // Engine tests: the streamed quality report (quality/metrics) against every
 // value computed and sorted.
 #include <algorithm>
+#include <cfenv>
 #include <cmath>
 #include <cstdarg>
 #include <cstddef>
@@ -265,6 +266,14 @@ void report_arcs_and_areas_are_accurate(void **) {
     assert_true(std::fabs(quality::arc(x, y) - M_PI / 2) <= 4e-16);
     assert_true(std::fabs(quality::signed_area(x, y, z) - M_PI / 2) <= 4e-16);
     assert_true(std::fabs(quality::signed_area(x, z, y) + M_PI / 2) <= 4e-16);
+    // A triangle whose Eriksson denominator is exactly 0 (E = pi): no
+    // division by zero, which a host trapping floating-point exceptions
+    // would die of.
+    const Vec3 w{-0.5, -0.5, std::sqrt(0.5)};
+    std::feclearexcept(FE_ALL_EXCEPT);
+    const double e = quality::signed_area(x, y, w);
+    assert_false(std::fetestexcept(FE_DIVBYZERO | FE_INVALID | FE_OVERFLOW));
+    assert_true(std::fabs(std::fabs(e) - M_PI) <= 1e-15);
 }
 
 int main() {
