@@ -44,7 +44,7 @@ std::vector<OceanFloor::ShortEdge> OceanFloor::short_ocean_edges() const {
                 // report's: the arc over h where the dual edge crosses (xEdge).
                 const double ratio = stage_ != Stage::after_mends
                                          ? chord / mean_h
-                                         : 2 * std::asin(std::min(1.0, 0.5 * chord)) / s_.h(s_.tri.edge_orthocentre(ti, k));
+                                         : geom::arc_of_chord(chord) / s_.h(s_.tri.edge_orthocentre(ti, k));
                 const bool support = !s_.weighing && (s_.supports_corner(a) || s_.supports_corner(b));
                 if (ratio < (support ? s_.options.ocean_floor : floor))
                     out.push_back({ratio, std::min(a, b), std::max(a, b)});

@@ -73,15 +73,12 @@ std::string json_operator_diagnostics(const Report &r, const std::string &nl) {
 
 }  // namespace
 
-// Below a quarter circle (a chord below sqrt 2) the arcsine of the half
-// chord is as accurate as atan2(|a x b|, a . b): both err by the rounding of
-// the vectors' differences, ~1e-16 absolute. Beyond it the arcsine nears 1,
-// where it loses digits.
+// The chord's arc below a quarter circle (a chord below sqrt 2), where it is
+// as accurate as atan2(|a x b|, a . b): both err by the rounding of the
+// vectors' differences, ~1e-16 absolute. Beyond, the arcsine loses digits.
 double arc(const Vec3 &a, const Vec3 &b) {
-    const Vec3 d = a - b;
-    const double chord_sq = geom::dot(d, d);
-    if (chord_sq < 2.0) return 2.0 * std::asin(0.5 * std::sqrt(chord_sq));
-    return dual::arc(a, b);
+    const double chord_sq = geom::dot(a - b, a - b);
+    return chord_sq < 2.0 ? geom::arc_of_chord(std::sqrt(chord_sq)) : dual::arc(a, b);
 }
 
 // Eriksson's tan(E/2) = det / (1 + a.b + b.c + c.a), as dual::signed_area;

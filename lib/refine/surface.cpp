@@ -139,7 +139,7 @@ double nearest_neighbour(const tri::Triangulation &tri, int32_t v) {
         const Vec3 d = x - tri.direction(w);
         d2 = std::min(d2, geom::dot(d, d));
     });
-    return 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(d2)));
+    return geom::arc_of_chord(std::sqrt(d2));
 }
 
 void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, double *shortest,
@@ -152,8 +152,8 @@ void triangle_size(const tri::Triangulation &tri, int32_t t, double *radius, dou
     Vec3 centre = tri.orthocentre(t);
     if (circumcentre) *circumcentre = centre;
     double r2 = geom::dot(centre - a, centre - a);
-    *radius = 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(r2)));
-    *shortest = 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(e2)));
+    *radius = geom::arc_of_chord(std::sqrt(r2));
+    *shortest = geom::arc_of_chord(std::sqrt(e2));
 }
 
 tri::Triangulation icosahedron(Context &ctx) {
@@ -297,7 +297,7 @@ private:
             const Vec3 d = tri_.direction(tri_.vertex(t, k)) - centre;
             chord2 = std::max(chord2, geom::dot(d, d));
         }
-        const double cap = 2 * std::asin(std::min(1.0, 0.5 * std::sqrt(chord2)));
+        const double cap = geom::arc_of_chord(std::sqrt(chord2));
         // In the spacing's own units (the seed pass scales it).
         const double h = ht / options_.smallest_scale, allowance = kSteepGradient * cap;
         if (!(h > allowance)) return kNone;  // far too big already
