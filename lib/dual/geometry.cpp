@@ -27,29 +27,20 @@ void place(Placed p, Vec3 u, double radius, int64_t i) {
 
 }  // namespace
 
-void ring_geometry(const MpasLayout &layout, double radius, int32_t c, RingGeometry &g) {
+void ring_geometry(const MpasLayout &layout, const CornerKites &kites, double radius, int32_t c, RingGeometry &g) {
     layout.cell_ring(c, g.ring);
     const int d = g.ring.degree();
-    const Vec3 x = layout.cell_unit(c);
-    g.corner.resize(d), g.edge.resize(d), g.kite.resize(d), g.dv.resize(d), g.ends.resize(d);
-    for (int j = 0; j < d; ++j) g.corner[j] = layout.vertex_unit(g.ring.vertices[j]);
-    // Edge j runs between corners j - 1 and j, from c to cellsOnCell(j).
+    g.corner.resize(d), g.kite.resize(d), g.dv.resize(d), g.ends.resize(d);
+    for (int j = 0; j < d; ++j) {
+        g.corner[j] = layout.vertex_unit(g.ring.vertices[j]);
+        g.kite[j] = kites.of_cell(layout, g.ring.vertices[j], c);
+    }
+    // Edge j runs between corners j - 1 and j.
     for (int j = 0; j < d; ++j) {
         const EdgeEnds &ends = g.ends[j] = layout.edge_ends(g.ring.edges[j]);
-        const Vec3 across = layout.cell_unit(g.ring.cells[j]);
         const Vec3 &here = g.corner[j], &before = g.corner[(j + d - 1) % d];
-        const bool c_first = ends.cell[0] == c, here_first = ends.vertex[0] == g.ring.vertices[j];
-        const Vec3 &v1 = here_first ? here : before, &v2 = here_first ? before : here;
-        g.edge[j] = layout.edge_unit(ends, c_first ? x : across, c_first ? across : x, v1, v2);
-        g.dv[j] = radius * arc(v1, v2);
-    }
-    // Kite of corner j: the quad (corner, xEdge, xCell, xEdge') as two
-    // triangles from the corner, the edges in the corner's own
-    // counter-clockwise order (edgesOnCell(j + 1), then edgesOnCell(j)).
-    const double r2 = radius * radius;
-    for (int j = 0; j < d; ++j) {
-        const Vec3 &o = g.corner[j], &before = g.edge[(j + 1) % d], &after = g.edge[j];
-        g.kite[j] = r2 * (signed_area(o, before, x) + signed_area(o, x, after));
+        const bool here_first = ends.vertex[0] == g.ring.vertices[j];
+        g.dv[j] = radius * arc(here_first ? here : before, here_first ? before : here);
     }
 }
 
@@ -94,11 +85,10 @@ void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
     });
 }
 
-// areaTriangle: the generator triangle. Kite j of vertex v: the quad
-// (v, xEdge_j, xCell_j, xEdge_j+1), signed, as two triangles from v; the
-// edge points lie on the cell-cell arcs, so the kites add up to the triangle.
+// areaTriangle: the generator triangle.
 void vertex_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
-                 MpasMesh &m, bool areas) {
+                 MpasMesh &m, const CornerKites *kites) {
+    const bool areas = kites != nullptr;
     const double r2 = radius * radius;
     const size_t n = static_cast<size_t>(count);
     const Placed placed{&m.x_vertex, &m.y_vertex, &m.z_vertex, &m.lat_vertex, &m.lon_vertex};
@@ -121,12 +111,10 @@ void vertex_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t 
             const Vec3 o = layout.vertex_unit(v);
             place(placed, o, radius, i);
             if (!areas) continue;
-            Vec3 x[3], xe[3];
-            for (int j = 0; j < 3; ++j) x[j] = layout.cell_unit(cell[j]), xe[j] = layout.edge_unit(edge[j]);
+            Vec3 x[3];
+            for (int j = 0; j < 3; ++j) x[j] = layout.cell_unit(cell[j]);
             m.area_triangle[i] = r2 * signed_area(x[0], x[1], x[2]);
-            for (int j = 0; j < 3; ++j)
-                m.kite_areas_on_vertex[3 * i + j] =
-                    r2 * (signed_area(o, xe[j], x[j]) + signed_area(o, x[j], xe[(j + 1) % 3]));
+            for (int j = 0; j < 3; ++j) m.kite_areas_on_vertex[3 * i + j] = kites->of_row(first + i, j);
         }
     });
 }

@@ -283,12 +283,13 @@ void MpasSource::rows(Context &ctx, MpasDim kind, int64_t first, int64_t count, 
             return;
         case MpasDim::nEdges:
             edge_rows(ctx, layout_, radius_m_, first, count, block);
-            if (parts.stencils) trsk_rows(ctx, layout_, radius_m_, first, count, block, parts.weights);
+            if (parts.stencils)
+                trsk_rows(ctx, layout_, radius_m_, first, count, block, parts.weights ? &kites(ctx) : nullptr);
             edge_tags(first, count, block);
             boundary_masks(kind, first, count, block);
             return;
         case MpasDim::nVertices:
-            vertex_rows(ctx, layout_, radius_m_, first, count, block, parts.areas);
+            vertex_rows(ctx, layout_, radius_m_, first, count, block, parts.areas ? &kites(ctx) : nullptr);
             block.vertex_source_triangle.resize(n);
             for (size_t i = 0; i < n; ++i)
                 block.vertex_source_triangle[i] = layout_.vertex_triangle(layout_.vertex_of_row(first + i));
@@ -297,6 +298,11 @@ void MpasSource::rows(Context &ctx, MpasDim kind, int64_t first, int64_t count, 
             return;
         default: fail(UM_ERR_INTERNAL, "MPAS mesh: rows along ", mpas_dim_name(kind), " asked for");
     }
+}
+
+const CornerKites &MpasSource::kites(Context &ctx) const {
+    std::call_once(kites_made_, [&] { kites_ = std::make_unique<CornerKites>(ctx, layout_, radius_m_); });
+    return *kites_;
 }
 
 // The ocean mesh takes the cells of RefinedMesh::ocean_cells (the ocean

@@ -13,9 +13,11 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "core/context.hpp"
+#include "dual/corner_kites.hpp"
 #include "dual/mpas_fields.hpp"
 #include "dual/mpas_layout.hpp"
 #include "dual/mpas_mesh.hpp"
@@ -27,10 +29,12 @@ struct RefinedMesh;
 
 namespace um::dual {
 
-// Bytes per cell a source holds (its layout, the cell widths, the tags) at
-// its peak while being built, for the memory cap: the river routing of a
-// mesh with features needs the whole river graph while it runs.
-constexpr int64_t kMpasSourceBytesPerCell = 160, kMpasSourceWithFeaturesBytesPerCell = 280;
+// Bytes per cell a source holds (its layout, the cell widths, the tags, the
+// kites) at its peak, for the memory cap: the river routing of a mesh with
+// features needs the whole river graph while it runs, before the kites are
+// made.
+constexpr int64_t kMpasSourceBytesPerCell = 160 + CornerKites::kBytesPerCell,
+                  kMpasSourceWithFeaturesBytesPerCell = 280;
 // An ellipsoid mesh's layout also holds a copy of the triangulation
 // (MpasLayout): its points, ids and two triangles per cell.
 constexpr int64_t kMpasEllipsoidCopyBytesPerCell = 100;
@@ -72,6 +76,10 @@ private:
     void vertex_tags(int64_t first, int64_t count, MpasMesh &block) const;
     void boundary_masks(MpasDim kind, int64_t first, int64_t count, MpasMesh &block) const;
 
+    // The kites, made on the first call that needs them (rows of vertices
+    // with areas, or of edges with weights) and kept.
+    const CornerKites &kites(Context &ctx) const;
+
     MpasLayout layout_;
     double radius_m_;
     geom::Surface surface_;
@@ -79,6 +87,8 @@ private:
     double min_width_km_ = 0;
     std::vector<int8_t> boundary_layer_;  // per cell row of a regional mesh
     std::unique_ptr<Tags> tags_;
+    mutable std::once_flag kites_made_;
+    mutable std::unique_ptr<CornerKites> kites_;
 };
 
 // The rows along each kind in blocks of this many.

@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "core/context.hpp"
+#include "dual/corner_kites.hpp"
 #include "dual/mpas_layout.hpp"
 #include "dual/mpas_mesh.hpp"
 
@@ -21,34 +22,35 @@ void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
                MpasMesh &block, bool areas = true);
 
 // xVertex..lonVertex, cellsOnVertex, edgesOnVertex, boundaryVertex, and
-// areaTriangle and kiteAreasOnVertex unless !areas (then left as they are).
+// areaTriangle and kiteAreasOnVertex from `kites` unless it is null (then
+// left as they are).
 void vertex_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
-                 MpasMesh &block, bool areas = true);
+                 MpasMesh &block, const CornerKites *kites);
 
 // xEdge..lonEdge, cellsOnEdge, verticesOnEdge, dcEdge, dvEdge, angleEdge.
 void edge_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
                MpasMesh &block);
 
 // nEdgesOnEdge, edgesOnEdge, weightsOnEdge of the rows edge_rows filled
-// (it reads their cellsOnEdge and dcEdge). Without weights, only the first
-// two (from the rings alone: no geometry); weightsOnEdge is then not
-// meaningful.
+// (it reads their cellsOnEdge and dcEdge), the weights from `kites`.
+// Without them (null), only the first two (from the rings alone: no
+// geometry); weightsOnEdge is then not meaningful.
 void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
-               MpasMesh &block, bool weights = true);
+               MpasMesh &block, const CornerKites *kites);
 
 // nEdgesOnEdge, edgesOnEdge and weightsOnEdge of a whole mesh in memory from
 // its connectivity, dvEdge, dcEdge and kites (a cut mesh: lib/components).
 void fill_trsk_weights(Context &ctx, MpasMesh &m);
 
-// The kite of each corner of cell c (kite(verticesOnCell(j), c), m^2), the
-// units of its corners and of its edges and their ends, in ring order: what
-// its TRSK stencil is made of.
+// What the TRSK stencil of cell c is made of, in ring order: the kite of
+// each corner (kite(verticesOnCell(j), c), m^2), the units of its corners,
+// and of each edge its ends and dvEdge.
 struct RingGeometry {
     CellRing ring;
     std::vector<EdgeEnds> ends;
-    std::vector<Vec3> corner, edge;
-    std::vector<double> kite, dv;  // dv: dvEdge of each edge
+    std::vector<Vec3> corner;
+    std::vector<double> kite, dv;
 };
-void ring_geometry(const MpasLayout &layout, double radius, int32_t c, RingGeometry &g);
+void ring_geometry(const MpasLayout &layout, const CornerKites &kites, double radius, int32_t c, RingGeometry &g);
 
 }  // namespace um::dual

@@ -158,7 +158,8 @@ void fill_trsk_weights(Context &ctx, MpasMesh &m) {
 // its ring geometry (neighbouring edges share cells: rows are numbered along
 // a Hilbert curve), then the rows from them.
 void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
-               MpasMesh &m, bool weights) {
+               MpasMesh &m, const CornerKites *kites) {
+    const bool weights = kites != nullptr;
     // The block's cells, sorted (in parallel: this is on the writer's
     // critical path) and each once; of each cellsOnEdge value, the index of
     // its cell among them.
@@ -192,7 +193,7 @@ void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
                 for (int j = 0; j < d; ++j) st.edges[w * i + j] = layout.row_of_edge(g.ring.edges[j]);
                 continue;
             }
-            ring_geometry(layout, radius, c, g);
+            ring_geometry(layout, *kites, radius, c, g);
             const int d = st.degree[i] = g.ring.degree();
             for (int j = 0; j < d; ++j) {
                 const EdgeEnds &ends = g.ends[j];
