@@ -80,6 +80,28 @@ RowParts parts_for(const MpasMesh &block, const char *only) {
     return {};
 }
 
+// Grows block's arrays of the variables along `kind` to `count` rows at
+// once, an array a task. Grown one after another by the steps that fill
+// them, their first touches (page faults and zeroing: about 60 MB for a
+// first block of edges) ran on one thread. (The fields point into block,
+// which is not const.)
+void grow_rows(Context &ctx, MpasDim kind, int64_t count, MpasMesh &block) {
+    std::vector<MpasField> growing;
+    for (const MpasField &f : mpas_fields(block)) {
+        const size_t n = static_cast<size_t>(count * f.columns(block));
+        const size_t have = f.reals ? f.reals->size() : f.ints ? f.ints->size() : n;
+        if (f.dims[0] == kind && have < n) growing.push_back(f);
+    }
+    ctx.parallel_for(static_cast<int64_t>(growing.size()), 1, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            const MpasField &f = growing[i];
+            const size_t n = static_cast<size_t>(count * f.columns(block));
+            if (f.reals) const_cast<std::vector<double> *>(f.reals)->resize(n);
+            else const_cast<std::vector<int32_t> *>(f.ints)->resize(n);
+        }
+    });
+}
+
 uint64_t slot_pair(int32_t a, int32_t b) {
     return uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b));
 }
@@ -266,6 +288,7 @@ void MpasSource::rows(Context &ctx, MpasDim kind, int64_t first, int64_t count, 
     block.max_edges = s.max_edges;
     const size_t n = static_cast<size_t>(count);
     const RowParts parts = parts_for(block, only);
+    if (!only) grow_rows(ctx, kind, count, block);
     switch (kind) {
         case MpasDim::nCells:
             cell_rows(ctx, layout_, radius_m_, first, count, block, parts.areas);
