@@ -27,23 +27,6 @@ void place(Placed p, Vec3 u, double radius, int64_t i) {
 
 }  // namespace
 
-void ring_geometry(const MpasLayout &layout, const CornerKites &kites, double radius, int32_t c, RingGeometry &g) {
-    layout.cell_ring(c, g.ring);
-    const int d = g.ring.degree();
-    g.corner.resize(d), g.kite.resize(d), g.dv.resize(d), g.ends.resize(d);
-    for (int j = 0; j < d; ++j) {
-        g.corner[j] = layout.vertex_unit(g.ring.vertices[j]);
-        g.kite[j] = kites.of_cell(layout, g.ring.vertices[j], c);
-    }
-    // Edge j runs between corners j - 1 and j.
-    for (int j = 0; j < d; ++j) {
-        const EdgeEnds &ends = g.ends[j] = layout.edge_ends(g.ring.edges[j]);
-        const Vec3 &here = g.corner[j], &before = g.corner[(j + d - 1) % d];
-        const bool here_first = ends.vertex[0] == g.ring.vertices[j];
-        g.dv[j] = radius * arc(here_first ? here : before, here_first ? before : here);
-    }
-}
-
 void cell_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t first, int64_t count,
                MpasMesh &m, bool areas) {
     const double r2 = radius * radius;

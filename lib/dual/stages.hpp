@@ -42,15 +42,4 @@ void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
 // its connectivity, dvEdge, dcEdge and kites (a cut mesh: lib/components).
 void fill_trsk_weights(Context &ctx, MpasMesh &m);
 
-// What the TRSK stencil of cell c is made of, in ring order: the kite of
-// each corner (kite(verticesOnCell(j), c), m^2), the units of its corners,
-// and of each edge its ends and dvEdge.
-struct RingGeometry {
-    CellRing ring;
-    std::vector<EdgeEnds> ends;
-    std::vector<Vec3> corner;
-    std::vector<double> kite, dv;
-};
-void ring_geometry(const MpasLayout &layout, const CornerKites &kites, double radius, int32_t c, RingGeometry &g);
-
 }  // namespace um::dual

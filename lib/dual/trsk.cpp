@@ -19,6 +19,7 @@
 #include "core/buffer.hpp"
 #include "core/radix_sort.hpp"
 #include "core/uninit_vector.hpp"
+#include "dual/spherical.hpp"
 #include "dual/stages.hpp"
 
 namespace um::dual {
@@ -145,6 +146,28 @@ void stencil_rows(Context &ctx, int64_t first, int64_t count, size_t w2, MpasMes
     });
 }
 
+// Entry i of st: the stencil of cell c (whole numbering) from its ring, its
+// corners' kites and the dvEdge of its edges. The block's rows [first,
+// first + count) of m have their dvEdge made (edge_rows): an edge among them
+// takes it from there, any other is measured as edge_rows measures it.
+void fill_stencil(const MpasLayout &layout, const CornerKites &kites, double radius, int64_t first, int64_t count,
+                  const MpasMesh &m, int32_t c, CellRing &ring, Stencils &st, size_t i) {
+    layout.cell_ring(c, ring);
+    const int d = st.degree[i] = ring.degree();
+    const size_t w = st.width;
+    for (int j = 0; j < d; ++j) {
+        const EdgeEnds ends = layout.edge_ends(ring.edges[j]);
+        const int64_t row = layout.row_of_edge(ring.edges[j]);
+        st.edges[w * i + j] = static_cast<int32_t>(row);
+        st.fraction[w * i + j] = kites.of_cell(layout, ring.vertices[j], c);
+        st.dv[w * i + j] = row >= first && row < first + count
+                               ? m.dv_edge[row - first]
+                               : radius * arc(layout.vertex_unit(ends.vertex[0]), layout.vertex_unit(ends.vertex[1]));
+        st.cell_first[w * i + j] = ends.cell[layout.turned(ends) ? 1 : 0] == c;
+    }
+    kites_to_fractions(&st.fraction[w * i], d);
+}
+
 }  // namespace
 
 void fill_trsk_weights(Context &ctx, MpasMesh &m) {
@@ -184,25 +207,16 @@ void trsk_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
     Stencils st;
     st.resize(cells.size(), w);
     ctx.parallel_for(static_cast<int64_t>(cells.size()), 256, [&](int64_t b, int64_t e) {
-        RingGeometry g;
+        CellRing ring;
         for (int64_t i = b; i < e; ++i) {
             const int32_t c = layout.cell_of_row(cells[i]);
-            if (!weights) {  // the edges of the ring are all edgesOnEdge needs
-                layout.cell_ring(c, g.ring);
-                const int d = st.degree[i] = g.ring.degree();
-                for (int j = 0; j < d; ++j) st.edges[w * i + j] = layout.row_of_edge(g.ring.edges[j]);
+            if (weights) {
+                fill_stencil(layout, *kites, radius, first, count, m, c, ring, st, static_cast<size_t>(i));
                 continue;
             }
-            ring_geometry(layout, *kites, radius, c, g);
-            const int d = st.degree[i] = g.ring.degree();
-            for (int j = 0; j < d; ++j) {
-                const EdgeEnds &ends = g.ends[j];
-                st.edges[w * i + j] = layout.row_of_edge(g.ring.edges[j]);
-                st.fraction[w * i + j] = g.kite[j];
-                st.dv[w * i + j] = g.dv[j];
-                st.cell_first[w * i + j] = ends.cell[layout.turned(ends) ? 1 : 0] == c;
-            }
-            kites_to_fractions(&st.fraction[w * i], d);
+            layout.cell_ring(c, ring);  // the edges of the ring are all edgesOnEdge needs
+            const int d = st.degree[i] = ring.degree();
+            for (int j = 0; j < d; ++j) st.edges[w * i + j] = layout.row_of_edge(ring.edges[j]);
         }
     });
     stencil_rows(ctx, first, count, 2 * static_cast<size_t>(layout.row_max_edges()), m, weights,
