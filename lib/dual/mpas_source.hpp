@@ -92,7 +92,7 @@ private:
 };
 
 // The rows along each kind in blocks of this many.
-constexpr int64_t kMpasBlockRows = int64_t(1) << 17;
+constexpr int64_t kMpasBlockRows = int64_t(1) << 16;
 
 // Calls take(field, first, count) for each block of rows of `variable` (a
 // field of probe, source.probe()'s) in order: field holds rows [first,
