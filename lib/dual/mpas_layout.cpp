@@ -332,9 +332,10 @@ void MpasLayout::vertex_corners(int32_t v, int32_t cells[3], int32_t edges[3]) c
 
 Vec3 MpasLayout::edge_unit(const EdgeEnds &ends, Vec3 c1, Vec3 c2, Vec3 v1, Vec3 v2) const {
     const tri::Triangulation &tri = *tri_;
-    const Vec3 near = edge_point(tri.lifted(tri.vertex(ends.lower, next3(ends.k))),
-                                 tri.lifted(tri.vertex(ends.lower, prev3(ends.k))));
-    return arc_crossing(c1, c2, v1, v2, near);
+    return arc_crossing(c1, c2, v1, v2, [&] {
+        return edge_point(tri.lifted(tri.vertex(ends.lower, next3(ends.k))),
+                          tri.lifted(tri.vertex(ends.lower, prev3(ends.k))));
+    });
 }
 
 Vec3 MpasLayout::edge_unit(int32_t e) const {

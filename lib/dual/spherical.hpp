@@ -48,19 +48,28 @@ inline Vec3 edge_point(Vec3 qi, Vec3 qj) {
 inline Vec3 arc_normal(Vec3 a, Vec3 b) { return geom::cross(a, b - a); }
 
 // xEdge: where the primal great circle (c1, c2) and the dual one (v1, v2)
-// cross, on the side of `near` (the edge point, edge_point). The two meet
-// there in exact arithmetic; in doubles the edge point lies on the primal
-// circle to rounding but off the dual one by ~1e-16 / |v1 - v2|, and the
-// sliver (v1, xEdge, v2) it leaves between a cell's kites and its polygon
-// is ~1e-16 / l relative to a cell of size l: 1e-8 on cells a few hundred
-// metres wide, against the 1e-10 the contract asks. Crossing the two
-// accurate normals puts the point on both circles to rounding. A dual edge
-// too short to carry a circle (below ~1 mm on the Earth) keeps `near`.
-inline Vec3 arc_crossing(Vec3 c1, Vec3 c2, Vec3 v1, Vec3 v2, Vec3 near) {
+// cross, on the side of the edge point (edge_point, made by near() only
+// where needed). The two meet there in exact arithmetic; in doubles the edge
+// point lies on the primal circle to rounding but off the dual one by
+// ~1e-16 / |v1 - v2|, and the sliver (v1, xEdge, v2) it leaves between a
+// cell's kites and its polygon is ~1e-16 / l relative to a cell of size l:
+// 1e-8 on cells a few hundred metres wide, against the 1e-10 the contract
+// asks. Crossing the two accurate normals puts the point on both circles to
+// rounding. The side: the edge point lies on the primal circle at the
+// crossing, near the primal arc, so the crossing within 60 degrees of the
+// arc's midpoint c1 + c2 is on its side (every edge of a mesh whose cells
+// are smaller than a hemisphere); farther, the edge point is made to
+// decide. A dual edge too short to carry a circle (below ~1 mm on the
+// Earth) keeps the edge point.
+template <class Near>
+inline Vec3 arc_crossing(Vec3 c1, Vec3 c2, Vec3 v1, Vec3 v2, Near near) {
     const Vec3 dual = v2 - v1;
-    if (geom::dot(dual, dual) < 1e-26) return near;
+    if (geom::dot(dual, dual) < 1e-26) return near();
     const Vec3 x = geom::normalized(geom::cross(arc_normal(c1, c2), arc_normal(v1, v2)));
-    return geom::dot(x, near) < 0 ? -1.0 * x : x;
+    const Vec3 mid = c1 + c2;
+    double side = geom::dot(x, mid);
+    if (side * side < 0.25 * geom::dot(mid, mid)) side = geom::dot(x, near());
+    return side < 0 ? -1.0 * x : x;
 }
 
 // Latitude and longitude (radians) of a unit vector; longitude in (-pi, pi]

@@ -24,6 +24,7 @@
 #include "core/options.hpp"
 #include "dual/mpas_mesh.hpp"
 #include "dual/mpas_source.hpp"
+#include "dual/spherical.hpp"
 #include "features/network.hpp"
 #include "hfun/spacing.hpp"
 #include "io/direct_regions.hpp"
@@ -339,6 +340,37 @@ void check_all(const MpasMesh &m) {
 
 // Neighbours have nearby numbers: the mean |c1 - c2| over the edges is a
 // small fraction of the cell count.
+// xEdge is the crossing of the primal and dual great circles on the side of
+// the edge point. Near the primal arc's midpoint (every edge of a real
+// mesh) the side is taken without making the edge point; a crossing far
+// from it (here 80 degrees along the primal circle, a cell as large as a
+// hemisphere) asks for the edge point and takes its side, whichever it is.
+void arc_crossing_takes_the_edge_points_side(void **) {
+    const double rad = M_PI / 180;
+    auto on_equator = [&](double lon) { return Vec3{std::cos(lon * rad), std::sin(lon * rad), 0.0}; };
+    auto on_meridian = [&](double lon, double lat) {
+        return Vec3{std::cos(lat * rad) * std::cos(lon * rad), std::cos(lat * rad) * std::sin(lon * rad),
+                    std::sin(lat * rad)};
+    };
+    const Vec3 c1 = on_equator(0), c2 = on_equator(0.6);
+    auto crossing = [&](double dual_lon, Vec3 edge_point, int &asked) {
+        return dual::arc_crossing(c1, c2, on_meridian(dual_lon, 0.2), on_meridian(dual_lon, -0.2), [&] {
+            ++asked;
+            return edge_point;
+        });
+    };
+    int asked = 0;
+    Vec3 x = crossing(0.3, on_equator(0.3), asked);
+    assert_int_equal(asked, 0);
+    expect_below(geom::norm(x - on_equator(0.3)), 1e-15, "crossing at the midpoint");
+    x = crossing(80, on_equator(80), asked);
+    assert_int_equal(asked, 1);
+    expect_below(geom::norm(x - on_equator(80)), 1e-15, "crossing 80 degrees away, on the edge point's side");
+    x = crossing(80, on_equator(260), asked);
+    assert_int_equal(asked, 2);
+    expect_below(geom::norm(x - on_equator(260)), 1e-15, "crossing 80 degrees away, the other side");
+}
+
 void expect_local_numbering(const MpasMesh &m) {
     double sum = 0;
     for (int32_t e = 0; e < m.n_edges; ++e)
@@ -913,6 +945,7 @@ void write_errors_name_the_file(void **) {
 int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(direct_writes_end_their_thread),
+        cmocka_unit_test(arc_crossing_takes_the_edge_points_side),
         cmocka_unit_test(icosahedral_mesh),
         cmocka_unit_test(weighted_mesh),
         cmocka_unit_test(small_cells_stay_consistent),
