@@ -49,11 +49,9 @@ CornerKites::CornerKites(Context &ctx, const MpasLayout &layout, double radius) 
 }
 
 double CornerKites::of_cell(const MpasLayout &layout, int32_t v, int32_t c) const {
-    int32_t cell[3], edge[3];
-    layout.vertex_corners(v, cell, edge);
+    const int j = layout.corner_of(v, c);
     const int32_t r = layout.row_of_vertex(v);
-    for (int j = 0; j < 3 && r != kNone; ++j)
-        if (cell[j] == c) return of_row(r, j);
+    if (j >= 0 && r != kNone) return of_row(r, j);
     fail(UM_ERR_INTERNAL, "MPAS mesh: cell ", c, " is not at vertex ", v);
 }
 

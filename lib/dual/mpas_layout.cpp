@@ -322,12 +322,24 @@ void MpasLayout::cell_ring(int32_t c, CellRing &ring) const {
 void MpasLayout::vertex_corners(int32_t v, int32_t cells[3], int32_t edges[3]) const {
     const int32_t t = vertex_tri_[v];
     int32_t cell[3];
-    for (int k = 0; k < 3; ++k) cell[k] = cell_of_slot_[tri_->vertex(t, k)];
-    const int r = static_cast<int>(std::min_element(cell, cell + 3) - cell);
+    const int r = triangle_cells(t, cell);
     for (int j = 0; j < 3; ++j) {
         cells[j] = cell[(r + j) % 3];
         edges[j] = edge_of_half_[3 * int64_t(t) + (r + j + 1) % 3];
     }
+}
+
+int MpasLayout::corner_of(int32_t v, int32_t c) const {
+    int32_t cell[3];
+    const int r = triangle_cells(vertex_tri_[v], cell);
+    for (int k = 0; k < 3; ++k)
+        if (cell[k] == c) return (k - r + 3) % 3;
+    return -1;
+}
+
+int MpasLayout::triangle_cells(int32_t t, int32_t cell[3]) const {
+    for (int k = 0; k < 3; ++k) cell[k] = cell_of_slot_[tri_->vertex(t, k)];
+    return static_cast<int>(std::min_element(cell, cell + 3) - cell);
 }
 
 Vec3 MpasLayout::edge_unit(const EdgeEnds &ends, Vec3 c1, Vec3 c2, Vec3 v1, Vec3 v2) const {

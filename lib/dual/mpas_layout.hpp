@@ -102,6 +102,8 @@ public:
     void cell_ring(int32_t c, CellRing &ring) const;
     // cellsOnVertex and edgesOnVertex of v.
     void vertex_corners(int32_t v, int32_t cells[3], int32_t edges[3]) const;
+    // The j with cellsOnVertex(v, j) = c (-1: c is not at v).
+    int corner_of(int32_t v, int32_t c) const;
 
     Vec3 cell_unit(int32_t c) const { return tri_->direction(cell_slot_[c]); }
     Vec3 vertex_unit(int32_t v) const { return tri_->orthocentre(vertex_tri_[v]); }
@@ -111,6 +113,9 @@ public:
     Vec3 edge_unit(int32_t e) const;
 
 private:
+    // The cells at triangle t's corners in its order, and the corner of the
+    // lowest (cellsOnVertex starts there).
+    int triangle_cells(int32_t t, int32_t cell[3]) const;
     void number_cells(Context &ctx, const std::vector<int32_t> &slots);
     void number_vertices(Context &ctx);
     void number_edges(Context &ctx);

@@ -45,13 +45,14 @@ void side_weights(const CellStencil &cell, int32_t e, int side, double dc, int32
     const int d = cell.degree;
     int j0 = 0;
     while (j0 < d && cell.edges[j0] != e) ++j0;
+    if (j0 == d) j0 = 0;
     double passed = 0;
-    for (int step = 1; step < d; ++step) {
-        const int j = (j0 + step) % d;
+    for (int step = 1, j = j0; step < d; ++step) {
+        const int corner = j;  // verticesOnCell(j), between edgesOnCell(j) and the next one
+        if (++j == d) j = 0;
         edges_out[slot] = cell.edges[j];
         if (weights_out) {
-            // The corner between edgesOnCell(j - 1) and (j) is verticesOnCell(j - 1).
-            passed += cell.fraction[(j + d - 1) % d];
+            passed += cell.fraction[corner];
             double s = cell.cell_first[j] ? 1.0 : -1.0;
             if (side == 1) s = -s;
             weights_out[slot] = s * (0.5 - passed) * cell.dv[j] / dc;
