@@ -86,16 +86,15 @@ RowParts parts_for(const MpasMesh &block, const char *only) {
 // first block of edges) ran on one thread. (The fields point into block,
 // which is not const.)
 void grow_rows(Context &ctx, MpasDim kind, int64_t count, MpasMesh &block) {
-    std::vector<MpasField> growing;
+    std::vector<std::pair<MpasField, size_t>> growing;  // (field, values it is to hold)
     for (const MpasField &f : mpas_fields(block)) {
         const size_t n = static_cast<size_t>(count * f.columns(block));
         const size_t have = f.reals ? f.reals->size() : f.ints ? f.ints->size() : n;
-        if (f.dims[0] == kind && have < n) growing.push_back(f);
+        if (f.dims[0] == kind && have < n) growing.emplace_back(f, n);
     }
     ctx.parallel_for(static_cast<int64_t>(growing.size()), 1, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
-            const MpasField &f = growing[i];
-            const size_t n = static_cast<size_t>(count * f.columns(block));
+            const auto &[f, n] = growing[i];
             if (f.reals) const_cast<std::vector<double> *>(f.reals)->resize(n);
             else const_cast<std::vector<int32_t> *>(f.ints)->resize(n);
         }

@@ -18,13 +18,21 @@ inline double arc(Vec3 a, Vec3 b) {
     return std::atan2(geom::norm(geom::cross(a - b, b)), geom::dot(a, b));
 }
 
+// The geodesic triangle (a, b, c)'s spherical excess E as tan(E/2) =
+// det / den = det / (1 + a.b + b.c + c.a) (Eriksson 1990), with
+// det = a . ((b - a) x (c - a)).
+struct HalfExcessTangent {
+    double det, den;
+    HalfExcessTangent(Vec3 a, Vec3 b, Vec3 c)
+        : det(geom::dot(a, geom::cross(b - a, c - a))),
+          den(1.0 + geom::dot(a, b) + geom::dot(b, c) + geom::dot(c, a)) {}
+};
+
 // Signed area (steradians) of the geodesic triangle (a, b, c), positive when
-// counter-clockwise seen from outside: tan(E/2) = det / (1 + a.b + b.c + c.a)
-// (Eriksson 1990), with det = a . ((b - a) x (c - a)).
+// counter-clockwise seen from outside.
 inline double signed_area(Vec3 a, Vec3 b, Vec3 c) {
-    double det = geom::dot(a, geom::cross(b - a, c - a));
-    double den = 1.0 + geom::dot(a, b) + geom::dot(b, c) + geom::dot(c, a);
-    return 2.0 * std::atan2(det, den);
+    const HalfExcessTangent t(a, b, c);
+    return 2.0 * std::atan2(t.det, t.den);
 }
 
 // Where the dual arc of the primal edge (i, j) crosses the primal great

@@ -87,8 +87,8 @@ double arc(const Vec3 &a, const Vec3 &b) {
 // the value. (Tested before dividing: a den of 0 must raise no
 // floating-point exception, which a host may trap.)
 double signed_area(const Vec3 &a, const Vec3 &b, const Vec3 &c) {
-    const double det = geom::dot(a, geom::cross(b - a, c - a));
-    const double den = 1.0 + geom::dot(a, b) + geom::dot(b, c) + geom::dot(c, a);
+    const dual::HalfExcessTangent tangent(a, b, c);
+    const double det = tangent.det, den = tangent.den;
     if (den > 0 && std::fabs(det) <= 1e-2 * den) {
         const double t = det / den, t2 = t * t;
         return 2.0 * t * (1.0 - t2 * (1.0 / 3.0 - t2 * (1.0 / 5.0 - t2 / 7.0)));
