@@ -187,11 +187,13 @@ void MpasLayout::number_vertices(Context &ctx) {
     const HugePageVector<int32_t> order =
         hilbert_order(ctx, n, [&](int64_t i) { return tri_->orthocentre(live[i]); });
     size_on_huge_pages(vertex_tri_, live.size());
+    size_on_huge_pages(vertex_unit_, live.size());
     fill_in_parallel(ctx, vertex_of_tri_, static_cast<size_t>(tri_->triangle_slots()), kNone);
     ctx.parallel_for(n, 4096, [&](int64_t b, int64_t e) {
         for (int64_t v = b; v < e; ++v) {
             vertex_tri_[v] = live[order[v]];
             vertex_of_tri_[live[order[v]]] = static_cast<int32_t>(v);
+            vertex_unit_[v] = tri_->orthocentre(vertex_tri_[v]);
         }
     });
 }

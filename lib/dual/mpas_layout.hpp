@@ -2,9 +2,9 @@
 // conventions) and its elements one at a time: a cell's ring, an edge's two
 // cells and two vertices, a vertex's three cells and edges, and the unit
 // positions of each. It holds only the maps between the numbering and the
-// triangulation (about 76 bytes per cell; a regional mesh's rows 48 more),
-// so that the staggered mesh can be produced a block of rows at a time
-// (mpas_source.hpp) instead of whole.
+// triangulation and each vertex's unit position (about 124 bytes per cell; a
+// regional mesh's rows 48 more), so that the staggered mesh can be produced
+// a block of rows at a time (mpas_source.hpp) instead of whole.
 //
 // Two numberings: the whole triangulation's, in which the walks and the
 // positions below take and give their indices, and the rows the mesh's
@@ -106,7 +106,7 @@ public:
     int corner_of(int32_t v, int32_t c) const;
 
     Vec3 cell_unit(int32_t c) const { return tri_->direction(cell_slot_[c]); }
-    Vec3 vertex_unit(int32_t v) const { return tri_->orthocentre(vertex_tri_[v]); }
+    Vec3 vertex_unit(int32_t v) const { return vertex_unit_[v]; }
     // xEdge: the crossing of the edge's primal and dual great circles, from
     // the units of its cells and vertices (in EdgeEnds order).
     Vec3 edge_unit(const EdgeEnds &ends, Vec3 c1, Vec3 c2, Vec3 v1, Vec3 v2) const;
@@ -135,6 +135,10 @@ private:
     std::unique_ptr<tri::Triangulation> on_sphere_;  // an ellipsoid mesh's copy (tri_ points to it)
     HugePageVector<int32_t> cell_vertex_, cell_slot_, cell_of_slot_;
     HugePageVector<int32_t> vertex_tri_, vertex_of_tri_;
+    // Each vertex's orthocentre, kept: a cell's rows, kites and stencils
+    // reach each of its corners about a dozen times (24 bytes per vertex,
+    // 48 per cell).
+    HugePageVector<Vec3> vertex_unit_;
     HugePageVector<int64_t> edge_half_;     // edge -> 3 * lower triangle slot + k
     HugePageVector<int32_t> edge_of_half_;  // 3 * triangle slot + k -> edge across edge k
     int32_t max_edges_ = 0;

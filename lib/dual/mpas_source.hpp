@@ -1,8 +1,7 @@
 // The MPAS staggered mesh of a triangulation as rows made on request: the
-// layout (numbering and maps, about 76 bytes per cell, 48 more for a
-// regional mesh's rows) plus the tags, from
-// which any block of cell, edge or vertex rows is computed with every
-// variable of the contract. The netCDF writer streams a file from it a
+// layout (numbering, maps and vertex positions, about 124 bytes per cell, 48
+// more for a regional mesh's rows) plus the tags, from which any block of
+// cell, edge or vertex rows is computed with every variable of the contract. The netCDF writer streams a file from it a
 // block at a time and the C API's copy-out one variable at a time, so the
 // whole staggered mesh (about 1.2 kB per cell) is never held for them;
 // build_mpas_mesh (mpas_mesh.hpp, for the component meshes) asks it for
@@ -33,8 +32,8 @@ namespace um::dual {
 // kites) at its peak, for the memory cap: the river routing of a mesh with
 // features needs the whole river graph while it runs, before the kites are
 // made.
-constexpr int64_t kMpasSourceBytesPerCell = 160 + CornerKites::kBytesPerCell,
-                  kMpasSourceWithFeaturesBytesPerCell = 280;
+constexpr int64_t kMpasSourceBytesPerCell = 208 + CornerKites::kBytesPerCell,
+                  kMpasSourceWithFeaturesBytesPerCell = 328;
 // An ellipsoid mesh's layout also holds a copy of the triangulation
 // (MpasLayout): its points, ids and two triangles per cell.
 constexpr int64_t kMpasEllipsoidCopyBytesPerCell = 100;
