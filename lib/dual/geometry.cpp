@@ -20,10 +20,11 @@ void resize_rows(Placed p, size_t n) {
     for (auto *a : {p.x, p.y, p.z, p.lat, p.lon}) a->resize(n);
 }
 
-void place(Placed p, Vec3 u, double radius, int64_t i) {
+void place(Placed p, Vec3 u, double radius, int64_t i, double axis) {
     (*p.x)[i] = radius * u.x, (*p.y)[i] = radius * u.y, (*p.z)[i] = radius * u.z;
-    lat_lon(u, (*p.lat)[i], (*p.lon)[i]);
+    lat_lon(u, axis, (*p.lat)[i], (*p.lon)[i]);
 }
+void place(Placed p, Vec3 u, double radius, int64_t i) { place(p, u, radius, i, axis_distance(u)); }
 
 }  // namespace
 
@@ -116,7 +117,8 @@ void edge_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
             const Vec3 c1 = layout.cell_unit(ends.cell[0]), c2 = layout.cell_unit(ends.cell[1]);
             const Vec3 v1 = layout.vertex_unit(ends.vertex[0]), v2 = layout.vertex_unit(ends.vertex[1]);
             const Vec3 x = layout.edge_unit(ends, c1, c2, v1, v2);
-            place(placed, x, radius, i);
+            const double axis = axis_distance(x);
+            place(placed, x, radius, i, axis);
             const bool turned = layout.turned(ends);  // (its cell outside the region last)
             const int first_end = turned ? 1 : 0;
             m.cells_on_edge[2 * i] = layout.row_of_cell(ends.cell[first_end]);
@@ -129,7 +131,7 @@ void edge_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
             // The dual arc is exactly perpendicular, so this is the normal of
             // recompute_angle_edge, (v2 - v1) x xEdge, without its rounding on
             // the metre-long dual edges of nearly cocircular quadruples.
-            double angle = angle_from_east(geom::cross(geom::cross(c1, c2), x), x);
+            double angle = angle_from_east(geom::cross(geom::cross(c1, c2), x), x, axis);
             if (turned) {
                 angle += M_PI;
                 if (angle > M_PI) angle -= 2 * M_PI;

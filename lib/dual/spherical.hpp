@@ -80,19 +80,24 @@ inline Vec3 arc_crossing(Vec3 c1, Vec3 c2, Vec3 v1, Vec3 v2, Near near) {
     return side < 0 ? -1.0 * x : x;
 }
 
-// Latitude and longitude (radians) of a unit vector; longitude in (-pi, pi]
-// (0 at the poles).
-inline void lat_lon(Vec3 u, double &lat, double &lon) {
-    lat = std::atan2(u.z, std::hypot(u.x, u.y));
+// The distance of u from the polar axis, which its latitude and its local
+// east both take (an edge needs both: made once for the two).
+inline double axis_distance(Vec3 u) { return std::hypot(u.x, u.y); }
+
+// Latitude and longitude (radians) of a unit vector at axis distance h;
+// longitude in (-pi, pi] (0 at the poles).
+inline void lat_lon(Vec3 u, double h, double &lat, double &lon) {
+    lat = std::atan2(u.z, h);
     lon = std::atan2(u.y, u.x);
     if (lon <= -M_PI) lon = M_PI;
 }
+inline void lat_lon(Vec3 u, double &lat, double &lon) { lat_lon(u, axis_distance(u), lat, lon); }
 
 // angleEdge: the angle of the normal n (any tangent vector at the unit point
-// e) counter-clockwise from local east, atan2(n . north, n . east). At a pole,
-// east is taken as that of longitude 0, which lat_lon gives there.
-inline double angle_from_east(Vec3 n, Vec3 e) {
-    double h = std::hypot(e.x, e.y);
+// e, at axis distance h) counter-clockwise from local east, atan2(n . north,
+// n . east). At a pole, east is taken as that of longitude 0, which lat_lon
+// gives there.
+inline double angle_from_east(Vec3 n, Vec3 e, double h) {
     Vec3 east = h > 0 ? Vec3{-e.y / h, e.x / h, 0.0} : Vec3{0.0, 1.0, 0.0};
     Vec3 north = geom::cross(e, east);
     return std::atan2(geom::dot(n, north), geom::dot(n, east));
