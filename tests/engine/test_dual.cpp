@@ -438,6 +438,26 @@ void weighted_mesh(void **) {
     assert_true(off > 0.01);
 }
 
+// The layout keeps each vertex's unit position: it must be the orthocentre
+// of the vertex's triangle to the bit, in row order, on two threads as on
+// one (the rows and kites take it from there instead of the triangulation).
+void layout_keeps_each_vertex_orthocentre(void **) {
+    std::vector<Vec3> pts;
+    std::vector<double> w;
+    jittered_weighted(4, 7, pts, w);
+    tri::Triangulation t = triangulate(pts, &w);
+    for (int threads : {1, 2}) {
+        Context ctx;
+        ctx.set_threads(threads);
+        const dual::MpasLayout layout(ctx, t, {});
+        assert_int_equal(layout.n_vertices(), t.triangle_count());
+        for (int32_t v = 0; v < layout.n_vertices(); ++v) {
+            const Vec3 kept = layout.vertex_unit(v), made = t.orthocentre(layout.vertex_triangle(v));
+            assert_memory_equal(&kept, &made, sizeof(Vec3));
+        }
+    }
+}
+
 // Cells from 200 m to 1,000 km wide: a graded log-polar patch
 // (rings 1.3 times wider each, 24 points a ring, from 1e-4 rad = 640 m) in
 // an icosahedral grid. The staggered mesh must stay consistent on the
@@ -948,6 +968,7 @@ int main() {
         cmocka_unit_test(arc_crossing_takes_the_edge_points_side),
         cmocka_unit_test(icosahedral_mesh),
         cmocka_unit_test(weighted_mesh),
+        cmocka_unit_test(layout_keeps_each_vertex_orthocentre),
         cmocka_unit_test(small_cells_stay_consistent),
         cmocka_unit_test(hidden_points_are_not_cells),
         cmocka_unit_test(refined_mesh_with_sides),
