@@ -1,11 +1,11 @@
 // The MPAS staggered mesh of a triangulation as rows made on request: the
 // layout (numbering, maps and vertex positions, about 124 bytes per cell, 48
 // more for a regional mesh's rows) plus the tags, from which any block of
-// cell, edge or vertex rows is computed with every variable of the contract. The netCDF writer streams a file from it a
-// block at a time and the C API's copy-out one variable at a time, so the
-// whole staggered mesh (about 1.2 kB per cell) is never held for them;
-// build_mpas_mesh (mpas_mesh.hpp, for the component meshes) asks it for
-// every row.
+// cell, edge or vertex rows is computed with every variable of the contract.
+// The netCDF writer streams a file from it a block at a time and the C API's
+// copy-out one variable at a time, so the whole staggered mesh (about 1.2 kB
+// per cell) is never held for them; build_mpas_mesh (mpas_mesh.hpp, for the
+// component meshes) asks it for every row.
 #pragma once
 
 #include <algorithm>
