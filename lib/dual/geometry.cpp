@@ -126,7 +126,7 @@ void edge_rows(Context &ctx, const MpasLayout &layout, double radius, int64_t fi
             m.vertices_on_edge[2 * i] = layout.row_of_vertex(ends.vertex[first_end]);
             m.vertices_on_edge[2 * i + 1] = layout.row_of_vertex(ends.vertex[1 - first_end]);
             m.dc_edge[i] = radius * arc(c1, c2);
-            m.dv_edge[i] = radius * arc(v1, v2);
+            m.dv_edge[i] = radius * layout.dual_arc(ends);
             // n_e is the direction of the arc c1 -> c2 at xEdge, (c1 x c2) x xEdge.
             // The dual arc is exactly perpendicular, so this is the normal of
             // recompute_angle_edge, (v2 - v1) x xEdge, without its rounding on

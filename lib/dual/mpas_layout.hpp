@@ -22,6 +22,7 @@
 #include "core/context.hpp"
 #include "core/uninit_vector.hpp"
 #include "dual/mpas_mesh.hpp"
+#include "dual/spherical.hpp"
 #include "geom/sphere.hpp"
 #include "geom/surface.hpp"
 #include "tri/triangulation.hpp"
@@ -111,6 +112,10 @@ public:
     // the units of its cells and vertices (in EdgeEnds order).
     Vec3 edge_unit(const EdgeEnds &ends, Vec3 c1, Vec3 c2, Vec3 v1, Vec3 v2) const;
     Vec3 edge_unit(int32_t e) const;
+    // dvEdge / R: the arc between the edge's vertices in EdgeEnds order, its
+    // one measure (the edge rows and the TRSK stencils of edges outside a
+    // block both take it here, so the two agree to the bit).
+    double dual_arc(const EdgeEnds &ends) const { return arc(vertex_unit(ends.vertex[0]), vertex_unit(ends.vertex[1])); }
 
 private:
     // The cells at triangle t's corners in its order, and the corner of the

@@ -19,7 +19,6 @@
 #include "core/buffer.hpp"
 #include "core/radix_sort.hpp"
 #include "core/uninit_vector.hpp"
-#include "dual/spherical.hpp"
 #include "dual/stages.hpp"
 
 namespace um::dual {
@@ -150,7 +149,8 @@ void stencil_rows(Context &ctx, int64_t first, int64_t count, size_t w2, MpasMes
 // Entry i of st: the stencil of cell c (whole numbering) from its ring, its
 // corners' kites and the dvEdge of its edges. The block's rows [first,
 // first + count) of m have their dvEdge made (edge_rows): an edge among them
-// takes it from there, any other is measured as edge_rows measures it.
+// takes it from there, any other is measured as edge_rows measures it
+// (MpasLayout::dual_arc).
 void fill_stencil(const MpasLayout &layout, const CornerKites &kites, double radius, int64_t first, int64_t count,
                   const MpasMesh &m, int32_t c, CellRing &ring, Stencils &st, size_t i) {
     layout.cell_ring(c, ring);
@@ -161,9 +161,7 @@ void fill_stencil(const MpasLayout &layout, const CornerKites &kites, double rad
         const int64_t row = layout.row_of_edge(ring.edges[j]);
         st.edges[w * i + j] = static_cast<int32_t>(row);
         st.fraction[w * i + j] = kites.of_cell(layout, ring.vertices[j], c);
-        st.dv[w * i + j] = row >= first && row < first + count
-                               ? m.dv_edge[row - first]
-                               : radius * arc(layout.vertex_unit(ends.vertex[0]), layout.vertex_unit(ends.vertex[1]));
+        st.dv[w * i + j] = row >= first && row < first + count ? m.dv_edge[row - first] : radius * layout.dual_arc(ends);
         st.cell_first[w * i + j] = ends.cell[layout.turned(ends) ? 1 : 0] == c;
     }
     kites_to_fractions(&st.fraction[w * i], d);
