@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
+#include <new>
 #include <utility>
 
 #include "core/growth.hpp"
@@ -44,6 +46,27 @@ constexpr double kEdgePerFrequency = 1.2;
 // A lattice's points (unwritten until placed: a regional lattice places
 // only its part).
 using Points = UninitVector<Vec3>;
+
+// One flag per point of a whole lattice, 0 until set. calloc leaves a large
+// block's zeroing to the kernel, page by page as it is first touched, so that
+// a regional lattice pays for the pages of its part only (a std::vector
+// would write every byte of the sphere's first).
+class PointFlags {
+public:
+    PointFlags() = default;
+    explicit PointFlags(int64_t size) : flag_(static_cast<uint8_t *>(std::calloc(static_cast<size_t>(size), 1))) {
+        if (!flag_ && size > 0) throw std::bad_alloc();
+    }
+    bool empty() const { return !flag_; }
+    uint8_t operator[](int64_t p) const { return flag_[p]; }
+    uint8_t &operator[](int64_t p) { return flag_[p]; }
+
+private:
+    struct Free {
+        void operator()(uint8_t *p) const noexcept { std::free(p); }
+    };
+    std::unique_ptr<uint8_t[], Free> flag_;
+};
 
 // The point a fraction t of the way from a to b along their great circle.
 Vec3 slerp(const Vec3 &a, const Vec3 &b, double t) {
@@ -131,8 +154,17 @@ public:
     // A face's inner rows, numbered f * (n - 2) + (i - 1) for i = 1 .. n-2.
     int64_t row_count() const { return n_ > 2 ? face_count() * (n_ - 2) : 0; }
 
+    // The corners and the edges' inner points are [0, outline_end()); the
+    // points inside face f are [inner_begin(f), inner_begin(f + 1)).
+    int64_t outline_end() const { return 12 + edge_count() * (n_ - 1); }
+    int64_t inner_begin(int f) const { return outline_end() + f * (n_ - 1) * (n_ - 2) / 2; }
+    // The edges of face f's sides.
+    std::array<int, 3> face_edges(int f) const {
+        const std::array<int, 3> &c = faces_[f];
+        return {edge_of_[c[0]][c[1]], edge_of_[c[0]][c[2]], edge_of_[c[1]][c[2]]};
+    }
+
 private:
-    int64_t inner_begin(int f) const { return 12 + edge_count() * (n_ - 1) + f * (n_ - 1) * (n_ - 2) / 2; }
 
     int64_t n_;
     std::array<std::array<int, 12>, 12> edge_of_{};
@@ -147,9 +179,12 @@ std::vector<std::array<int64_t, 6>> edge_point_neighbours(const LatticeIndex &in
     std::vector<std::array<int64_t, 6>> out(static_cast<size_t>(index.edge_count() * std::max<int64_t>(n - 1, 0)));
     std::vector<int> count(out.size(), 0);
     static constexpr int kStep[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
+    // Each face's points on its sides, in the order of (i, j) (so that each
+    // point's neighbours come in the same order as a scan of every point
+    // would find them); the points inside hold no edge point.
     for (int f = 0; f < index.face_count(); ++f)
         for (int64_t i = 0; i <= n; ++i)
-            for (int64_t j = 0; i + j <= n; ++j) {
+            for (int64_t j = 0; i + j <= n; j = (i == 0 || j == n - i) ? j + 1 : n - i) {
                 const int64_t p = index.at(f, i, j);
                 if (p < 12 || p >= 12 + static_cast<int64_t>(out.size())) continue;  // a corner or inside
                 const size_t slot = static_cast<size_t>(p - 12);
@@ -181,7 +216,8 @@ struct Chords {
 // in `from` and `to`), only its items are visited, and only its points'
 // chords are measured; only its points and their neighbours are read.
 struct Active {
-    std::vector<uint8_t> point, item;
+    PointFlags point;
+    std::vector<uint8_t> item;
 };
 // Returns the chords, summed by item in a fixed order so that the sum is
 // the same for any thread count.
@@ -258,17 +294,32 @@ Chords spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<s
 // whose coarser points (those its placement reads) are placed, if it is
 // within kHeldMargin edge lengths beyond the points the relaxation moves.
 // All of them without a cap, or when that reaches round the sphere.
+// Each face says whether it may hold placed points, inside or on its sides
+// (a face without holds none), so that scans of the placed points skip the
+// inside of the faces far from the cap.
 class Placed {
 public:
     Placed() = default;  // all
-    explicit Placed(int64_t size) : flag_(static_cast<size_t>(size), 0) {}
+    Placed(int64_t size, int faces) : flag_(size), face_(static_cast<size_t>(faces), 0) {}
     bool all() const { return flag_.empty(); }
-    bool operator[](int64_t p) const { return flag_.empty() || flag_[static_cast<size_t>(p)]; }
-    void set(int64_t p, bool placed) { flag_[static_cast<size_t>(p)] = placed; }
+    bool operator[](int64_t p) const { return flag_.empty() || flag_[p]; }
+    void set(int64_t p, bool placed) { flag_[p] = placed; }
+    bool face(int f) const { return face_.empty() || face_[static_cast<size_t>(f)]; }
+    void set_face(int f) { face_[static_cast<size_t>(f)] = 1; }
 
 private:
-    std::vector<uint8_t> flag_;
+    PointFlags flag_;
+    std::vector<uint8_t> face_;
 };
+
+// Calls scan(first, end) for the ranges of points that may be placed: the
+// corners and edge points, then the inside of each face that may hold any.
+template <class Scan>
+void for_each_placeable(const LatticeIndex &index, const Placed &placed, Scan &&scan) {
+    scan(int64_t{0}, index.outline_end());
+    for (int f = 0; f < index.face_count(); ++f)
+        if (placed.face(f)) scan(index.inner_begin(f), f + 1 < index.face_count() ? index.inner_begin(f + 1) : index.size());
+}
 
 // How far from a cap's centre the frequency-n lattice is relaxed, and
 // placed.
@@ -291,9 +342,12 @@ std::unique_ptr<Active> active_within(Context &ctx, const LatticeIndex &index, c
     if (reach >= M_PI) return nullptr;
     const double least_cos = std::cos(reach);
     auto active = std::make_unique<Active>();
-    active->point.resize(points.size());
-    ctx.parallel_for(static_cast<int64_t>(points.size()), 4096, [&](int64_t b, int64_t e) {
-        for (int64_t p = b; p < e; ++p) active->point[p] = placed[p] && geom::dot(points[p], cap->centre) >= least_cos;
+    active->point = PointFlags(static_cast<int64_t>(points.size()));
+    for_each_placeable(index, placed, [&](int64_t first, int64_t end) {
+        ctx.parallel_for(end - first, 4096, [&](int64_t b, int64_t e) {
+            for (int64_t p = first + b; p < first + e; ++p)
+                active->point[p] = placed[p] && geom::dot(points[p], cap->centre) >= least_cos;
+        });
     });
     const int64_t edge_items = index.edge_count();
     active->item.assign(static_cast<size_t>(edge_items + index.row_count()), 0);
@@ -303,6 +357,7 @@ std::unique_ptr<Active> active_within(Context &ctx, const LatticeIndex &index, c
             for (int64_t s = 1; s < n; ++s) any |= active->point[index.on_edge(static_cast<int>(item), s)];
         } else {
             const int f = static_cast<int>((item - edge_items) / (n - 2));
+            if (!placed.face(f)) continue;  // nothing placed inside: nothing moves
             const int64_t i = (item - edge_items) % (n - 2) + 1, row = index.at(f, i, 1);
             for (int64_t j = 1; i + j < n; ++j) any |= active->point[row + j - 1];
         }
@@ -322,9 +377,11 @@ void relax(Context &ctx, const LatticeIndex &index, Points &points, int sweeps, 
     // the others keep their places in both buffers.
     Points next(points.size());
     if (active)
-        ctx.parallel_for(static_cast<int64_t>(points.size()), 4096, [&](int64_t b, int64_t e) {
-            for (int64_t p = b; p < e; ++p)
-                if (placed[p]) next[p] = points[p];
+        for_each_placeable(index, placed, [&](int64_t first, int64_t end) {
+            ctx.parallel_for(end - first, 4096, [&](int64_t b, int64_t e) {
+                for (int64_t p = first + b; p < first + e; ++p)
+                    if (placed[p]) next[p] = points[p];
+            });
         });
     double rest = spring_sweep(ctx, index, edge_nbrs, points, next, 0, active).mean();
     for (int k = 0; k < sweeps; ++k) {
@@ -344,11 +401,16 @@ Points interpolate(Context &ctx, const LatticeIndex &coarse, const Points &at, c
     const int64_t m = coarse.frequency(), n = fine.frequency();
     const bool regional = cap && placed_reach(*cap, n) < M_PI;
     const double least_cos = regional ? std::cos(placed_reach(*cap, n)) : -2.0;
-    placed = regional ? Placed(fine.size()) : Placed();
+    placed = regional ? Placed(fine.size(), fine.face_count()) : Placed();
     Points points(static_cast<size_t>(fine.size()));
+    // Whether each edge, and each face's inner row, holds a placed point.
+    std::vector<uint8_t> edge_placed(static_cast<size_t>(fine.edge_count()), 0),
+        row_placed(static_cast<size_t>(fine.row_count()), 0);
     auto place = [&](int64_t p, const Vec3 &x) {
         points[p] = x;
-        if (regional) placed.set(p, geom::dot(x, cap->centre) >= least_cos);
+        const bool within = !regional || geom::dot(x, cap->centre) >= least_cos;
+        if (regional) placed.set(p, within);
+        return within;
     };
     for (int c = 0; c < 12; ++c) {
         points[c] = at[c];
@@ -360,12 +422,17 @@ Points interpolate(Context &ctx, const LatticeIndex &coarse, const Points &at, c
             const double w = static_cast<double>(s * m - S * n) / static_cast<double>(n);
             const int64_t a = coarse.on_edge(e, S), b = w > 0 ? coarse.on_edge(e, S + 1) : a;
             if (!at_placed[a] || !at_placed[b]) continue;
-            place(fine.on_edge(e, s), w > 0 ? geom::normalized((1 - w) * at[a] + w * at[b]) : at[a]);
+            if (place(fine.on_edge(e, s), w > 0 ? geom::normalized((1 - w) * at[a] + w * at[b]) : at[a]))
+                edge_placed[static_cast<size_t>(e)] = 1;
         }
     const double scale = 1.0 / static_cast<double>(n);
     ctx.parallel_for(fine.row_count(), 16, [&](int64_t b, int64_t e) {
         for (int64_t row = b; row < e; ++row) {
             const int f = static_cast<int>(row / (n - 2));
+            // A point inside is placed from three of the coarse face's
+            // points, at most one a corner: none without a placed point
+            // inside the coarse face or on its sides.
+            if (!at_placed.face(f)) continue;
             const int64_t i = row % (n - 2) + 1;
             for (int64_t j = 1; i + j < n; ++j) {
                 const int64_t I = i * m / n, J = j * m / n;
@@ -377,10 +444,17 @@ Points interpolate(Context &ctx, const LatticeIndex &coarse, const Points &at, c
                 if (!at_placed[p0] || !at_placed[p1] || !at_placed[p2]) continue;
                 const Vec3 p = lower ? (1 - fi - fj) * at[p0] + fi * at[p1] + fj * at[p2]
                                      : (fi + fj - 1) * at[p0] + (1 - fj) * at[p1] + (1 - fi) * at[p2];
-                place(fine.at(f, i, j), geom::normalized(p));
+                if (place(fine.at(f, i, j), geom::normalized(p))) row_placed[static_cast<size_t>(row)] = 1;
             }
         }
     });
+    if (regional)
+        for (int f = 0; f < fine.face_count(); ++f) {
+            bool any = false;
+            for (int e : fine.face_edges(f)) any = any || edge_placed[static_cast<size_t>(e)];
+            for (int64_t i = 0; i < n - 2 && !any; ++i) any = row_placed[static_cast<size_t>(f * (n - 2) + i)];
+            if (any) placed.set_face(f);
+        }
     return points;
 }
 
@@ -436,13 +510,17 @@ std::vector<Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t n) {
 LatticeRegion relaxed_lattice_region(Context &ctx, int64_t n, const Cap &cap) {
     Placed placed;
     const Points points = relaxed_lattice(ctx, n, &cap, placed);
-    // (Found in parallel in fixed chunks: the whole sphere's points are
-    // scanned, and pushed one at a time the vectors grew by copies.)
+    // (Found in parallel in fixed chunks, in the faces that may hold any:
+    // pushed one at a time, the vectors grew by copies.)
     LatticeRegion region;
-    region.index = ctx.collect_in_order<int64_t>(static_cast<int64_t>(points.size()), 1 << 16,
-                                                 [&](int64_t p, std::vector<int64_t> &out) {
-                                                     if (placed[p]) out.push_back(p);
-                                                 });
+    const LatticeIndex index(n);
+    for_each_placeable(index, placed, [&](int64_t first, int64_t end) {
+        const std::vector<int64_t> found =
+            ctx.collect_in_order<int64_t>(end - first, 1 << 16, [&](int64_t i, std::vector<int64_t> &out) {
+                if (placed[first + i]) out.push_back(first + i);
+            });
+        region.index.insert(region.index.end(), found.begin(), found.end());
+    });
     region.points.resize(region.index.size());
     ctx.parallel_for(static_cast<int64_t>(region.index.size()), 1 << 14, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) region.points[i] = points[region.index[i]];
