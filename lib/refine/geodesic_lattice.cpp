@@ -154,17 +154,11 @@ public:
     // A face's inner rows, numbered f * (n - 2) + (i - 1) for i = 1 .. n-2.
     int64_t row_count() const { return n_ > 2 ? face_count() * (n_ - 2) : 0; }
 
-    // The corners and the edges' inner points are [0, outline_end()); the
-    // points inside face f are [inner_begin(f), inner_begin(f + 1)).
+    // The corners and the edges' inner points are [0, outline_end()).
     int64_t outline_end() const { return 12 + edge_count() * (n_ - 1); }
-    int64_t inner_begin(int f) const { return outline_end() + f * (n_ - 1) * (n_ - 2) / 2; }
-    // The edges of face f's sides.
-    std::array<int, 3> face_edges(int f) const {
-        const std::array<int, 3> &c = faces_[f];
-        return {edge_of_[c[0]][c[1]], edge_of_[c[0]][c[2]], edge_of_[c[1]][c[2]]};
-    }
 
 private:
+    int64_t inner_begin(int f) const { return outline_end() + f * (n_ - 1) * (n_ - 2) / 2; }
 
     int64_t n_;
     std::array<std::array<int, 12>, 12> edge_of_{};
@@ -294,31 +288,68 @@ Chords spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<s
 // whose coarser points (those its placement reads) are placed, if it is
 // within kHeldMargin edge lengths beyond the points the relaxation moves.
 // All of them without a cap, or when that reaches round the sphere.
-// Each face says whether it may hold placed points, inside or on its sides
-// (a face without holds none), so that scans of the placed points skip the
-// inside of the faces far from the cap.
+// The columns j of a row of a face's points that may hold placed ones:
+// [first, last], none when first > last.
+struct Span {
+    int64_t first = 1, last = 0;
+    bool empty() const { return first > last; }
+    void add(int64_t j) {
+        first = empty() ? j : std::min(first, j), last = std::max(last, j);
+    }
+};
+// Each inner row of each face keeps the span of its placed points, so that
+// the scans of a regional lattice visit what lies near the cap only.
 class Placed {
 public:
     Placed() = default;  // all
-    Placed(int64_t size, int faces) : flag_(size), face_(static_cast<size_t>(faces), 0) {}
+    explicit Placed(const LatticeIndex &index) : flag_(index.size()), span_(static_cast<size_t>(index.row_count())) {}
     bool all() const { return flag_.empty(); }
     bool operator[](int64_t p) const { return flag_.empty() || flag_[p]; }
     void set(int64_t p, bool placed) { flag_[p] = placed; }
-    bool face(int f) const { return face_.empty() || face_[static_cast<size_t>(f)]; }
-    void set_face(int f) { face_[static_cast<size_t>(f)] = 1; }
+    // Inner row `row` (numbered as LatticeIndex::row_count says) of the
+    // frequency-n lattice, row i of its face.
+    Span span(int64_t row, int64_t n, int64_t i) const {
+        return span_.empty() ? Span{1, n - 1 - i} : span_[static_cast<size_t>(row)];
+    }
+    void set_span(int64_t row, Span s) { span_[static_cast<size_t>(row)] = s; }
 
 private:
     PointFlags flag_;
-    std::vector<uint8_t> face_;
+    std::vector<Span> span_;
 };
 
-// Calls scan(first, end) for the ranges of points that may be placed: the
-// corners and edge points, then the inside of each face that may hold any.
+// Calls scan(first, end), in parallel, on ranges holding every point that
+// may be placed: the corners and edge points, and each inner row's span.
 template <class Scan>
-void for_each_placeable(const LatticeIndex &index, const Placed &placed, Scan &&scan) {
-    scan(int64_t{0}, index.outline_end());
-    for (int f = 0; f < index.face_count(); ++f)
-        if (placed.face(f)) scan(index.inner_begin(f), f + 1 < index.face_count() ? index.inner_begin(f + 1) : index.size());
+void scan_placeable(Context &ctx, const LatticeIndex &index, const Placed &placed, Scan &&scan) {
+    ctx.parallel_for(index.outline_end(), 4096, [&](int64_t b, int64_t e) { scan(b, e); });
+    const int64_t n = index.frequency();
+    ctx.parallel_for(index.row_count(), 16, [&](int64_t b, int64_t e) {
+        for (int64_t row = b; row < e; ++row) {
+            const int f = static_cast<int>(row / (n - 2));
+            const int64_t i = row % (n - 2) + 1;
+            const Span s = placed.span(row, n, i);
+            if (!s.empty()) scan(index.at(f, i, s.first), index.at(f, i, s.last) + 1);
+        }
+    });
+}
+
+// The columns J (0 .. m - I) of the placed points of row I (0 .. m) of face
+// f, its sides and corners included.
+Span closed_row(const LatticeIndex &index, const Placed &placed, int f, int64_t I) {
+    const int64_t m = index.frequency();
+    if (placed.all()) return {0, m - I};
+    Span s;
+    if (I >= 1 && I <= m - 2) {
+        if (placed[index.at(f, I, 0)]) s.add(0);
+        const Span inner = placed.span(f * (m - 2) + I - 1, m, I);
+        if (!inner.empty()) s.add(inner.first), s.add(inner.last);
+        if (placed[index.at(f, I, m - I)]) s.add(m - I);
+        return s;
+    }
+    for (int64_t J = 0; J <= m - I; ++J)
+        if (placed[index.at(f, I, J)]) s.add(J);
+    return s;
 }
 
 // How far from a cap's centre the frequency-n lattice is relaxed, and
@@ -343,11 +374,8 @@ std::unique_ptr<Active> active_within(Context &ctx, const LatticeIndex &index, c
     const double least_cos = std::cos(reach);
     auto active = std::make_unique<Active>();
     active->point = PointFlags(static_cast<int64_t>(points.size()));
-    for_each_placeable(index, placed, [&](int64_t first, int64_t end) {
-        ctx.parallel_for(end - first, 4096, [&](int64_t b, int64_t e) {
-            for (int64_t p = first + b; p < first + e; ++p)
-                active->point[p] = placed[p] && geom::dot(points[p], cap->centre) >= least_cos;
-        });
+    scan_placeable(ctx, index, placed, [&](int64_t first, int64_t end) {
+        for (int64_t p = first; p < end; ++p) active->point[p] = placed[p] && geom::dot(points[p], cap->centre) >= least_cos;
     });
     const int64_t edge_items = index.edge_count();
     active->item.assign(static_cast<size_t>(edge_items + index.row_count()), 0);
@@ -357,9 +385,9 @@ std::unique_ptr<Active> active_within(Context &ctx, const LatticeIndex &index, c
             for (int64_t s = 1; s < n; ++s) any |= active->point[index.on_edge(static_cast<int>(item), s)];
         } else {
             const int f = static_cast<int>((item - edge_items) / (n - 2));
-            if (!placed.face(f)) continue;  // nothing placed inside: nothing moves
             const int64_t i = (item - edge_items) % (n - 2) + 1, row = index.at(f, i, 1);
-            for (int64_t j = 1; i + j < n; ++j) any |= active->point[row + j - 1];
+            const Span placed_here = placed.span(item - edge_items, n, i);  // (none active beyond)
+            for (int64_t j = placed_here.first; j <= placed_here.last; ++j) any |= active->point[row + j - 1];
         }
         active->item[item] = any;
     }
@@ -377,11 +405,9 @@ void relax(Context &ctx, const LatticeIndex &index, Points &points, int sweeps, 
     // the others keep their places in both buffers.
     Points next(points.size());
     if (active)
-        for_each_placeable(index, placed, [&](int64_t first, int64_t end) {
-            ctx.parallel_for(end - first, 4096, [&](int64_t b, int64_t e) {
-                for (int64_t p = first + b; p < first + e; ++p)
-                    if (placed[p]) next[p] = points[p];
-            });
+        scan_placeable(ctx, index, placed, [&](int64_t first, int64_t end) {
+            for (int64_t p = first; p < end; ++p)
+                if (placed[p]) next[p] = points[p];
         });
     double rest = spring_sweep(ctx, index, edge_nbrs, points, next, 0, active).mean();
     for (int k = 0; k < sweeps; ++k) {
@@ -401,11 +427,8 @@ Points interpolate(Context &ctx, const LatticeIndex &coarse, const Points &at, c
     const int64_t m = coarse.frequency(), n = fine.frequency();
     const bool regional = cap && placed_reach(*cap, n) < M_PI;
     const double least_cos = regional ? std::cos(placed_reach(*cap, n)) : -2.0;
-    placed = regional ? Placed(fine.size(), fine.face_count()) : Placed();
+    placed = regional ? Placed(fine) : Placed();
     Points points(static_cast<size_t>(fine.size()));
-    // Whether each edge, and each face's inner row, holds a placed point.
-    std::vector<uint8_t> edge_placed(static_cast<size_t>(fine.edge_count()), 0),
-        row_placed(static_cast<size_t>(fine.row_count()), 0);
     auto place = [&](int64_t p, const Vec3 &x) {
         points[p] = x;
         const bool within = !regional || geom::dot(x, cap->centre) >= least_cos;
@@ -422,20 +445,29 @@ Points interpolate(Context &ctx, const LatticeIndex &coarse, const Points &at, c
             const double w = static_cast<double>(s * m - S * n) / static_cast<double>(n);
             const int64_t a = coarse.on_edge(e, S), b = w > 0 ? coarse.on_edge(e, S + 1) : a;
             if (!at_placed[a] || !at_placed[b]) continue;
-            if (place(fine.on_edge(e, s), w > 0 ? geom::normalized((1 - w) * at[a] + w * at[b]) : at[a]))
-                edge_placed[static_cast<size_t>(e)] = 1;
+            place(fine.on_edge(e, s), w > 0 ? geom::normalized((1 - w) * at[a] + w * at[b]) : at[a]);
         }
+    // Each coarse face's rows' placed columns, sides included.
+    std::vector<Span> coarse_rows(static_cast<size_t>(coarse.face_count() * (m + 1)));
+    for (int f = 0; f < coarse.face_count(); ++f)
+        for (int64_t I = 0; I <= m; ++I) coarse_rows[static_cast<size_t>(f * (m + 1) + I)] = closed_row(coarse, at_placed, f, I);
     const double scale = 1.0 / static_cast<double>(n);
     ctx.parallel_for(fine.row_count(), 16, [&](int64_t b, int64_t e) {
         for (int64_t row = b; row < e; ++row) {
             const int f = static_cast<int>(row / (n - 2));
-            // A point inside is placed from three of the coarse face's
-            // points, at most one a corner: none without a placed point
-            // inside the coarse face or on its sides.
-            if (!at_placed.face(f)) continue;
-            const int64_t i = row % (n - 2) + 1;
-            for (int64_t j = 1; i + j < n; ++j) {
-                const int64_t I = i * m / n, J = j * m / n;
+            const int64_t i = row % (n - 2) + 1, I = i * m / n;
+            // A point (i, j) is placed only if its coarse points (I + 1, J)
+            // and (I, J + 1) are (J = j m / n, below): the columns J
+            // both coarse rows allow, and the j that fall in them.
+            const Span &lower_row = coarse_rows[static_cast<size_t>(f * (m + 1) + I)],
+                       &upper_row = coarse_rows[static_cast<size_t>(f * (m + 1) + I + 1)];
+            const int64_t J_first = std::max(upper_row.first, lower_row.first - 1),
+                          J_last = std::min(upper_row.last, lower_row.last - 1);
+            const int64_t j_first = std::max<int64_t>(1, (J_first * n + m - 1) / m),
+                          j_last = std::min(n - 1 - i, ((J_last + 1) * n - 1) / m);
+            Span found;
+            for (int64_t j = j_first; !lower_row.empty() && !upper_row.empty() && j <= j_last; ++j) {
+                const int64_t J = j * m / n;
                 const int64_t ri = i * m - I * n, rj = j * m - J * n;  // the fractions' numerators
                 const double fi = static_cast<double>(ri) * scale, fj = static_cast<double>(rj) * scale;
                 const bool lower = ri + rj <= n;
@@ -444,17 +476,11 @@ Points interpolate(Context &ctx, const LatticeIndex &coarse, const Points &at, c
                 if (!at_placed[p0] || !at_placed[p1] || !at_placed[p2]) continue;
                 const Vec3 p = lower ? (1 - fi - fj) * at[p0] + fi * at[p1] + fj * at[p2]
                                      : (fi + fj - 1) * at[p0] + (1 - fj) * at[p1] + (1 - fi) * at[p2];
-                if (place(fine.at(f, i, j), geom::normalized(p))) row_placed[static_cast<size_t>(row)] = 1;
+                if (place(fine.at(f, i, j), geom::normalized(p))) found.add(j);
             }
+            if (regional) placed.set_span(row, found);
         }
     });
-    if (regional)
-        for (int f = 0; f < fine.face_count(); ++f) {
-            bool any = false;
-            for (int e : fine.face_edges(f)) any = any || edge_placed[static_cast<size_t>(e)];
-            for (int64_t i = 0; i < n - 2 && !any; ++i) any = row_placed[static_cast<size_t>(f * (n - 2) + i)];
-            if (any) placed.set_face(f);
-        }
     return points;
 }
 
@@ -514,13 +540,18 @@ LatticeRegion relaxed_lattice_region(Context &ctx, int64_t n, const Cap &cap) {
     // pushed one at a time, the vectors grew by copies.)
     LatticeRegion region;
     const LatticeIndex index(n);
-    for_each_placeable(index, placed, [&](int64_t first, int64_t end) {
-        const std::vector<int64_t> found =
-            ctx.collect_in_order<int64_t>(end - first, 1 << 16, [&](int64_t i, std::vector<int64_t> &out) {
-                if (placed[first + i]) out.push_back(first + i);
-            });
-        region.index.insert(region.index.end(), found.begin(), found.end());
+    region.index = ctx.collect_in_order<int64_t>(index.outline_end(), 1 << 16, [&](int64_t p, std::vector<int64_t> &out) {
+        if (placed[p]) out.push_back(p);
     });
+    const std::vector<int64_t> inside =
+        ctx.collect_in_order<int64_t>(index.row_count(), 64, [&](int64_t row, std::vector<int64_t> &out) {
+            const int f = static_cast<int>(row / (n - 2));
+            const int64_t i = row % (n - 2) + 1;
+            const Span s = placed.span(row, n, i);
+            for (int64_t j = s.first; j <= s.last; ++j)
+                if (placed[index.at(f, i, j)]) out.push_back(index.at(f, i, j));
+        });
+    region.index.insert(region.index.end(), inside.begin(), inside.end());
     region.points.resize(region.index.size());
     ctx.parallel_for(static_cast<int64_t>(region.index.size()), 1 << 14, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) region.points[i] = points[region.index[i]];
