@@ -11,10 +11,15 @@ process of its own with the command line's default outputs; and, with
     global coast     the shipped coastlines (data/coast_global_l.geojson) at H
     atlantic coast   the North Atlantic box with the same coastlines
     pacific coast    the Pacific box with the same coastlines (its islands)
+    small            a 4 x 4 degree box (lon -40..-36, lat 20..24), uniform H
+                     (about 250 cells at 30 km: run it with --km 2, say)
 
 For each it prints the cells of mesh.nc (and of the whole triangulation,
-with the cover outside the domain), the refinement, optimisation and MPAS
-stage in seconds, the wall time, and the mesh's time (refine + optimise) and
+with the cover outside the domain), how many of the cells away from the
+boundary (bdyMaskCell 0) are not hexagons (the lattice's defects: 12 on a
+global mesh; read with python3-netcdf4 when installed), the refinement,
+optimisation and MPAS stage in seconds, the wall time, and the mesh's time
+(refine + optimise) and
 the wall per cell of mesh.nc, with their ratio to the global case of the same
 features. With --match-cells each box is run once more at the spacing that
 gives it about as many cells as its global case (rows "... as global"): the
@@ -37,9 +42,24 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 COAST = os.path.join(ROOT, "data", "coast_global_l.geojson")
 BOXES = {"atlantic": [[-80, 10], [-5, 10], [-5, 65], [-80, 65], [-80, 10]],
-         "pacific": [[160, -20], [-160, -20], [-160, 20], [160, 20], [160, -20]]}
+         "pacific": [[160, -20], [-160, -20], [-160, 20], [160, 20], [160, -20]],
+         "small": [[-40, 20], [-36, 20], [-36, 24], [-40, 24], [-40, 20]]}
 CASES = {"global": (None, False), "atlantic": ("atlantic", False), "pacific": ("pacific", False),
-         "global coast": (None, True), "atlantic coast": ("atlantic", True), "pacific coast": ("pacific", True)}
+         "global coast": (None, True), "atlantic coast": ("atlantic", True), "pacific coast": ("pacific", True),
+         "small": ("small", False)}
+
+
+def not_hexagons(mesh_nc):
+    """Cells away from the boundary with other than six sides, or None
+    without python3-netcdf4."""
+    try:
+        from netCDF4 import Dataset
+    except ImportError:
+        return None
+    with Dataset(mesh_nc) as d:
+        sides = d["nEdgesOnCell"][:]
+        inside = d["bdyMaskCell"][:] == 0 if "bdyMaskCell" in d.variables else sides == sides
+        return int((sides[inside] != 6).sum())
 
 
 def run_case(cli, km, threads, box, coast, surface, folder):
@@ -63,7 +83,8 @@ def run_case(cli, km, threads, box, coast, surface, folder):
     mpas = re.search(r"MPAS mesh ([\d.]+) s", r.stdout)
     cells = int(mesh.group(1))
     return {"cells": cells, "all": int(mesh.group(2) or cells), "refine": float(mesh.group(3)),
-            "optimise": float(mesh.group(4)), "mpas": float(mpas.group(1)), "wall": wall}
+            "optimise": float(mesh.group(4)), "mpas": float(mpas.group(1)), "wall": wall,
+            "not_hexagons": not_hexagons(os.path.join(folder, "out", "mesh.nc"))}
 
 
 def main():
@@ -99,12 +120,14 @@ def main():
                     r = run_case(args.cli, matched, args.threads, box, coast, surface, folder)
                 results[(surface, f"{name} at {matched} km, as global")] = r
     print(f"regional against global meshes at {km} km, {args.threads} threads")
-    print("| surface | case | cells | with the cover | refine | optimise | MPAS | wall | mesh per cell | wall per cell |")
-    print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+    print("| surface | case | cells | with the cover | not hexagons | refine | optimise | MPAS | wall | mesh per cell "
+          "| wall per cell |")
+    print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
     for (surface, name), r in results.items():
         if "error" in r:
-            print(f"| {surface} | {name} | {r['error']} | | | | | | | |")
+            print(f"| {surface} | {name} | {r['error']} | | | | | | | | |")
             continue
+        defects = "-" if r["not_hexagons"] is None else f"{r['not_hexagons']:,}"
         mesh_us = 1e6 * (r["refine"] + r["optimise"]) / r["cells"]
         wall_us = 1e6 * r["wall"] / r["cells"]
         base = results.get((surface, "global coast" if "coast" in name else "global"))
@@ -112,7 +135,8 @@ def main():
                                    if base and "error" not in base and base is not r else "")
         mesh_of = lambda b: 1e6 * (b["refine"] + b["optimise"]) / b["cells"]
         wall_of = lambda b: 1e6 * b["wall"] / b["cells"]
-        print(f"| {surface} | {name} | {r['cells']:,} | {r['all']:,} | {r['refine']:.2f} s | {r['optimise']:.2f} s | "
+        print(f"| {surface} | {name} | {r['cells']:,} | {r['all']:,} | {defects} | {r['refine']:.2f} s | "
+              f"{r['optimise']:.2f} s | "
               f"{r['mpas']:.2f} s | {r['wall']:.2f} s | {mesh_us:.1f} us{ratio(mesh_us, mesh_of)} | "
               f"{wall_us:.1f} us{ratio(wall_us, wall_of)} |")
 
