@@ -63,11 +63,7 @@ std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, cons
     const double h0 = coarsest_spacing(ctx, h, domain);
     // No larger lattice than one triangulation build takes (above that, 1.48
     // km uniform and finer, the refinement starts from the icosahedron).
-    int64_t n = lattice_frequency(h0, int64_t{1} << tri::kBrioIndexBits);
-    if (domain) {
-        const double needed = domain->area() / (0.8660254037844386 * h0 * h0);
-        if (10.0 * n * n > std::max(kRegionalLatticeRatio * needed, double(kRegionalLatticeFloor))) n = 0;
-    }
+    const int64_t n = lattice_frequency(h0, int64_t{1} << tri::kBrioIndexBits);
     // (Relaxed, and placed, only around a domain that a cap smaller than a
     // hemisphere holds: the corners first, then the points around the cap.)
     const int64_t frequency = std::max<int64_t>(n, 1);

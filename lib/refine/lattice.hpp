@@ -25,21 +25,15 @@ int64_t lattice_frequency(double spacing, int64_t max_points);
 // For a uniform spacing that is the whole lattice but for a band along
 // Gamma; for a graded one the background where it is flat (beyond the
 // refined regions), the rest being the frontal refinement's. Only the
-// corners when no lattice point qualifies or the lattice would exceed 2^31
-// points.
+// corners when no lattice point qualifies or the whole sphere's lattice
+// would exceed 2^tri::kBrioIndexBits points (h0 finer than about 1.5 km).
 //
 // With a domain (a regional mesh): h0 is the coarsest spacing inside it,
 // and only lattice points inside it are kept (and the corners outside, for
-// the cover); no lattice when the whole sphere's would hold more than
-// kRegionalLatticeRatio times the points the domain needs and over
-// kRegionalLatticeFloor points (a small fine domain). The lattice is
-// relaxed and placed around the domain only, but its levels still index
-// the whole sphere's points (about 30 ns each), while a domain refined
-// from the icosahedron instead needs the re-seeding rounds and more
-// optimisation (about 25-50 us more per cell): the ratio is about half
-// where the two cost the same (tools/bench/HISTORY.md).
-constexpr double kRegionalLatticeRatio = 600;
-constexpr int64_t kRegionalLatticeFloor = int64_t(1) << 21;
+// the cover). The lattice is relaxed and placed around the domain only,
+// at a cost that goes with the domain's area, so that a domain of any size
+// starts from it: refined from the icosahedron instead, a domain needs the
+// re-seeding rounds and more optimisation, and keeps more defects.
 std::vector<geom::Vec3> background_lattice(Context &ctx, const SpacingRadians &h, const geom::ArcTree &gamma,
                                            const features::Domain *domain = nullptr);
 
