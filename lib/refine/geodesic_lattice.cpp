@@ -100,6 +100,16 @@ Vec3 row_point(const Vec3 &a, const Vec3 &b, const Vec3 &c, int64_t i, int64_t k
     return slerp(from, to, static_cast<double>(k) / static_cast<double>(n - i));
 }
 
+// The columns j of a row of a face's points that may hold placed ones:
+// [first, last], none when first > last.
+struct Span {
+    int64_t first = 1, last = 0;
+    bool empty() const { return first > last; }
+    void add(int64_t j) {
+        first = empty() ? j : std::min(first, j), last = std::max(last, j);
+    }
+};
+
 // Where each point of the frequency-n lattice sits in geodesic_lattice's
 // order: the 12 corners, the 30 edges' inner points (edge (a, b), a < b, in
 // the order of the corners' pairs, from a to b), the 20 faces' inner points
@@ -108,7 +118,7 @@ Vec3 row_point(const Vec3 &a, const Vec3 &b, const Vec3 &c, int64_t i, int64_t k
 // k = n - i - j of its corners a, b, c.
 class LatticeIndex {
 public:
-    explicit LatticeIndex(int64_t n) : n_(n) {
+    explicit LatticeIndex(int64_t n) : n_(n), size_(10 * n * n + 2) {
         const std::array<Vec3, 12> corner = icosahedron_corners();
         edge_of_.fill({});
         for (auto &row : edge_of_) row.fill(-1);
@@ -124,8 +134,24 @@ public:
                     if (edge_of_[a][b] >= 0 && edge_of_[b][c] >= 0 && edge_of_[a][c] >= 0) faces_.push_back({a, b, c});
     }
 
+    // The same lattice holding, of each face's inner row (numbered as
+    // row_count says), only the columns kept[row]: a regional level, whose
+    // points beyond them are never placed. The points held keep their order
+    // and are numbered without the others (global_at: the whole lattice's
+    // numbers).
+    LatticeIndex(int64_t n, const std::vector<Span> &kept) : LatticeIndex(n) {
+        kept_ = kept;
+        origin_.resize(kept.size());
+        int64_t next = outline_end();
+        for (size_t row = 0; row < kept.size(); ++row) {
+            origin_[row] = next - kept[row].first;
+            if (!kept[row].empty()) next += kept[row].last - kept[row].first + 1;
+        }
+        size_ = next;
+    }
+
     int64_t frequency() const { return n_; }
-    int64_t size() const { return 10 * n_ * n_ + 2; }
+    int64_t size() const { return size_; }  // the points held
     int edge_count() const { return static_cast<int>(edges_.size()); }
     int face_count() const { return static_cast<int>(faces_.size()); }
     const std::array<int, 2> &edge(int e) const { return edges_[e]; }
@@ -148,7 +174,19 @@ public:
         if (k == 0) return on_edge(edge_of_[c[0]][c[1]], j);
         if (j == 0) return on_edge(edge_of_[c[0]][c[2]], k);
         if (i == 0) return on_edge(edge_of_[c[1]][c[2]], k);
-        return inner_begin(f) + (i - 1) * (n_ - 1) - (i - 1) * i / 2 + (j - 1);
+        return row_origin(f, i) + j;
+    }
+    // (i, j) of face f in the whole lattice's numbering.
+    int64_t global_at(int f, int64_t i, int64_t j) const {
+        return i == 0 || j == 0 || i + j == n_ ? at(f, i, j) : dense_origin(f, i) + j;
+    }
+    // Inner row i of face f: its point (i, j) is row_origin(f, i) + j, for
+    // the columns it holds.
+    int64_t row_origin(int f, int64_t i) const {
+        return origin_.empty() ? dense_origin(f, i) : origin_[static_cast<size_t>(f * (n_ - 2) + i - 1)];
+    }
+    Span held(int64_t row, int64_t i) const {
+        return kept_.empty() ? Span{1, n_ - 1 - i} : kept_[static_cast<size_t>(row)];
     }
 
     // A face's inner rows, numbered f * (n - 2) + (i - 1) for i = 1 .. n-2.
@@ -158,9 +196,13 @@ public:
     int64_t outline_end() const { return 12 + edge_count() * (n_ - 1); }
 
 private:
-    int64_t inner_begin(int f) const { return outline_end() + f * (n_ - 1) * (n_ - 2) / 2; }
+    int64_t dense_origin(int f, int64_t i) const {
+        return outline_end() + f * (n_ - 1) * (n_ - 2) / 2 + (i - 1) * (n_ - 1) - (i - 1) * i / 2 - 1;
+    }
 
-    int64_t n_;
+    int64_t n_, size_;
+    std::vector<int64_t> origin_;
+    std::vector<Span> kept_;
     std::array<std::array<int, 12>, 12> edge_of_{};
     std::vector<std::array<int, 2>> edges_;
     std::vector<std::array<int, 3>> faces_;
@@ -254,13 +296,16 @@ Chords spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<s
             }
             const int f = static_cast<int>((item - edge_items) / (n - 2));
             const int64_t i = (item - edge_items) % (n - 2) + 1;
-            // Rows i - 1, i, i + 1 of the face (j from 1): away from the
-            // face's sides the six neighbours are at fixed offsets.
-            const int64_t row = index.at(f, i, 1), below = row - (n - i), above = row + (n - 1 - i);
-            for (int64_t j = 1; i + j < n; ++j) {
-                const int64_t p = row + j - 1;
+            // Rows i - 1, i, i + 1 of the face: away from the face's sides
+            // the six neighbours are at fixed offsets from the rows' origins.
+            const int64_t row = index.row_origin(f, i);
+            const int64_t below = i >= 2 ? index.row_origin(f, i - 1) : 0,
+                          above = i <= n - 3 ? index.row_origin(f, i + 1) : 0;
+            const Span held = index.held(item - edge_items, i);
+            for (int64_t j = held.first; j <= held.last; ++j) {
+                const int64_t p = row + j;
                 if (i >= 2 && j >= 2 && i + j <= n - 2) {
-                    const int64_t nbrs[6] = {above + j - 1, below + j - 1, p + 1, p - 1, above + j - 2, below + j};
+                    const int64_t nbrs[6] = {above + j, below + j, p + 1, p - 1, above + j - 1, below + j + 1};
                     place(p, nbrs, 6, sum);
                     continue;
                 }
@@ -288,15 +333,6 @@ Chords spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<s
 // whose coarser points (those its placement reads) are placed, if it is
 // within kHeldMargin edge lengths beyond the points the relaxation moves.
 // All of them without a cap, or when that reaches round the sphere.
-// The columns j of a row of a face's points that may hold placed ones:
-// [first, last], none when first > last.
-struct Span {
-    int64_t first = 1, last = 0;
-    bool empty() const { return first > last; }
-    void add(int64_t j) {
-        first = empty() ? j : std::min(first, j), last = std::max(last, j);
-    }
-};
 // Each inner row of each face keeps the span of its placed points, so that
 // the scans of a regional lattice visit what lies near the cap only.
 class Placed {
@@ -375,7 +411,8 @@ std::unique_ptr<Active> active_within(Context &ctx, const LatticeIndex &index, c
     auto active = std::make_unique<Active>();
     active->point = PointFlags(static_cast<int64_t>(points.size()));
     scan_placeable(ctx, index, placed, [&](int64_t first, int64_t end) {
-        for (int64_t p = first; p < end; ++p) active->point[p] = placed[p] && geom::dot(points[p], cap->centre) >= least_cos;
+        for (int64_t p = first; p < end; ++p)
+            active->point[p] = placed[p] && geom::dot(points[p], cap->centre) >= least_cos;
     });
     const int64_t edge_items = index.edge_count();
     active->item.assign(static_cast<size_t>(edge_items + index.row_count()), 0);
@@ -385,9 +422,9 @@ std::unique_ptr<Active> active_within(Context &ctx, const LatticeIndex &index, c
             for (int64_t s = 1; s < n; ++s) any |= active->point[index.on_edge(static_cast<int>(item), s)];
         } else {
             const int f = static_cast<int>((item - edge_items) / (n - 2));
-            const int64_t i = (item - edge_items) % (n - 2) + 1, row = index.at(f, i, 1);
+            const int64_t i = (item - edge_items) % (n - 2) + 1, row = index.row_origin(f, i);
             const Span placed_here = placed.span(item - edge_items, n, i);  // (none active beyond)
-            for (int64_t j = placed_here.first; j <= placed_here.last; ++j) any |= active->point[row + j - 1];
+            for (int64_t j = placed_here.first; j <= placed_here.last; ++j) any |= active->point[row + j];
         }
         active->item[item] = any;
     }
@@ -417,18 +454,66 @@ void relax(Context &ctx, const LatticeIndex &index, Points &points, int sweeps, 
     }
 }
 
+// A level of the relaxation: its lattice (holding, for a regional one, only
+// what its placement may fill), its points and which of them are placed.
+struct Level {
+    LatticeIndex index;
+    Points points;
+    Placed placed;
+};
+
+// The columns J (0 .. m - I) of the placed points of each row I (0 .. m) of
+// each face of `coarse`, sides and corners included: face f's row I at
+// f * (m + 1) + I.
+std::vector<Span> closed_rows(const Level &coarse) {
+    const int64_t m = coarse.index.frequency();
+    std::vector<Span> rows(static_cast<size_t>(coarse.index.face_count() * (m + 1)));
+    for (int f = 0; f < coarse.index.face_count(); ++f)
+        for (int64_t I = 0; I <= m; ++I)
+            rows[static_cast<size_t>(f * (m + 1) + I)] = closed_row(coarse.index, coarse.placed, f, I);
+    return rows;
+}
+
+// The columns j of the frequency-n row i whose points the coarse rows I
+// and I + 1 (I = i m / n) may place: a point (i, j) is placed only if its
+// coarse points (I + 1, J) and (I, J + 1) are (J = j m / n).
+Span placeable(const Span &lower_row, const Span &upper_row, int64_t m, int64_t n, int64_t i) {
+    if (lower_row.empty() || upper_row.empty()) return {};
+    const int64_t J_first = std::max(upper_row.first, lower_row.first - 1),
+                  J_last = std::min(upper_row.last, lower_row.last - 1);
+    if (J_first > J_last) return {};
+    return {std::max<int64_t>(1, (J_first * n + m - 1) / m), std::min(n - 1 - i, ((J_last + 1) * n - 1) / m)};
+}
+
 // The frequency-n lattice placed in the relaxed coarser one: each point at
 // its barycentric place in the coarse triangle (or along the coarse edge)
 // that holds it, back on the sphere. With a cap, only the points whose
 // coarse points are placed, and of those `placed` keeps the ones within its
-// reach.
-Points interpolate(Context &ctx, const LatticeIndex &coarse, const Points &at, const Placed &at_placed,
-                   const LatticeIndex &fine, const Cap *cap, Placed &placed) {
-    const int64_t m = coarse.frequency(), n = fine.frequency();
+// reach; the level then holds only the rows' columns that may be placed.
+Level interpolate(Context &ctx, const Level &coarse, int64_t n, const Cap *cap) {
+    const LatticeIndex &ci = coarse.index;
+    const Points &at = coarse.points;
+    const Placed &at_placed = coarse.placed;
+    const int64_t m = ci.frequency();
     const bool regional = cap && placed_reach(*cap, n) < M_PI;
     const double least_cos = regional ? std::cos(placed_reach(*cap, n)) : -2.0;
-    placed = regional ? Placed(fine) : Placed();
-    Points points(static_cast<size_t>(fine.size()));
+    const std::vector<Span> coarse_rows = closed_rows(coarse);
+    auto coarse_row = [&](int f, int64_t I) -> const Span & {
+        return coarse_rows[static_cast<size_t>(f * (m + 1) + I)];
+    };
+    const LatticeIndex dense(n);
+    std::vector<Span> kept(static_cast<size_t>(dense.row_count()));
+    for (int64_t row = 0; row < dense.row_count(); ++row) {
+        const int f = static_cast<int>(row / (n - 2));
+        const int64_t i = row % (n - 2) + 1, I = i * m / n;
+        kept[static_cast<size_t>(row)] = placeable(coarse_row(f, I), coarse_row(f, I + 1), m, n, i);
+    }
+    Level fine{regional ? LatticeIndex(n, kept) : dense, Points(), Placed()};
+    const LatticeIndex &held_index = fine.index;
+    fine.points.resize(static_cast<size_t>(held_index.size()));
+    if (regional) fine.placed = Placed(held_index);
+    Points &points = fine.points;
+    Placed &placed = fine.placed;
     auto place = [&](int64_t p, const Vec3 &x) {
         points[p] = x;
         const bool within = !regional || geom::dot(x, cap->centre) >= least_cos;
@@ -439,69 +524,56 @@ Points interpolate(Context &ctx, const LatticeIndex &coarse, const Points &at, c
         points[c] = at[c];
         if (regional) placed.set(c, true);
     }
-    for (int e = 0; e < fine.edge_count(); ++e)
+    for (int e = 0; e < held_index.edge_count(); ++e)
         for (int64_t s = 1; s < n; ++s) {
             const int64_t S = s * m / n;
             const double w = static_cast<double>(s * m - S * n) / static_cast<double>(n);
-            const int64_t a = coarse.on_edge(e, S), b = w > 0 ? coarse.on_edge(e, S + 1) : a;
+            const int64_t a = ci.on_edge(e, S), b = w > 0 ? ci.on_edge(e, S + 1) : a;
             if (!at_placed[a] || !at_placed[b]) continue;
-            place(fine.on_edge(e, s), w > 0 ? geom::normalized((1 - w) * at[a] + w * at[b]) : at[a]);
+            place(held_index.on_edge(e, s), w > 0 ? geom::normalized((1 - w) * at[a] + w * at[b]) : at[a]);
         }
-    // Each coarse face's rows' placed columns, sides included.
-    std::vector<Span> coarse_rows(static_cast<size_t>(coarse.face_count() * (m + 1)));
-    for (int f = 0; f < coarse.face_count(); ++f)
-        for (int64_t I = 0; I <= m; ++I) coarse_rows[static_cast<size_t>(f * (m + 1) + I)] = closed_row(coarse, at_placed, f, I);
     const double scale = 1.0 / static_cast<double>(n);
-    ctx.parallel_for(fine.row_count(), 16, [&](int64_t b, int64_t e) {
+    ctx.parallel_for(held_index.row_count(), 16, [&](int64_t b, int64_t e) {
         for (int64_t row = b; row < e; ++row) {
             const int f = static_cast<int>(row / (n - 2));
             const int64_t i = row % (n - 2) + 1, I = i * m / n;
-            // A point (i, j) is placed only if its coarse points (I + 1, J)
-            // and (I, J + 1) are (J = j m / n, below): the columns J
-            // both coarse rows allow, and the j that fall in them.
-            const Span &lower_row = coarse_rows[static_cast<size_t>(f * (m + 1) + I)],
-                       &upper_row = coarse_rows[static_cast<size_t>(f * (m + 1) + I + 1)];
-            const int64_t J_first = std::max(upper_row.first, lower_row.first - 1),
-                          J_last = std::min(upper_row.last, lower_row.last - 1);
-            const int64_t j_first = std::max<int64_t>(1, (J_first * n + m - 1) / m),
-                          j_last = std::min(n - 1 - i, ((J_last + 1) * n - 1) / m);
+            const Span &lower_row = coarse_row(f, I), &upper_row = coarse_row(f, I + 1);
+            const Span columns = kept[static_cast<size_t>(row)];
             Span found;
-            for (int64_t j = j_first; !lower_row.empty() && !upper_row.empty() && j <= j_last; ++j) {
+            for (int64_t j = columns.first; j <= columns.last; ++j) {
                 const int64_t J = j * m / n;
                 const int64_t ri = i * m - I * n, rj = j * m - J * n;  // the fractions' numerators
                 const double fi = static_cast<double>(ri) * scale, fj = static_cast<double>(rj) * scale;
                 const bool lower = ri + rj <= n;
-                const int64_t p0 = lower ? coarse.at(f, I, J) : coarse.at(f, I + 1, J + 1),
-                              p1 = coarse.at(f, I + 1, J), p2 = coarse.at(f, I, J + 1);
+                // (I, J) or (I + 1, J + 1): read only within its row's
+                // placed columns (a regional coarse level holds no others).
+                if (lower ? J < lower_row.first : J + 1 > upper_row.last) continue;
+                const int64_t p0 = lower ? ci.at(f, I, J) : ci.at(f, I + 1, J + 1),
+                              p1 = ci.at(f, I + 1, J), p2 = ci.at(f, I, J + 1);
                 if (!at_placed[p0] || !at_placed[p1] || !at_placed[p2]) continue;
                 const Vec3 p = lower ? (1 - fi - fj) * at[p0] + fi * at[p1] + fj * at[p2]
                                      : (fi + fj - 1) * at[p0] + (1 - fj) * at[p1] + (1 - fi) * at[p2];
-                if (place(fine.at(f, i, j), geom::normalized(p))) found.add(j);
+                if (place(held_index.at(f, i, j), geom::normalized(p))) found.add(j);
             }
             if (regional) placed.set_span(row, found);
         }
     });
-    return points;
+    return fine;
 }
 
 // The relaxed frequency-n lattice (around a cap, when given: the points
-// `placed` says).
-Points relaxed_lattice(Context &ctx, int64_t n, const Cap *cap, Placed &placed) {
+// its `placed` says).
+Level relaxed_lattice(Context &ctx, int64_t n, const Cap *cap) {
     if (n <= kCoarsest) {
         const std::vector<Vec3> start = geodesic_lattice(n);
-        Points points(start.begin(), start.end());
-        placed = Placed();
-        relax(ctx, LatticeIndex(n), points, kCoarseSweeps, nullptr, placed);
-        return points;
+        Level level{LatticeIndex(n), Points(start.begin(), start.end()), Placed()};
+        relax(ctx, level.index, level.points, kCoarseSweeps, nullptr, level.placed);
+        return level;
     }
-    const LatticeIndex coarse((n + 1) / 2), fine(n);
-    Placed coarse_placed;
-    Points coarse_points = relaxed_lattice(ctx, coarse.frequency(), cap, coarse_placed);
-    Points points = interpolate(ctx, coarse, coarse_points, coarse_placed, fine, cap, placed);
-    release(coarse_points);
-    const std::unique_ptr<Active> active = active_within(ctx, fine, points, placed, cap);
-    relax(ctx, fine, points, kFineSweeps, active.get(), placed);
-    return points;
+    Level fine = interpolate(ctx, relaxed_lattice(ctx, (n + 1) / 2, cap), n, cap);
+    const std::unique_ptr<Active> active = active_within(ctx, fine.index, fine.points, fine.placed, cap);
+    relax(ctx, fine.index, fine.points, kFineSweeps, active.get(), fine.placed);
+    return fine;
 }
 
 }  // namespace
@@ -528,33 +600,41 @@ std::vector<Vec3> geodesic_lattice(int64_t n) {
 }
 
 std::vector<Vec3> relaxed_geodesic_lattice(Context &ctx, int64_t n) {
-    Placed placed;
-    const Points points = relaxed_lattice(ctx, n, nullptr, placed);
-    return std::vector<Vec3>(points.begin(), points.end());
+    const Level level = relaxed_lattice(ctx, n, nullptr);
+    return std::vector<Vec3>(level.points.begin(), level.points.end());
+}
+
+double lattice_region_points(int64_t n, const Cap &cap) {
+    const double reach = std::min(M_PI, placed_reach(cap, n));
+    const double sphere = 10.0 * static_cast<double>(n) * static_cast<double>(n) + 2;
+    return sphere * (1 - std::cos(reach)) / 2;
 }
 
 LatticeRegion relaxed_lattice_region(Context &ctx, int64_t n, const Cap &cap) {
-    Placed placed;
-    const Points points = relaxed_lattice(ctx, n, &cap, placed);
-    // (Found in parallel in fixed chunks, in the faces that may hold any:
-    // pushed one at a time, the vectors grew by copies.)
+    const Level level = relaxed_lattice(ctx, n, &cap);
+    const LatticeIndex &index = level.index;
+    const Placed &placed = level.placed;
+    // The placed points' places in the level and in the whole lattice, found
+    // in parallel in fixed chunks (pushed one at a time, the vectors grew by
+    // copies): the outline, then each row's placed columns.
+    std::vector<int64_t> held =
+        ctx.collect_in_order<int64_t>(index.outline_end(), 1 << 16, [&](int64_t p, std::vector<int64_t> &out) {
+            if (placed[p]) out.push_back(p);
+        });
     LatticeRegion region;
-    const LatticeIndex index(n);
-    region.index = ctx.collect_in_order<int64_t>(index.outline_end(), 1 << 16, [&](int64_t p, std::vector<int64_t> &out) {
-        if (placed[p]) out.push_back(p);
-    });
-    const std::vector<int64_t> inside =
-        ctx.collect_in_order<int64_t>(index.row_count(), 64, [&](int64_t row, std::vector<int64_t> &out) {
+    region.index = held;
+    const std::vector<std::array<int64_t, 2>> inside = ctx.collect_in_order<std::array<int64_t, 2>>(
+        index.row_count(), 64, [&](int64_t row, std::vector<std::array<int64_t, 2>> &out) {
             const int f = static_cast<int>(row / (n - 2));
             const int64_t i = row % (n - 2) + 1;
             const Span s = placed.span(row, n, i);
             for (int64_t j = s.first; j <= s.last; ++j)
-                if (placed[index.at(f, i, j)]) out.push_back(index.at(f, i, j));
+                if (placed[index.at(f, i, j)]) out.push_back({index.at(f, i, j), index.global_at(f, i, j)});
         });
-    region.index.insert(region.index.end(), inside.begin(), inside.end());
-    region.points.resize(region.index.size());
-    ctx.parallel_for(static_cast<int64_t>(region.index.size()), 1 << 14, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) region.points[i] = points[region.index[i]];
+    for (const auto &p : inside) held.push_back(p[0]), region.index.push_back(p[1]);
+    region.points.resize(held.size());
+    ctx.parallel_for(static_cast<int64_t>(held.size()), 1 << 14, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) region.points[i] = level.points[held[i]];
     });
     return region;
 }

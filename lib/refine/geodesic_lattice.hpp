@@ -60,5 +60,9 @@ struct LatticeRegion {
     std::vector<int64_t> index;  // ascending
 };
 LatticeRegion relaxed_lattice_region(Context &ctx, int64_t frequency, const Cap &cap);
+// About how many points relaxed_lattice_region holds at its finest
+// frequency: those within the reach of its placement around the cap (its
+// memory goes with this, not with the whole sphere's lattice).
+double lattice_region_points(int64_t frequency, const Cap &cap);
 
 }  // namespace um::refine

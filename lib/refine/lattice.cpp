@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include "tri/spatial_order.hpp"
 
@@ -61,15 +63,21 @@ bool flat_around(const SpacingRadians &h, const Vec3 &p, double h0) {
 std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, const geom::ArcTree &gamma,
                                      const features::Domain *domain) {
     const double h0 = coarsest_spacing(ctx, h, domain);
-    // No larger lattice than one triangulation build takes (above that, 1.48
-    // km uniform and finer, the refinement starts from the icosahedron).
-    const int64_t n = lattice_frequency(h0, int64_t{1} << tri::kBrioIndexBits);
     // (Relaxed, and placed, only around a domain that a cap smaller than a
     // hemisphere holds: the corners first, then the points around the cap.)
+    const std::optional<Cap> cap =
+        domain && domain->cap_radius() < M_PI / 2 ? std::optional<Cap>(Cap{domain->cap_centre(), domain->cap_radius()})
+                                                  : std::nullopt;
+    // No larger lattice than one triangulation build takes: the whole
+    // sphere's (above that, 1.48 km uniform and finer, the refinement starts
+    // from the icosahedron), or what a cap's placement holds.
+    const int64_t most = int64_t{1} << tri::kBrioIndexBits;
+    int64_t n = lattice_frequency(h0, cap ? std::numeric_limits<int64_t>::max() : most);
+    if (cap && lattice_region_points(n, *cap) > static_cast<double>(most)) n = 0;
     const int64_t frequency = std::max<int64_t>(n, 1);
     std::vector<Vec3> points;
-    if (domain && domain->cap_radius() < M_PI / 2)
-        points = relaxed_lattice_region(ctx, frequency, Cap{domain->cap_centre(), domain->cap_radius()}).points;
+    if (cap)
+        points = relaxed_lattice_region(ctx, frequency, *cap).points;
     else
         points = relaxed_geodesic_lattice(ctx, frequency);
     std::vector<uint8_t> keep(points.size(), 0);

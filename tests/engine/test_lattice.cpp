@@ -142,7 +142,8 @@ void relaxed_lattice_is_even_and_symmetric(void **) {
 // cap the lattice still (six neighbours each) and as even as the whole
 // sphere's relaxed lattice (the same spread of edges to a few thousandths),
 // its points within a small fraction of an edge of that lattice's (a
-// corner's strain reaches farthest: 0.11 edges there); the same
+// corner's strain reaches farthest: 0.11 edges there), about as many as
+// lattice_region_points estimates; the same
 // bits for any thread count. One cap holds a corner of the icosahedron
 // (five neighbours there), one crosses the antimeridian.
 void lattice_relaxed_within_a_cap(void **) {
@@ -164,6 +165,8 @@ void lattice_relaxed_within_a_cap(void **) {
                 assert_true(region.points[i].x == again.points[i].x && region.points[i].y == again.points[i].y &&
                             region.points[i].z == again.points[i].z);
             assert_true(std::is_sorted(region.index.begin(), region.index.end()));
+            const double estimate = refine::lattice_region_points(n, cap);  // (what the lattice's limit reads)
+            assert_true(std::fabs(static_cast<double>(region.points.size()) - estimate) < 0.05 * estimate);
             for (int64_t c = 0; c < 12; ++c) assert_int_equal(region.index[c], c);
             const double reach = cap.radius + (refine::kCapMargin + refine::kHeldMargin + 1) * w.mean;
             double moved = 0;
