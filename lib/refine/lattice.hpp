@@ -25,14 +25,15 @@ int64_t lattice_frequency(double spacing, int64_t max_points);
 // For a uniform spacing that is the whole lattice but for a band along
 // Gamma; for a graded one the background where it is flat (beyond the
 // refined regions), the rest being the frontal refinement's. Only the
-// corners when no lattice point qualifies or the whole sphere's lattice
-// would exceed 2^tri::kBrioIndexBits points (h0 finer than about 1.5 km).
+// corners when no lattice point qualifies or the lattice would exceed
+// 2^tri::kBrioIndexBits points: the whole sphere's (h0 finer than about
+// 1.5 km), or for a domain the points held around its cap.
 //
 // With a domain (a regional mesh): h0 is the coarsest spacing inside it,
 // and only lattice points inside it are kept (and the corners outside, for
-// the cover). The lattice is relaxed and placed around the domain only,
-// at a cost that goes with the domain's area, so that a domain of any size
-// starts from it: refined from the icosahedron instead, a domain needs the
+// the cover). The lattice is relaxed, placed and held around the domain
+// only, at a cost that goes with the domain's area, so that a domain of any
+// size starts from it: refined from the icosahedron instead, a domain needs the
 // re-seeding rounds and more optimisation, and keeps more defects.
 std::vector<geom::Vec3> background_lattice(Context &ctx, const SpacingRadians &h, const geom::ArcTree &gamma,
                                            const features::Domain *domain = nullptr);
