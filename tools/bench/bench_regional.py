@@ -13,6 +13,9 @@ process of its own with the command line's default outputs; and, with
     pacific coast    the Pacific box with the same coastlines (its islands)
     small            a 4 x 4 degree box (lon -40..-36, lat 20..24), uniform H
                      (about 250 cells at 30 km: run it with --km 2, say)
+    midatlantic      the shipped data's Mid-Atlantic box (lon -78.5..-73.5, lat
+                     36.5..41) with its full-resolution coast and rivers, uniform H
+                     (run it with --km 1)
 
 For each it prints the cells of mesh.nc (and of the whole triangulation,
 with the cover outside the domain), how many of the cells away from the
@@ -40,13 +43,17 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-COAST = os.path.join(ROOT, "data", "coast_global_l.geojson")
+COAST = [os.path.join(ROOT, "data", "coast_global_l.geojson")]
+MIDATLANTIC = [os.path.join(ROOT, "data", name) for name in ("coast_midatlantic_f.geojson", "rivers_midatlantic_f.geojson")]
 BOXES = {"atlantic": [[-80, 10], [-5, 10], [-5, 65], [-80, 65], [-80, 10]],
          "pacific": [[160, -20], [-160, -20], [-160, 20], [160, 20], [160, -20]],
-         "small": [[-40, 20], [-36, 20], [-36, 24], [-40, 24], [-40, 20]]}
-CASES = {"global": (None, False), "atlantic": ("atlantic", False), "pacific": ("pacific", False),
-         "global coast": (None, True), "atlantic coast": ("atlantic", True), "pacific coast": ("pacific", True),
-         "small": ("small", False)}
+         "small": [[-40, 20], [-36, 20], [-36, 24], [-40, 24], [-40, 20]],
+         "midatlantic": [[-78.5, 36.5], [-73.5, 36.5], [-73.5, 41], [-78.5, 41], [-78.5, 36.5]]}
+# Each case: its box (None: global) and its lines; the global case of the same
+# lines (with lines: "global coast") is what its cost per cell is set against.
+CASES = {"global": (None, []), "atlantic": ("atlantic", []), "pacific": ("pacific", []),
+         "global coast": (None, COAST), "atlantic coast": ("atlantic", COAST), "pacific coast": ("pacific", COAST),
+         "small": ("small", []), "midatlantic": ("midatlantic", MIDATLANTIC)}
 
 
 def not_hexagons(mesh_nc):
@@ -62,7 +69,7 @@ def not_hexagons(mesh_nc):
         return int((sides[inside] != 6).sum())
 
 
-def run_case(cli, km, threads, box, coast, surface, folder):
+def run_case(cli, km, threads, box, lines, surface, folder):
     args = [cli, "build", "--spacing-km", str(km), "--threads", str(threads), "--surface", surface,
             "--out", os.path.join(folder, "out")]
     if box:
@@ -71,8 +78,8 @@ def run_case(cli, km, threads, box, coast, surface, folder):
             json.dump({"type": "Feature", "properties": {"kind": "domain"},
                        "geometry": {"type": "Polygon", "coordinates": [BOXES[box]]}}, f)
         args += ["--domain", domain]
-    if coast:
-        args += ["--geometry", COAST]
+    for line_file in lines:
+        args += ["--geometry", line_file]
     start = time.monotonic()
     r = subprocess.run(args, capture_output=True, text=True)
     wall = time.monotonic() - start
@@ -103,21 +110,21 @@ def main():
     results = {}
     for surface in args.surfaces.split(","):
         for name in args.cases.split(","):
-            box, coast = CASES[name]
+            box, lines = CASES[name]
             print(f"bench_regional: {name} on the {surface} at {km} km ...", file=sys.stderr, flush=True)
             with tempfile.TemporaryDirectory() as folder:
-                results[(surface, name)] = run_case(args.cli, km, args.threads, box, coast, surface, folder)
+                results[(surface, name)] = run_case(args.cli, km, args.threads, box, lines, surface, folder)
         if args.match_cells:
             for name in args.cases.split(","):
-                box, coast = CASES[name]
-                mine, base = results[(surface, name)], results.get((surface, "global coast" if coast else "global"))
+                box, lines = CASES[name]
+                mine, base = results[(surface, name)], results.get((surface, "global coast" if lines else "global"))
                 if not box or not base or "error" in mine or "error" in base:
                     continue
                 # Cells go as 1 / h^2 (the cover's share shrinks a little as h does).
                 matched = round(km * (mine["cells"] / base["cells"]) ** 0.5, 2)
                 print(f"bench_regional: {name} on the {surface} at {matched} km ...", file=sys.stderr, flush=True)
                 with tempfile.TemporaryDirectory() as folder:
-                    r = run_case(args.cli, matched, args.threads, box, coast, surface, folder)
+                    r = run_case(args.cli, matched, args.threads, box, lines, surface, folder)
                 results[(surface, f"{name} at {matched} km, as global")] = r
     print(f"regional against global meshes at {km} km, {args.threads} threads")
     print("| surface | case | cells | with the cover | not hexagons | refine | optimise | MPAS | wall | mesh per cell "
@@ -130,7 +137,8 @@ def main():
         defects = "-" if r["not_hexagons"] is None else f"{r['not_hexagons']:,}"
         mesh_us = 1e6 * (r["refine"] + r["optimise"]) / r["cells"]
         wall_us = 1e6 * r["wall"] / r["cells"]
-        base = results.get((surface, "global coast" if "coast" in name else "global"))
+        case = name.split(" at ")[0]
+        base = results.get((surface, "global coast" if CASES[case][1] else "global"))
         ratio = lambda mine, key: (f" ({mine / key(base):.1f}x)"
                                    if base and "error" not in base and base is not r else "")
         mesh_of = lambda b: 1e6 * (b["refine"] + b["optimise"]) / b["cells"]
