@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -28,6 +29,16 @@ struct Box {
         for (int k = 0; k < 3; ++k)
             if (lo[k] > b.hi[k] || b.lo[k] > hi[k]) return false;
         return true;
+    }
+    // Whether the box comes within `margin` of the plane through the origin
+    // normal to n, or reaches both sides of it.
+    bool meets_plane(const Vec3 &n, double margin) const {
+        double centre = 0, reach = 0;
+        for (int k = 0; k < 3; ++k) {
+            centre += n[k] * 0.5 * (lo[k] + hi[k]);
+            reach += std::fabs(n[k]) * 0.5 * (hi[k] - lo[k]);
+        }
+        return std::fabs(centre) <= reach + margin;
     }
     // Squared distance from p to the box (0 inside).
     double distance2(const Vec3 &p) const {
@@ -65,7 +76,31 @@ public:
     }
     // The same until visit(i) returns true; whether it did.
     template <class Visit>
-    bool query_until(const Box &box, Visit &&visit) const;
+    bool query_until(const Box &box, Visit &&visit) const {
+        return visit_until([&](const Box &b) { return b.overlaps(box); }, visit);
+    }
+    // Calls visit(i) for every arc that may cross the minor great arc (a, b):
+    // those whose box overlaps the arc's and comes within 1e-9 rad of its
+    // great circle's plane. A box farther on one side holds no arc that
+    // crosses it or touches it within arc_intersection's tolerances (1e-12
+    // rad and less); the margin is far above those and the test's rounding.
+    // A long arc's box holds far more arcs than its plane passes near. In a
+    // fixed order.
+    template <class Visit>
+    void query_crossing(const Vec3 &a, const Vec3 &b, Visit &&visit) const {
+        query_crossing_until(a, b, [&](int32_t i) {
+            visit(i);
+            return false;
+        });
+    }
+    // The same until visit(i) returns true; whether it did.
+    template <class Visit>
+    bool query_crossing_until(const Vec3 &a, const Vec3 &b, Visit &&visit) const {
+        const Box box = arc_box(a, b);
+        const Vec3 n = cross(a, b);
+        const double margin = 1e-9 * (std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z));
+        return visit_until([&](const Box &c) { return c.overlaps(box) && c.meets_plane(n, margin); }, visit);
+    }
     // Whether any arc's box overlaps `box` (stops at the first).
     bool any_overlaps(const Box &box) const {
         return query_until(box, [](int32_t) { return true; });
@@ -80,6 +115,11 @@ public:
     bool any_within(const Vec3 &p, double radius) const;
 
 private:
+    // visit(i) for the arcs in the boxes (of nodes, then arcs) that `test`
+    // accepts, until it returns true; whether it did.
+    template <class Test, class Visit>
+    bool visit_until(Test &&test, Visit &&visit) const;
+
     struct Node {
         Box box;
         int32_t left = -1, right = -1;  // children; -1 for a leaf
@@ -93,18 +133,18 @@ private:
     std::vector<Node> nodes_;
 };
 
-template <class Visit>
-bool ArcTree::query_until(const Box &box, Visit &&visit) const {
+template <class Test, class Visit>
+bool ArcTree::visit_until(Test &&test, Visit &&visit) const {
     if (nodes_.empty()) return false;
     int32_t stack[128];
     int depth = 0;
     stack[depth++] = 0;
     while (depth > 0) {
         const Node &node = nodes_[stack[--depth]];
-        if (!node.box.overlaps(box)) continue;
+        if (!test(node.box)) continue;
         if (node.left < 0) {
             for (int32_t j = node.first; j < node.first + node.count; ++j)
-                if (boxes_[j].overlaps(box) && visit(order_[j])) return true;
+                if (test(boxes_[j]) && visit(order_[j])) return true;
         } else {
             stack[depth++] = node.right;
             stack[depth++] = node.left;

@@ -45,7 +45,7 @@ void MeshState::flag_near_gamma() {
 }
 
 bool MeshState::crosses_gamma(const Vec3 &c0, const Vec3 &c1) const {
-    return arcs.query_until(geom::arc_box(c0, c1), [&](int32_t i) {
+    return arcs.query_crossing_until(c0, c1, [&](int32_t i) {
         Vec3 x;
         return geom::arc_intersection(c0, c1, arcs.arc(i).a, arcs.arc(i).b, x);
     });

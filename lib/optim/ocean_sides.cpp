@@ -36,7 +36,7 @@ bool coastline_enters_cell(const MeshState &s, int32_t v) {
     Vec3 first{}, last{};
     bool any = false, crossed = false;
     auto crosses = [&](const Vec3 &c0, const Vec3 &c1) {
-        return s.arcs.query_until(geom::arc_box(c0, c1), [&](int32_t i) {
+        return s.arcs.query_crossing_until(c0, c1, [&](int32_t i) {
             Vec3 x;
             return refine::is_closed_coastline(s.gamma->part(s.gamma->segment_part(i))) &&
                    geom::arc_intersection(c0, c1, s.arcs.arc(i).a, s.arcs.arc(i).b, x);

@@ -17,7 +17,7 @@ bool restricted_crossing(const tri::Triangulation &tri, int32_t t, int k, const 
     const Vec3 xi = tri.direction(tri.vertex(t, (k + 1) % 3));
     const Vec3 xj = tri.direction(tri.vertex(t, (k + 2) % 3));
     bool found = false;
-    gamma.query(geom::arc_box(c0, c1), [&](int32_t a) {
+    gamma.query_crossing(c0, c1, [&](int32_t a) {
         Vec3 x;
         const auto &arc = gamma.arc(a);
         if (!geom::arc_intersection(c0, c1, arc.a, arc.b, x)) return;

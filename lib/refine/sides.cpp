@@ -17,7 +17,7 @@ namespace {
 // Number of coastline arcs the minor arc (a, b) crosses.
 int crossings(const geom::ArcTree &coast, const Vec3 &a, const Vec3 &b) {
     int n = 0;
-    coast.query(geom::arc_box(a, b), [&](int32_t i) {
+    coast.query_crossing(a, b, [&](int32_t i) {
         Vec3 x;
         const auto &arc = coast.arc(i);
         if (geom::arc_intersection(a, b, arc.a, arc.b, x, 0.0)) ++n;

@@ -91,6 +91,53 @@ tri::Triangulation triangulate(int n, uint64_t seed) {
     return t;
 }
 
+// The crossing query (a box and the probe's great-circle plane) visits every
+// arc that arc_intersection finds crossing or touching the probe, with its
+// default tolerance and with none: for short and long probes, and for arcs
+// that end on the probe or touch its great circle from one side. On long
+// probes it visits far fewer arcs than the box query.
+void crossing_queries_find_every_crossing(void **) {
+    auto arcs = sample_arcs(5000, 0.05, 3);
+    auto probes = sample_arcs(300, 0.2, 7);
+    const auto long_probes = sample_arcs(100, 2.5, 11);  // (100 long arcs, then a circle's 720 short ones)
+    const size_t long_first = probes.size();
+    probes.insert(probes.end(), long_probes.begin(), long_probes.end());
+    for (size_t k = 0; k < 50; ++k) {  // arcs from a point of a probe, or grazing its circle
+        const Vec3 on = geom::normalized(probes[k].a + probes[k].b);
+        const Vec3 n = geom::normalized(geom::cross(probes[k].a, probes[k].b));
+        const Vec3 along = geom::normalized(geom::cross(n, on));
+        arcs.push_back({on, geom::normalized(on + 0.01 * n)});
+        const Vec3 above = on + 0.01 * n, grazing = on + 1e-13 * n;
+        arcs.push_back({geom::normalized(above + 0.01 * along), geom::normalized(above - 0.01 * along)});
+        arcs.push_back({geom::normalized(grazing - 0.01 * along), geom::normalized(grazing + 0.01 * along)});
+    }
+    // A probe in the plane z = 0 and a short arc 5e-13 above it, over the
+    // probe: its box lies wholly on one side of the plane, yet the arc
+    // touches the probe within the default tolerance.
+    probes.push_back({Vec3{1, 0, 0}, geom::normalized(Vec3{1, 1, 0})});
+    arcs.push_back({geom::normalized(Vec3{0.9, 0.3, 5e-13}), geom::normalized(Vec3{0.9, 0.3 + 1e-7, 5e-13})});
+    geom::ArcTree tree(arcs);
+    size_t visited_long = 0, boxed_long = 0;
+    for (size_t p = 0; p < probes.size(); ++p) {
+        const Vec3 a = probes[p].a, b = probes[p].b;
+        std::set<int32_t> visited, boxed;
+        tree.query_crossing(a, b, [&](int32_t i) { visited.insert(i); });
+        tree.query(geom::arc_box(a, b), [&](int32_t i) { boxed.insert(i); });
+        for (size_t i = 0; i < arcs.size(); ++i) {
+            Vec3 x;
+            if (geom::arc_intersection(a, b, arcs[i].a, arcs[i].b, x) ||
+                geom::arc_intersection(a, b, arcs[i].a, arcs[i].b, x, 0.0))
+                assert_true(visited.count(static_cast<int32_t>(i)) == 1);
+        }
+        assert_true(std::includes(boxed.begin(), boxed.end(), visited.begin(), visited.end()));
+        const int32_t stop = visited.empty() ? -1 : *visited.begin();
+        assert_true(tree.query_crossing_until(a, b, [&](int32_t i) { return i == stop; }) == !visited.empty());
+        if (p >= long_first && p < long_first + 100) visited_long += visited.size(), boxed_long += boxed.size();
+    }
+    print_message("long probes: %zu arcs visited, %zu in their boxes\n", visited_long, boxed_long);
+    assert_true(visited_long * 4 < boxed_long);
+}
+
 void restricted_edges_match_brute_force(void **) {
     tri::Triangulation t = triangulate(20000, 17);
     auto arcs = sample_arcs(3000, 0.03, 19);
@@ -175,6 +222,7 @@ int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(arc_boxes_contain_their_arcs),
         cmocka_unit_test(tree_queries_match_brute_force),
+        cmocka_unit_test(crossing_queries_find_every_crossing),
         cmocka_unit_test(nearest_matches_brute_force),
         cmocka_unit_test(restricted_edges_match_brute_force),
         cmocka_unit_test(restricted_edges_of_a_triangle_list),
