@@ -71,9 +71,18 @@ std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, cons
     // No larger lattice than one triangulation build takes: the whole
     // sphere's (above that, 1.48 km uniform and finer, the refinement starts
     // from the icosahedron), or what a cap's placement holds.
+    // A domain's lattice also within the memory cap: its finest level's
+    // points twice (the relaxation's two buffers) and a quarter of that for
+    // the level before, and its flags. (A long thin domain's cap holds many
+    // times the domain's points.)
     const int64_t most = int64_t{1} << tri::kBrioIndexBits;
     int64_t n = lattice_frequency(h0, cap ? std::numeric_limits<int64_t>::max() : most);
-    if (cap && lattice_region_points(n, *cap) > static_cast<double>(most)) n = 0;
+    if (cap) {
+        const double held = lattice_region_points(n, *cap);
+        const double bytes = held * (2.25 * sizeof(Vec3) + 2);
+        const bool too_big = ctx.memory_cap() > 0 && bytes > static_cast<double>(ctx.memory_cap());
+        if (held > static_cast<double>(most) || too_big) n = 0;
+    }
     const int64_t frequency = std::max<int64_t>(n, 1);
     std::vector<Vec3> points;
     if (cap)

@@ -27,7 +27,8 @@ int64_t lattice_frequency(double spacing, int64_t max_points);
 // refined regions), the rest being the frontal refinement's. Only the
 // corners when no lattice point qualifies or the lattice would exceed
 // 2^tri::kBrioIndexBits points: the whole sphere's (h0 finer than about
-// 1.5 km), or for a domain the points held around its cap.
+// 1.5 km), or for a domain the points held around its cap (and for a
+// domain, when those would not fit the context's memory cap).
 //
 // With a domain (a regional mesh): h0 is the coarsest spacing inside it,
 // and only lattice points inside it are kept (and the corners outside, for

@@ -23,6 +23,7 @@
 #include "dual/mpas_source.hpp"
 #include "io/mpas_writer.hpp"
 #include "features/domain.hpp"
+#include "refine/lattice.hpp"
 #include "hfun/region_cover.hpp"
 #include "io/geojson.hpp"
 #include "mesh/refined_mesh.hpp"
@@ -433,6 +434,23 @@ void a_small_fine_domain_starts_from_the_lattice(void **) {
     assert_int_equal(not_hexagons, 0);
 }
 
+// A domain's lattice that would not fit the memory cap gives way to the
+// icosahedron's corners (a long thin domain's cap holds many times its
+// points); without a cap, the same domain gets its lattice.
+void a_domain_lattice_stays_within_the_memory_cap(void **) {
+    const features::Domain strip = domain_of({box(-60, 20, 40, 41)});
+    const refine::SpacingRadians h = [](const Vec3 &) { return 20.0 / 6371.0; };
+    const geom::ArcTree none;
+    Context ctx;
+    const size_t uncapped = refine::background_lattice(ctx, h, none, &strip).size();
+    ctx.set_memory_cap(int64_t(1) << 20);
+    const size_t capped = refine::background_lattice(ctx, h, none, &strip).size();
+    print_message("a strip of 80 x 1 degrees at 20 km: %zu lattice points kept, %zu under a 1 MiB cap\n", uncapped,
+                  capped);
+    assert_true(uncapped > 1000);
+    assert_true(capped <= 12);
+}
+
 // A regional mesh's rows (the region's elements of the whole numbering,
 // made a block at a time) are the whole triangulation's MPAS mesh cut to the
 // region by the component meshes' cut (components/cut_mesh.hpp), the same
@@ -525,6 +543,7 @@ int main() {
         cmocka_unit_test(a_box_up_to_a_pole),
         cmocka_unit_test(a_box_up_to_a_pole_wider_than_180_degrees),
         cmocka_unit_test(a_small_fine_domain_starts_from_the_lattice),
+        cmocka_unit_test(a_domain_lattice_stays_within_the_memory_cap),
         cmocka_unit_test(the_equator_holds_the_hemisphere_on_its_left),
         cmocka_unit_test(crossing_open_and_short_rings_are_refused),
         cmocka_unit_test(crossing_rings_are_named_by_their_file),
