@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <memory>
-#include <new>
 #include <utility>
 
 #include "core/growth.hpp"
@@ -46,27 +44,6 @@ constexpr double kEdgePerFrequency = 1.2;
 // A lattice's points (unwritten until placed: a regional lattice places
 // only its part).
 using Points = UninitVector<Vec3>;
-
-// One flag per point of a whole lattice, 0 until set. calloc leaves a large
-// block's zeroing to the kernel, page by page as it is first touched, so that
-// a regional lattice pays for the pages of its part only (a std::vector
-// would write every byte of the sphere's first).
-class PointFlags {
-public:
-    PointFlags() = default;
-    explicit PointFlags(int64_t size) : flag_(static_cast<uint8_t *>(std::calloc(static_cast<size_t>(size), 1))) {
-        if (!flag_ && size > 0) throw std::bad_alloc();
-    }
-    bool empty() const { return !flag_; }
-    uint8_t operator[](int64_t p) const { return flag_[p]; }
-    uint8_t &operator[](int64_t p) { return flag_[p]; }
-
-private:
-    struct Free {
-        void operator()(uint8_t *p) const noexcept { std::free(p); }
-    };
-    std::unique_ptr<uint8_t[], Free> flag_;
-};
 
 // The point a fraction t of the way from a to b along their great circle.
 Vec3 slerp(const Vec3 &a, const Vec3 &b, double t) {
@@ -191,6 +168,8 @@ public:
 
     // A face's inner rows, numbered f * (n - 2) + (i - 1) for i = 1 .. n-2.
     int64_t row_count() const { return n_ > 2 ? face_count() * (n_ - 2) : 0; }
+    int row_face(int64_t row) const { return static_cast<int>(row / (n_ - 2)); }
+    int64_t row_in_face(int64_t row) const { return row % (n_ - 2) + 1; }
 
     // The corners and the edges' inner points are [0, outline_end()).
     int64_t outline_end() const { return 12 + edge_count() * (n_ - 1); }
@@ -252,8 +231,7 @@ struct Chords {
 // in `from` and `to`), only its items are visited, and only its points'
 // chords are measured; only its points and their neighbours are read.
 struct Active {
-    PointFlags point;
-    std::vector<uint8_t> item;
+    std::vector<uint8_t> point, item;
 };
 // Returns the chords, summed by item in a fixed order so that the sum is
 // the same for any thread count.
@@ -338,10 +316,11 @@ Chords spring_sweep(Context &ctx, const LatticeIndex &index, const std::vector<s
 class Placed {
 public:
     Placed() = default;  // all
-    explicit Placed(const LatticeIndex &index) : flag_(index.size()), span_(static_cast<size_t>(index.row_count())) {}
+    explicit Placed(const LatticeIndex &index)
+        : flag_(static_cast<size_t>(index.size()), 0), span_(static_cast<size_t>(index.row_count())) {}
     bool all() const { return flag_.empty(); }
-    bool operator[](int64_t p) const { return flag_.empty() || flag_[p]; }
-    void set(int64_t p, bool placed) { flag_[p] = placed; }
+    bool operator[](int64_t p) const { return flag_.empty() || flag_[static_cast<size_t>(p)]; }
+    void set(int64_t p, bool placed) { flag_[static_cast<size_t>(p)] = placed; }
     // Inner row `row` (numbered as LatticeIndex::row_count says) of the
     // frequency-n lattice, row i of its face.
     Span span(int64_t row, int64_t n, int64_t i) const {
@@ -350,7 +329,7 @@ public:
     void set_span(int64_t row, Span s) { span_[static_cast<size_t>(row)] = s; }
 
 private:
-    PointFlags flag_;
+    std::vector<uint8_t> flag_;  // (a regional level holds only its part of the lattice)
     std::vector<Span> span_;
 };
 
@@ -362,8 +341,8 @@ void scan_placeable(Context &ctx, const LatticeIndex &index, const Placed &place
     const int64_t n = index.frequency();
     ctx.parallel_for(index.row_count(), 16, [&](int64_t b, int64_t e) {
         for (int64_t row = b; row < e; ++row) {
-            const int f = static_cast<int>(row / (n - 2));
-            const int64_t i = row % (n - 2) + 1;
+            const int f = index.row_face(row);
+            const int64_t i = index.row_in_face(row);
             const Span s = placed.span(row, n, i);
             if (!s.empty()) scan(index.at(f, i, s.first), index.at(f, i, s.last) + 1);
         }
@@ -409,7 +388,7 @@ std::unique_ptr<Active> active_within(Context &ctx, const LatticeIndex &index, c
     if (reach >= M_PI) return nullptr;
     const double least_cos = std::cos(reach);
     auto active = std::make_unique<Active>();
-    active->point = PointFlags(static_cast<int64_t>(points.size()));
+    active->point.assign(points.size(), 0);
     scan_placeable(ctx, index, placed, [&](int64_t first, int64_t end) {
         for (int64_t p = first; p < end; ++p)
             active->point[p] = placed[p] && geom::dot(points[p], cap->centre) >= least_cos;
@@ -504,8 +483,8 @@ Level interpolate(Context &ctx, const Level &coarse, int64_t n, const Cap *cap) 
     const LatticeIndex dense(n);
     std::vector<Span> kept(static_cast<size_t>(dense.row_count()));
     for (int64_t row = 0; row < dense.row_count(); ++row) {
-        const int f = static_cast<int>(row / (n - 2));
-        const int64_t i = row % (n - 2) + 1, I = i * m / n;
+        const int f = dense.row_face(row);
+        const int64_t i = dense.row_in_face(row), I = i * m / n;
         kept[static_cast<size_t>(row)] = placeable(coarse_row(f, I), coarse_row(f, I + 1), m, n, i);
     }
     Level fine{regional ? LatticeIndex(n, kept) : dense, Points(), Placed()};
@@ -535,8 +514,8 @@ Level interpolate(Context &ctx, const Level &coarse, int64_t n, const Cap *cap) 
     const double scale = 1.0 / static_cast<double>(n);
     ctx.parallel_for(held_index.row_count(), 16, [&](int64_t b, int64_t e) {
         for (int64_t row = b; row < e; ++row) {
-            const int f = static_cast<int>(row / (n - 2));
-            const int64_t i = row % (n - 2) + 1, I = i * m / n;
+            const int f = held_index.row_face(row);
+            const int64_t i = held_index.row_in_face(row), I = i * m / n;
             const Span &lower_row = coarse_row(f, I), &upper_row = coarse_row(f, I + 1);
             const Span columns = kept[static_cast<size_t>(row)];
             Span found;
@@ -625,8 +604,8 @@ LatticeRegion relaxed_lattice_region(Context &ctx, int64_t n, const Cap &cap) {
     region.index = held;
     const std::vector<std::array<int64_t, 2>> inside = ctx.collect_in_order<std::array<int64_t, 2>>(
         index.row_count(), 64, [&](int64_t row, std::vector<std::array<int64_t, 2>> &out) {
-            const int f = static_cast<int>(row / (n - 2));
-            const int64_t i = row % (n - 2) + 1;
+            const int f = index.row_face(row);
+            const int64_t i = index.row_in_face(row);
             const Span s = placed.span(row, n, i);
             for (int64_t j = s.first; j <= s.last; ++j)
                 if (placed[index.at(f, i, j)]) out.push_back({index.at(f, i, j), index.global_at(f, i, j)});

@@ -70,11 +70,10 @@ std::vector<Vec3> background_lattice(Context &ctx, const SpacingRadians &h, cons
                                                   : std::nullopt;
     // No larger lattice than one triangulation build takes: the whole
     // sphere's (above that, 1.48 km uniform and finer, the refinement starts
-    // from the icosahedron), or what a cap's placement holds.
-    // A domain's lattice also within the memory cap: its finest level's
-    // points twice (the relaxation's two buffers) and a quarter of that for
-    // the level before, and its flags. (A long thin domain's cap holds many
-    // times the domain's points.)
+    // from the icosahedron), or what a cap's placement holds; and a domain's
+    // also within the memory cap (its finest level's points twice, the
+    // relaxation's two buffers, a quarter more for the level before, and its
+    // flags: a long thin domain's cap holds many times the domain's points).
     const int64_t most = int64_t{1} << tri::kBrioIndexBits;
     int64_t n = lattice_frequency(h0, cap ? std::numeric_limits<int64_t>::max() : most);
     if (cap) {
