@@ -254,6 +254,10 @@ Domain::Domain(const Network &net, const Origin &origin) {
             // length bounds how far it reaches beyond its ends otherwise.
             cap_radius_ = std::max(cap_radius_, geom::arc_length(cap_centre_, arc.a) + geom::arc_length(arc.a, arc.b));
         }
+        // The margin keeps the cosine's gap (about margin * sin(radius))
+        // above 1e-14, a hundred times the dot product's rounding.
+        const double margin = 1e-9 + 1e-6 * cap_radius_;
+        if (cap_radius_ > 1e-5 && cap_radius_ < M_PI / 2) within_cos2_ = std::pow(std::cos(cap_radius_ - margin), 2);
     }
 
     // Which side of each ring is inside: the parity rule at a point just left of it.

@@ -259,6 +259,30 @@ void the_memo_and_the_rough_distance_agree_with_the_search(void **) {
     }
 }
 
+// distance_at_least answers points well inside its cap without the arc:
+// at points straddling the cap's edge (from 1e-17 to 0.01 radians either
+// side) it equals the arc's formula exactly, for a large and a small domain.
+void the_cap_distance_is_the_arcs(void **) {
+    for (const Ring &r : {box(-80, -5, 10, 65), box(-40.001, -40, 20, 20.001)}) {
+        const features::Domain d = domain_of({r});
+        const Vec3 c = d.cap_centre();
+        const Vec3 across = geom::normalized(geom::cross(c, Vec3{0.3, -0.5, 0.8}));
+        std::vector<double> offsets = {-1e-2, -1e-6, -1e-9, -1e-12, 1e-12, 1e-9, 1e-6, 1e-2};
+        for (int k = -200; k <= 200; ++k) offsets.push_back(k * 1e-17);
+        int inside = 0, outside = 0;
+        for (double offset : offsets) {
+            const double a = d.cap_radius() + offset;
+            for (double scale : {1.0, 3.0}) {
+                const Vec3 x = (std::cos(a) * scale) * c + (std::sin(a) * scale) * across;
+                const double expected = std::max(0.0, geom::arc_length(x, c) - d.cap_radius());
+                assert_true(d.distance_at_least(x) == expected);
+                (expected == 0 ? inside : outside) += 1;
+            }
+        }
+        assert_true(inside > 0 && outside > 0);
+    }
+}
+
 // Inside: the caller's spacing; outside: growing at kCoverRate to kCoverKm
 // (from the rough distance far from the rings, within its error);
 // smallest_in_cap a lower bound of the values in the cap.
@@ -548,6 +572,7 @@ int main() {
         cmocka_unit_test(crossing_open_and_short_rings_are_refused),
         cmocka_unit_test(crossing_rings_are_named_by_their_file),
         cmocka_unit_test(the_memo_and_the_rough_distance_agree_with_the_search),
+        cmocka_unit_test(the_cap_distance_is_the_arcs),
         cmocka_unit_test(the_cover_grows_away_from_the_domain),
         cmocka_unit_test(a_regional_mesh_of_a_dateline_box),
         cmocka_unit_test(a_regional_mesh_is_the_whole_mesh_cut),
