@@ -805,7 +805,13 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * runs along the other end's meridian: a pole has no longitude); each edge goes the shorter
  * way round in longitude (160 to -160 crosses the antimeridian, as 160 to
  * 200 does), so an edge of 180 degrees of longitude or more needs points
- * between (a ring around a pole: points along its parallel); a ring that crosses itself or
+ * between (a ring around a pole: points along its parallel) - except an
+ * edge of 360 degrees or more (-180 to 180), which runs that far: a ring
+ * with one is read as GIS tools draw a polar cap (along the pole, along
+ * the antimeridian and round the sphere, [[-180, -90], [180, -90], [180,
+ * -60], [-180, -60], [-180, -90]] for the cap south of 60 S) and stands for
+ * the ring round that pole, refused (UM_ERR_INPUT) when it is no such cap
+ * or a cap larger than a hemisphere; a ring that crosses itself or
  * another is refused (UM_ERR_INPUT), as is a domain holding fewer than 7
  * cells at the spacing ("it must be larger than the spacing"). The mesh's
  * boundary conforms to the rings the way it conforms to a coastline (the

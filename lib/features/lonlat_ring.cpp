@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/text.hpp"
+
 namespace um::features {
 
 LonLatRing::LonLatRing(const double *lon, const double *lat, int64_t n) {
@@ -37,6 +39,88 @@ bool LonLatRing::encloses(double lon, double lat) const {
         if ((y0 > lat) != (y1 > lat) && x < x0 + (lat - y0) / (y1 - y0) * (x1 - x0)) inside = !inside;
     }
     return inside;
+}
+
+namespace {
+
+// The same point of the sphere: a pole has no longitude.
+bool same_place(double lon_a, double lat_a, double lon_b, double lat_b) {
+    return lat_a == lat_b && (std::fabs(lat_a) == 90 || std::remainder(lon_a - lon_b, 360.0) == 0);
+}
+
+// Edges of at most this many degrees of longitude run the way they are drawn
+// when read the shorter way round.
+constexpr double kLongestStep = 90;
+
+}  // namespace
+
+bool runs_round_the_sphere(const double *lon, int64_t n) {
+    for (int64_t k = 0; k < n; ++k)
+        if (std::fabs(lon[(k + 1) % n] - lon[k]) >= 360) return true;
+    return false;
+}
+
+PolarCapRing polar_cap_ring(const double *lon, const double *lat, int64_t n) {
+    PolarCapRing r;
+    // The ring as drawn, its long edges cut; each point once (a pole, or the
+    // antimeridian's two longitudes, one point).
+    double pole = 0;
+    for (int64_t k = 0; k < n; ++k) {
+        const int64_t j = (k + 1) % n;
+        if (std::fabs(lat[k]) == 90) {
+            if (pole != 0 && pole != lat[k]) return r.error = "reaches both poles (a mesh of the whole sphere takes no domain)", r;
+            pole = lat[k];
+        }
+        auto add = [&](double x, double y) {
+            if (!r.lon.empty() && same_place(r.lon.back(), r.lat.back(), x, y)) return;
+            r.lon.push_back(x), r.lat.push_back(y), r.source.push_back(k);
+        };
+        add(lon[k], lat[k]);
+        const double dlon = lon[j] - lon[k];
+        const bool along_pole = std::fabs(lat[k]) == 90 && lat[j] == lat[k];
+        const int64_t steps = along_pole ? 1 : static_cast<int64_t>(std::ceil(std::fabs(dlon) / kLongestStep));
+        for (int64_t s = 1; s < steps; ++s) {
+            const double t = static_cast<double>(s) / static_cast<double>(steps);
+            add(lon[k] + t * dlon, lat[k] + t * (lat[j] - lat[k]));
+        }
+    }
+    while (r.lon.size() > 1 && same_place(r.lon.back(), r.lat.back(), r.lon[0], r.lat[0]))
+        r.lon.pop_back(), r.lat.pop_back(), r.source.pop_back();
+    // The spikes out and back (to the pole, along the antimeridian) taken out:
+    // a point whose neighbours are one point goes, with one of them.
+    for (bool spiked = true; spiked && r.lon.size() >= 3;) {
+        spiked = false;
+        const size_t m = r.lon.size();
+        for (size_t k = 0; k < m && !spiked; ++k) {
+            const size_t before = (k + m - 1) % m, after = (k + 1) % m;
+            if (!same_place(r.lon[before], r.lat[before], r.lon[after], r.lat[after])) continue;
+            for (size_t gone : {std::max(k, after), std::min(k, after)}) {
+                r.lon.erase(r.lon.begin() + static_cast<std::ptrdiff_t>(gone));
+                r.lat.erase(r.lat.begin() + static_cast<std::ptrdiff_t>(gone));
+                r.source.erase(r.source.begin() + static_cast<std::ptrdiff_t>(gone));
+            }
+            spiked = true;
+        }
+    }
+    // What is left must go once round the pole it reached, and that side be
+    // the smaller: the cap's area in (longitude, sine of latitude), from the
+    // pole to each edge.
+    const size_t m = r.lon.size();
+    double turned = 0, area = 0;
+    for (size_t k = 0; k < m; ++k) {
+        const size_t j = (k + 1) % m;
+        const double dlon = std::remainder(r.lon[j] - r.lon[k], 360.0) * M_PI / 180;
+        const double mean_sine = 0.5 * (std::sin(r.lat[k] * M_PI / 180) + std::sin(r.lat[j] * M_PI / 180));
+        turned += dlon;
+        area += dlon * (1 - (pole > 0 ? mean_sine : -mean_sine));
+    }
+    if (pole == 0 || m < 3 || std::fabs(std::fabs(turned) - 2 * M_PI) > 1e-6)
+        return r.error = "does not run along one pole, to and from it along one meridian, and once round", r;
+    if (std::fabs(area) >= 2 * M_PI)
+        return r.error = concat("draws a cap round the ", pole > 0 ? "north" : "south",
+                                " pole larger than a hemisphere (a ring round a pole holds the smaller side)"),
+               r;
+    return r;
 }
 
 }  // namespace um::features

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "features/lonlat_ring.hpp"
 #include "geom/surface.hpp"
 
 namespace um::features {
@@ -110,7 +111,8 @@ public:
 
     // Checks and cleans part p into `out`.
     void add_part(int64_t p, Staged &out) const {
-        const int64_t first = in_.part_offsets[p], n = in_.part_offsets[p + 1] - first;
+        const int64_t first = in_.part_offsets[p];
+        int64_t n = in_.part_offsets[p + 1] - first;  // (a polar cap's ring below: its rewritten points)
         const double *lon = in_.lon_deg + first, *lat = in_.lat_deg + first;
         for (int64_t i = 0; i < n; ++i) {
             if (!std::isfinite(lon[i]))
@@ -120,6 +122,19 @@ public:
             if (std::fabs(lat[i]) > 90.0)
                 fail(UM_ERR_COORDINATE_RANGE, place(p, i, 1), " = ", lat[i],
                      " is outside [-90, 90] degrees");
+        }
+        const bool closed = in_.closed[p] == 1;
+        // A domain ring drawn as GIS tools draw a polar cap: the ring round
+        // the pole it stands for (lonlat_ring.hpp).
+        PolarCapRing cap;
+        const int64_t *input_point = nullptr;  // per point read: the input point it comes from (null: itself)
+        if (in_.kind[p] == static_cast<int32_t>(Kind::domain) && closed && runs_round_the_sphere(lon, n)) {
+            cap = polar_cap_ring(lon, lat, n);
+            if (!cap.error.empty())
+                fail(UM_ERR_INPUT, place(p, -1, -1), " is a domain ring with an edge 360 degrees of longitude "
+                     "long, read as a polar cap drawn in the plane of longitude and latitude, but it ", cap.error);
+            lon = cap.lon.data(), lat = cap.lat.data(), n = static_cast<int64_t>(cap.lon.size());
+            input_point = cap.source.data();
         }
         // Drop consecutive duplicates; remember which input point each kept one was.
         const size_t start = out.points.size();
@@ -131,9 +146,8 @@ public:
                 same_point(lon[i], lat[i], u, out.lon.back(), out.lat.back(), out.points.back()))
                 continue;
             out.points.push_back(u), out.lon.push_back(lon[i]), out.lat.push_back(lat[i]);
-            source.push_back(i);
+            source.push_back(input_point ? input_point[i] : i);
         }
-        const bool closed = in_.closed[p] == 1;
         if (closed && source.size() >= 2 &&
             same_point(out.lon.back(), out.lat.back(), out.points.back(), out.lon[start],
                        out.lat[start], out.points[start])) {
@@ -144,7 +158,7 @@ public:
         const bool point_allowed = in_.kind[p] == static_cast<int32_t>(Kind::passage) && !closed;
         if (kept < (point_allowed ? 1 : 2))
             fail(UM_ERR_TOO_FEW_POINTS, place(p, -1, -1), " has ", kept,
-                 " distinct point", kept == 1 ? "" : "s", " (", n, " given); ",
+                 " distinct point", kept == 1 ? "" : "s", " (", in_.part_offsets[p + 1] - first, " given); ",
                  point_allowed ? "a passage needs at least 1"
                  : in_.kind[p] == static_cast<int32_t>(Kind::passage) ? "a closed passage needs at least 2"
                                                                         : "a line needs at least 2");

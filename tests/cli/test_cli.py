@@ -201,6 +201,28 @@ class Build(unittest.TestCase):
             self.assertNotEqual(r.returncode, 0)
             self.assertIn("--domain " + COAST + ": the feature of id", r.stderr)
 
+    def test_a_gis_polar_cap_is_meshed_round_its_pole(self):
+        # The cap south of 60 S as GIS tools draw it (along the pole, up the
+        # antimeridian, 360 degrees round): a regional mesh of the cap.
+        import netCDF4
+        import numpy as np
+        with tempfile.TemporaryDirectory() as folder:
+            domain = os.path.join(folder, "south_of_60.geojson")
+            with open(domain, "w") as f:
+                json.dump({"type": "Feature", "properties": {"kind": "domain"}, "geometry": {
+                    "type": "Polygon", "coordinates": [[[-180, -90], [180, -90], [180, -60], [-180, -60], [-180, -90]]]}}, f)
+            out = os.path.join(folder, "cap")
+            r = run("build", "--spacing-km", "240", "--domain", domain, "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            mesh_nc = os.path.join(out, "mesh.nc")
+            r = run("check", mesh_nc)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            with netCDF4.Dataset(mesh_nc) as m:
+                lat = np.degrees(m["latCell"][:])
+                layers = m["bdyMaskCell"][:]
+            self.assertTrue(lat.max() < -60 and lat.min() < -88, (lat.min(), lat.max()))
+            self.assertEqual(sorted(set(layers.tolist())), list(range(8)))
+
     def test_wgs84_meshes(self):
         # --surface wgs84: mesh.nc says what it holds (the geodetic lat/lon on
         # the authalic sphere) and passes the checker; mesh.vtu and mesh.msh

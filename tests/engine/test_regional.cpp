@@ -233,6 +233,40 @@ std::vector<Vec3> spiral(int n) {
     return points;
 }
 
+// A polar cap as GIS tools draw one (along the pole, down the antimeridian,
+// 360 degrees round and back up; either way round, with or without the
+// closing point, with a coast-like edge) is the ring round the pole it
+// stands for: the same domain. A band round the sphere, a cap larger than
+// a hemisphere and a ring reaching both poles are refused, naming why.
+void a_gis_polar_cap_is_the_ring_round_its_pole(void **) {
+    const features::Domain round = domain_of({ring({180, 90, 0, -90}, {-60, -60, -60, -60})});
+    std::vector<Ring> caps = {ring({-180, 180, 180, -180}, {-90, -90, -60, -60}),
+                              ring({-180, 180, 180, -180, -180}, {-90, -90, -60, -60, -90}),
+                              ring({-180, -180, 180, 180}, {-90, -60, -60, -90})};
+    for (const Ring &cap : caps) {
+        const features::Domain d = domain_of({cap});
+        assert_true(std::fabs(d.area() - round.area()) < 1e-12);
+        for (const Vec3 &x : spiral(2000)) assert_true(d.contains(x) == round.contains(x));
+    }
+    const features::Domain coast = domain_of({ring({-180, 180, 180, 90, 0, -90, -180}, {-90, -90, -70, -65, -75, -62, -70})});
+    assert_true(coast.contains(at(0, -80)) && coast.contains(at(-90, -63)) && !coast.contains(at(0, -70)));
+    assert_false(coast.contains(at(0, 80)));
+    const features::Domain arctic = domain_of({ring({-180, 180, 180, -180}, {60, 60, 90, 90})});
+    assert_true(arctic.contains(at(30, 61)) && !arctic.contains(at(30, 59)));
+    const std::pair<Ring, const char *> refused[] = {
+        {ring({-180, 180, 180, -180}, {-60, -60, 90, 90}), "larger than a hemisphere"},
+        {ring({-180, 180, 180, -180}, {-60, -60, 60, 60}), "does not run along one pole"},
+        {ring({-180, 180, 180, -180}, {-90, -90, 90, 90}), "reaches both poles"},
+    };
+    for (const auto &[r, why] : refused) {
+        Network net;
+        std::string message;
+        assert_int_equal(add_rings(net, {r}, &message), UM_ERR_INPUT);
+        assert_non_null(std::strstr(message.c_str(), "read as a polar cap"));
+        assert_non_null(std::strstr(message.c_str(), why));
+    }
+}
+
 // What the memo answers without a search is what the search says, and most
 // points away from the rings get that answer; the rough distance is within
 // its error of the exact one - for a box with a hole across the
@@ -563,6 +597,7 @@ int main() {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(a_dateline_box_with_a_hole),
         cmocka_unit_test(a_ring_around_a_pole),
+        cmocka_unit_test(a_gis_polar_cap_is_the_ring_round_its_pole),
         cmocka_unit_test(a_box_wider_than_a_hemisphere_is_that_box),
         cmocka_unit_test(a_box_up_to_a_pole),
         cmocka_unit_test(a_box_up_to_a_pole_wider_than_180_degrees),
