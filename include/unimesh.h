@@ -833,9 +833,10 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * bdyMaskVertex (the least of their cells'). It is streamed as a global
  * mesh is (never held whole), its rows the region's elements in the order
  * of the whole triangulation's numbering. The quality report counts the
- * domain's cells and the triangles and edges between them only. Not made
- * for regional meshes yet
- * (UM_ERR_USAGE): um_mesh_write_jigsaw and um_mesh_write_components. */
+ * domain's cells and the triangles and edges between them only, and
+ * um_mesh_write_jigsaw writes those cells and the triangles between three
+ * of them. Not made for regional meshes yet (UM_ERR_USAGE):
+ * um_mesh_write_components. */
 
 /* -------------------------------------------------------------- MPAS output */
 
@@ -927,7 +928,9 @@ UM_API um_status um_mesh_copy_mpas_int(const um_mesh *m, const char *name, int32
 /* The triangulation in JIGSAW's .msh format (MSHID=3;EUCLIDEAN-MESH, for
  * interchange with the JIGSAW tools): POINT x;y;z of the generators on the
  * sphere (m), POWER their weights (m^2), TRIA3 the triangles (0-based, the
- * order of um_mesh_copy_triangles). Written and renamed into place as
+ * order of um_mesh_copy_triangles). Of a regional mesh, the cells of its
+ * MPAS mesh (numbered in the vertex order without the others) and the
+ * triangles between three of them. Written and renamed into place as
  * um_mesh_write_mpas does. UM_ERR_IO naming the file. */
 UM_API um_status um_mesh_write_jigsaw(const um_mesh *m, const char *path);
 

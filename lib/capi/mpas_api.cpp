@@ -135,10 +135,10 @@ UM_API um_status um_mesh_write_jigsaw(const um_mesh *m, const char *path) {
     const MeshInUse in_use(m);
     require_pointer(path, "path");
     if (path[0] == '\0') fail(UM_ERR_INVALID_ARGUMENT, "path is empty");
-    if (m->mesh.regional())
-        fail(UM_ERR_USAGE, "the JIGSAW mesh of a regional mesh is not written yet (its triangulation covers "
-                                 "the sphere beyond the domain): write its MPAS mesh");
-    um::io::write_jigsaw_mesh(m->mesh, path);
+    // A regional mesh's triangulation covers the sphere: its domain's part.
+    const std::vector<uint8_t> cells =
+        m->mesh.regional() ? m->mesh.region_cells(*m->context) : std::vector<uint8_t>{};
+    um::io::write_jigsaw_mesh(m->mesh, path, m->mesh.regional() ? &cells : nullptr);
     return UM_OK;
     UM_API_END(mesh_context(m))
 }

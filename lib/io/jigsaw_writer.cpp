@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/text.hpp"
@@ -21,15 +22,26 @@ struct CloseFile {
 
 // Numbers through to_text (shortest text that reads back exactly), not
 // printf: the host may have set a locale whose decimal mark is a comma.
-void write_jigsaw_mesh(const mesh::RefinedMesh &m, const std::string &path) {
+void write_jigsaw_mesh(const mesh::RefinedMesh &m, const std::string &path, const std::vector<uint8_t> *cells) {
     ReplacingFile out(path, "JIGSAW mesh file");
     std::unique_ptr<std::FILE, CloseFile> file(std::fopen(out.temporary_path().c_str(), "w"));
     if (!file) fail(UM_ERR_IO, "cannot create JIGSAW mesh file '", path, "'");
     std::FILE *f = file.get();
     const double r = m.radius_m();
     const geom::Surface &surface = m.surface;
-    const int64_t n = m.vertex_count();
     const tri::Triangulation &tri = m.tri;
+    // Each vertex's number in the file (-1: not written) and each triangle
+    // slot's whether it is.
+    auto kept = [&](int32_t slot) { return !cells || (*cells)[static_cast<size_t>(slot)] != 0; };
+    std::vector<int64_t> number(static_cast<size_t>(m.vertex_count()), -1);
+    int64_t n = 0;
+    for (int64_t i = 0; i < m.vertex_count(); ++i)
+        if (kept(m.slot_of_vertex[i])) number[i] = n++;
+    auto written = [&](int32_t t) {
+        return !tri.is_free(t) && kept(tri.vertex(t, 0)) && kept(tri.vertex(t, 1)) && kept(tri.vertex(t, 2));
+    };
+    int64_t n_triangles = 0;
+    for (int32_t t = 0; t < tri.triangle_slots(); ++t) n_triangles += written(t);
     std::string text;
     bool ok = true;
     // Written in pieces of about a megabyte, each with one fwrite.
@@ -45,22 +57,26 @@ void write_jigsaw_mesh(const mesh::RefinedMesh &m, const std::string &path) {
         append_all(text, "# unimesh " UM_VERSION_STRING " Laguerre-Power mesh of the ellipsoid, semi-major axis ", r,
                    " m, flattening ", surface.f(), ": points on the ellipsoid, power weights on the sphere of its "
                    "directions (radius a)\n");
+    if (cells)
+        append_all(text, "# a regional mesh: the ", n, " cells inside its domain and the triangles between them\n");
     append_all(text, "MSHID=3;EUCLIDEAN-MESH\nNDIMS=3\nPOINT=", n, "\n");
-    for (int64_t i = 0; i < n && ok; ++i) {
+    for (int64_t i = 0; i < m.vertex_count() && ok; ++i) {
+        if (number[i] < 0) continue;
         const geom::Vec3 x = surface.point(tri.direction(m.slot_of_vertex[i]));
         append_all(text, x.x, ";", x.y, ";", x.z, ";0\n");
         flush(false);
     }
     append_all(text, "POWER=", n, ";1\n");
-    for (int64_t i = 0; i < n && ok; ++i) {
+    for (int64_t i = 0; i < m.vertex_count() && ok; ++i) {
+        if (number[i] < 0) continue;
         append_all(text, tri.weight(m.slot_of_vertex[i]) * r * r, "\n");
         flush(false);
     }
-    append_all(text, "TRIA3=", tri.triangle_count(), "\n");
+    append_all(text, "TRIA3=", n_triangles, "\n");
+    auto file_number = [&](int32_t t, int k) { return number[static_cast<size_t>(m.vertex_of_slot[tri.vertex(t, k)])]; };
     for (int32_t t = 0; t < tri.triangle_slots() && ok; ++t) {
-        if (tri.is_free(t)) continue;
-        append_all(text, m.vertex_of_slot[tri.vertex(t, 0)], ";", m.vertex_of_slot[tri.vertex(t, 1)], ";",
-                   m.vertex_of_slot[tri.vertex(t, 2)], ";0\n");
+        if (!written(t)) continue;
+        append_all(text, file_number(t, 0), ";", file_number(t, 1), ";", file_number(t, 2), ";0\n");
         flush(false);
     }
     flush(true);

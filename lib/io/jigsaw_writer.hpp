@@ -4,7 +4,9 @@
 // clockwise seen from outside).
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace um::mesh {
 struct RefinedMesh;
@@ -13,7 +15,11 @@ struct RefinedMesh;
 namespace um::io {
 
 // Writes path (created or overwritten); UM_ERR_IO naming the file, and a
-// partly written file is removed.
-void write_jigsaw_mesh(const mesh::RefinedMesh &m, const std::string &path);
+// partly written file is removed. With `cells` (per vertex slot, a regional
+// mesh's RefinedMesh::region_cells) only those generators, numbered in the
+// mesh's vertex order without the others, and the triangles of three of
+// them: the domain's triangulation, without the cover around it.
+void write_jigsaw_mesh(const mesh::RefinedMesh &m, const std::string &path,
+                       const std::vector<uint8_t> *cells = nullptr);
 
 }  // namespace um::io

@@ -350,7 +350,7 @@ static void bad_input(void **state) {
 
 /* A regional mesh through the C ABI: a domain ring across the antimeridian;
  * its MPAS mesh holds the cells inside only, with the boundary layers, and
- * what is not made for regional meshes yet says so. */
+ * what is not made for regional meshes yet (the component meshes) says so. */
 static void regional_mesh(void **state) {
     um_context *ctx = *state;
     const double lon[4] = {150, -150, -150, 150}, lat[4] = {-30, -30, 30, 30};
@@ -381,7 +381,18 @@ static void regional_mesh(void **state) {
         ++per_layer[layer[c]];
     }
     for (int k = 0; k < 8; ++k) assert_true(per_layer[k] > 0);
-    assert_int_equal(um_mesh_write_jigsaw(m, "regional.msh"), UM_ERR_USAGE);
+    /* The JIGSAW file: the MPAS mesh's cells and the triangles between them. */
+    assert_int_equal(um_mesh_write_jigsaw(m, "test_mesh_api_regional.msh"), UM_OK);
+    FILE *msh = fopen("test_mesh_api_regional.msh", "r");
+    assert_non_null(msh);
+    char line[256];
+    long long points = -1, triangles = -1;
+    while (fgets(line, sizeof line, msh)) sscanf(line, "POINT=%lld", &points), sscanf(line, "TRIA3=%lld", &triangles);
+    fclose(msh);
+    remove("test_mesh_api_regional.msh");
+    assert_int_equal(points, cells);
+    assert_true(triangles > 0 && triangles < vertices);
+    assert_int_equal(um_mesh_write_components(m, "."), UM_ERR_USAGE);
     assert_non_null(strstr(um_context_last_error(ctx), "regional"));
     free(lat_cell), free(lon_cell), free(layer);
     um_mesh_destroy(m);

@@ -192,11 +192,30 @@ class Build(unittest.TestCase):
             r = run("build", "--case", case)
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertIn("with the cover outside the domain", r.stdout)
+            # The JIGSAW file holds the domain's cells (mesh.nc's) and the
+            # triangles between them.
+            out = os.path.join(folder, "with_msh")
+            r = run("build", "--spacing-km", "120", "--domain", domain, "--jigsaw", "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(out, "mesh.msh")) as f:
+                lines = f.read().splitlines()
+            counts = {line.split("=")[0]: int(line.split("=")[1].split(";")[0]) for line in lines if "=" in line}
+            first = lines.index("POINT=%d" % counts["POINT"]) + 1
+            points = np.array([[float(v) for v in line.split(";")[:3]] for line in lines[first:first + counts["POINT"]]])
+            first = lines.index("TRIA3=%d" % counts["TRIA3"]) + 1
+            triangles = np.array([[int(v) for v in line.split(";")[:3]] for line in lines[first:first + counts["TRIA3"]]])
+            with netCDF4.Dataset(os.path.join(out, "mesh.nc")) as m:
+                cells, triangles_nc = m.dimensions["nCells"].size, m.dimensions["nVertices"].size
+                xyz = np.stack([m["xCell"][:], m["yCell"][:], m["zCell"][:]], axis=1)
+            self.assertEqual(counts["POINT"], cells)
+            self.assertTrue(0 < counts["TRIA3"] < triangles_nc, (counts["TRIA3"], triangles_nc))
+            self.assertTrue(triangles.min() == 0 and triangles.max() == cells - 1)
+            self.assertEqual(sorted(map(tuple, np.round(points, 3))), sorted(map(tuple, np.round(xyz, 3))))
             # What is not made for regional meshes yet, and a domain file of
             # other kinds, are refused.
-            r = run("build", "--spacing-km", "120", "--domain", domain, "--jigsaw", "--out", out)
+            r = run("build", "--spacing-km", "120", "--domain", domain, "--components", "--out", out + "2")
             self.assertNotEqual(r.returncode, 0)
-            self.assertIn("domain rings with --jigsaw: not made for regional meshes yet", r.stderr)
+            self.assertIn("domain rings with --components: not made for regional meshes yet", r.stderr)
             r = run("build", "--spacing-km", "120", "--domain", COAST, "--out", out)
             self.assertNotEqual(r.returncode, 0)
             self.assertIn("--domain " + COAST + ": the feature of id", r.stderr)
