@@ -833,10 +833,14 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * bdyMaskVertex (the least of their cells'). It is streamed as a global
  * mesh is (never held whole), its rows the region's elements in the order
  * of the whole triangulation's numbering. The quality report counts the
- * domain's cells and the triangles and edges between them only, and
+ * domain's cells and the triangles and edges between them only,
  * um_mesh_write_jigsaw writes those cells and the triangles between three
- * of them. Not made for regional meshes yet (UM_ERR_USAGE):
- * um_mesh_write_components. */
+ * of them, and um_mesh_write_components splits the domain's MPAS mesh (the
+ * components keep the base's bdyMask*; a river network that reaches no
+ * ocean cell inside the domain drains to where its lines leave it across
+ * the boundary: rivers.json's "boundary_outlets"). Not made for regional
+ * meshes yet (UM_ERR_USAGE): um_mesh_river_report_json (use the
+ * components' rivers.json). */
 
 /* -------------------------------------------------------------- MPAS output */
 
@@ -994,8 +998,10 @@ UM_API um_status um_mesh_write_components(const um_mesh *m, const char *director
 UM_API um_status um_mpas_file_write_components(um_context *ctx, const char *mesh_path,
                                                const char *directory);
 /* The river routing report as JSON: {"networks", "river_cells",
- * "routed_cells", "outlets", "bridges" (gaps joined where the mesh has no
- * edgeOnRiver), "inland_cells", "inland_networks": [...],
+ * "routed_cells", "outlets", "boundary_outlets" (of the outlets, those
+ * where a regional mesh's river leaves it across its boundary), "bridges"
+ * (gaps joined where the mesh has no edgeOnRiver), "inland_cells",
+ * "inland_networks": [...],
  * "networks_with_cycles": [...]}, each listed network as {"network",
  * "cells", "cycles", "cell" (its lowest 1-based MPAS cell id), "lat", "lon"
  * (degrees)}. Copied out as um_mesh_quality_json does. */

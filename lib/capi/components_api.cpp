@@ -37,8 +37,6 @@ UM_API um_status um_mesh_write_components(const um_mesh *m, const char *director
     const MeshInUse in_use(m);
     require_text(directory, "directory");
     um::components::require_directory(directory);
-    if (m->mesh.regional())
-        fail(UM_ERR_USAGE, "the component meshes of a regional mesh are not made yet: write its MPAS mesh");
     um::Context &ctx = *m->context;
     ctx.progress("MPAS mesh", 0.0);
     um::dual::MpasMesh base = um::dual::build_mpas_mesh(ctx, m->mesh);

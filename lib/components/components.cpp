@@ -96,6 +96,7 @@ std::string river_report_json(const dual::RiverReport &report, const CellLatLon 
     for (const auto &n : report.inland) inland_cells += n.cells;
     return concat("{\"networks\": ", report.networks, ", \"river_cells\": ", report.river_cells,
                   ", \"routed_cells\": ", report.routed_cells, ", \"outlets\": ", report.outlets,
+                  ", \"boundary_outlets\": ", report.boundary_outlets,
                   ", \"bridges\": ", report.bridges, ", \"inland_cells\": ", inland_cells,
                   ", \"inland_networks\": ", notes_json(report.inland, cell_lat_lon),
                   ", \"networks_with_cycles\": ", notes_json(report.with_cycles, cell_lat_lon), "}\n");

@@ -79,7 +79,8 @@ void cut_cells(const MpasMesh &base, const Kept &k, MpasMesh &m) {
     for (auto [to, from] :
          {std::pair{&m.n_edges_on_cell, &base.n_edges_on_cell}, {&m.cell_side, &base.cell_side},
           {&m.cell_ocean_mask, &base.cell_ocean_mask}, {&m.cell_land_mask, &base.cell_land_mask},
-          {&m.cell_downstream, &base.cell_downstream}, {&m.cell_river_kind, &base.cell_river_kind}})
+          {&m.cell_downstream, &base.cell_downstream}, {&m.cell_river_kind, &base.cell_river_kind},
+          {&m.bdy_mask_cell, &base.bdy_mask_cell}})
         *to = values(*from, r);
     renumber(m.cell_downstream, r);
     m.edges_on_cell = rows(base.edges_on_cell, r, w, nw, kNone);
@@ -114,7 +115,7 @@ void cut_edges(const MpasMesh &base, const Kept &k, MpasMesh &m) {
     for (auto [to, from] : {std::pair{&m.edge_feature_kind, &base.edge_feature_kind},
                             {&m.edge_feature_id, &base.edge_feature_id},
                             {&m.edge_river_downstream, &base.edge_river_downstream},
-                            {&m.edge_on_river, &base.edge_on_river}})
+                            {&m.edge_on_river, &base.edge_on_river}, {&m.bdy_mask_edge, &base.bdy_mask_edge}})
         *to = values(*from, r);
     m.cells_on_edge = rows(base.cells_on_edge, r, 2, 2, kNone);
     m.vertices_on_edge = rows(base.vertices_on_edge, r, 2, 2, kNone);
@@ -134,6 +135,7 @@ void cut_vertices(const MpasMesh &base, const Kept &k, MpasMesh &m) {
           {&m.area_triangle, &base.area_triangle}})
         *to = values(*from, r);
     m.vertex_side = values(base.vertex_side, r);
+    m.bdy_mask_vertex = values(base.bdy_mask_vertex, r);
     const size_t d = kVertexDegree;
     m.kite_areas_on_vertex = rows(base.kite_areas_on_vertex, r, d, d, 0.0);
     m.cells_on_vertex = rows(base.cells_on_vertex, r, d, d, kNone);

@@ -8,7 +8,9 @@
 // angleEdge, edgeRiverDownstream), so that cellsOnEdge(1) is always a cell of
 // the mesh and the normal still points from cell 1 to cell 2; the TRSK
 // weights are those of the kept cells (trsk.cpp). Areas, kites and lengths
-// are the base mesh's: the kept cells are whole.
+// are the base mesh's: the kept cells are whole. A regional base's
+// limited-area layers (bdyMask*) go with its elements: they count from the
+// domain's open boundary, which the cut does not move.
 #pragma once
 
 #include <cstdint>

@@ -24,9 +24,17 @@ bool is_land(const MpasMesh &m, int32_t c) { return m.cell_land_mask.empty() || 
 
 // An edge of the river graph: one a river's line crosses (edge_on_river),
 // or, where the mesh does not know that, one whose dual crosses a river.
+bool on_a_river_line(const MpasMesh &m, int64_t e) {
+    return m.edge_on_river.empty() ? m.edge_feature_kind[e] == UM_FEATURE_RIVER : m.edge_on_river[e] != 0;
+}
 bool is_river_edge(const MpasMesh &m, int64_t e) {
-    const bool river = m.edge_on_river.empty() ? m.edge_feature_kind[e] == UM_FEATURE_RIVER : m.edge_on_river[e] != 0;
-    return river && m.cells_on_edge[2 * e] != kNone && m.cells_on_edge[2 * e + 1] != kNone;
+    return on_a_river_line(m, e) && m.cells_on_edge[2 * e] != kNone && m.cells_on_edge[2 * e + 1] != kNone;
+}
+// Where a river leaves a regional mesh across its open boundary: an edge a
+// river's line crosses whose second cell is missing (cellsOnEdge(1) is
+// always a cell). Its cell drains out of the mesh there, as at a mouth.
+bool leaves_the_mesh(const MpasMesh &m, int64_t e) {
+    return m.cells_on_edge[2 * e + 1] == kNone && on_a_river_line(m, e);
 }
 
 // The land-land pairs of the graph, in edge order: every river edge, then
@@ -77,6 +85,7 @@ RiverGraph river_graph(const MpasMesh &m, int32_t *bridges) {
     g.start.assign(static_cast<size_t>(m.n_cells) + 1, 0);
     g.on_river.assign(static_cast<size_t>(m.n_cells), 0);
     for (int64_t e = 0; e < m.n_edges; ++e) {
+        if (leaves_the_mesh(m, e) && is_land(m, m.cells_on_edge[2 * e])) g.on_river[m.cells_on_edge[2 * e]] = 1;
         if (!is_river_edge(m, e)) continue;
         for (int k = 0; k < 2; ++k)
             if (is_land(m, m.cells_on_edge[2 * e + k])) g.on_river[m.cells_on_edge[2 * e + k]] = 1;
@@ -133,9 +142,13 @@ std::vector<int32_t> label_networks(const MpasMesh &m, const RiverGraph &g, std:
 // network with mouths drains to them alone: a river that runs along the
 // coast or through an estuary touches other coastal cells on its way, and
 // those are not where it leaves the land. A network without a mouth (its
-// line ends short of the sea) drains to its cells on the coast.
-std::vector<uint8_t> river_mouths(const MpasMesh &m, const std::vector<int32_t> &network, size_t networks) {
-    std::vector<uint8_t> mouth(static_cast<size_t>(m.n_cells), 0), has_mouth(networks, 0);
+// line ends short of the sea) drains to its cells on the coast; one with
+// neither, in a regional mesh, to where its lines leave the mesh across the
+// open boundary (mouths too; `leaving` counts them): a river that enters
+// the domain and reaches the sea inside drains to the sea.
+std::vector<uint8_t> river_mouths(const MpasMesh &m, const std::vector<int32_t> &network, size_t networks,
+                                  int32_t *leaving) {
+    std::vector<uint8_t> mouth(static_cast<size_t>(m.n_cells), 0), has_mouth(networks, 0), coastal(networks, 0);
     for (int64_t e = 0; e < m.n_edges; ++e) {
         if (!is_river_edge(m, e)) continue;
         const int32_t a = m.cells_on_edge[2 * e], b = m.cells_on_edge[2 * e + 1];
@@ -143,6 +156,18 @@ std::vector<uint8_t> river_mouths(const MpasMesh &m, const std::vector<int32_t> 
         const int32_t land = is_land(m, a) ? a : b;
         mouth[land] = 1, has_mouth[network[land]] = 1;
     }
+    for (int32_t c = 0; c < m.n_cells; ++c)
+        if (network[c] >= 0 && on_coast(m, c)) coastal[network[c]] = 1;
+    *leaving = 0;
+    for (int64_t e = 0; e < m.n_edges; ++e) {
+        const int32_t cell = m.cells_on_edge[2 * e];
+        if (!leaves_the_mesh(m, e) || !is_land(m, cell) || network[cell] < 0 || mouth[cell] != 0) continue;
+        if (has_mouth[network[cell]] || coastal[network[cell]]) continue;
+        mouth[cell] = 1, ++*leaving;
+    }
+    for (int64_t e = 0; e < m.n_edges; ++e)  // (the networks that got mouths on the boundary)
+        if (leaves_the_mesh(m, e) && mouth[m.cells_on_edge[2 * e]] == 1)
+            has_mouth[network[m.cells_on_edge[2 * e]]] = 1;
     for (int32_t c = 0; c < m.n_cells; ++c)
         if (mouth[c] == 0 && network[c] >= 0 && has_mouth[network[c]]) mouth[c] = 2;
     return mouth;
@@ -187,7 +212,7 @@ RiverRouting river_routing(const MpasMesh &m) {
     std::vector<int32_t> distance(static_cast<size_t>(m.n_cells), -1);
     std::deque<int32_t> queue;
     std::vector<uint8_t> reaches_coast(notes.size(), 0);
-    const std::vector<uint8_t> mouth = river_mouths(m, network, notes.size());
+    const std::vector<uint8_t> mouth = river_mouths(m, network, notes.size(), &report.boundary_outlets);
     for (int32_t c = 0; c < m.n_cells; ++c) {
         if (!g.on_river[c]) continue;
         ++report.river_cells;

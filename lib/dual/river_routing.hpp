@@ -9,7 +9,8 @@
 // forest of the pieces: no bridge closes a cycle). The direction
 // comes from the graph's topology, not from the order of the points in the
 // input:
-// a river cell from which the river crosses into an ocean cell is an outlet
+// a river cell from which the river crosses into an ocean cell, or out of
+// a regional mesh across its open boundary, is an outlet
 // (a network whose lines end short of the sea has its river cells on the
 // coast, beside an ocean cell, as outlets instead), and every other cell drains along the shortest path of river edges to the
 // nearest outlet of its network (a breadth-first search from all outlets at
@@ -45,6 +46,9 @@ struct RiverNetworkNote {
 struct RiverReport {
     int32_t networks = 0, river_cells = 0, routed_cells = 0, outlets = 0;
     int32_t bridges = 0;  // gaps joined between neighbouring river cells
+    // Of the outlets, those where a river leaves a regional mesh across its
+    // open boundary (a missing neighbour) rather than into an ocean cell.
+    int32_t boundary_outlets = 0;
     std::vector<RiverNetworkNote> inland;       // networks with no outlet
     std::vector<RiverNetworkNote> with_cycles;  // networks whose graph has cycles
 };

@@ -130,7 +130,9 @@ void size_arrays(const NcInput &file, MpasMesh &m) {
                 {"cellOceanMask", m.cell_ocean_mask, c}, {"cellLandMask", m.cell_land_mask, c},
                 {"edgeFeatureKind", m.edge_feature_kind, e}, {"edgeFeatureId", m.edge_feature_id, e},
                 {"edgeRiverDownstream", m.edge_river_downstream, e}, {"downstreamCell", m.cell_downstream, c},
-                {"riverCellKind", m.cell_river_kind, c}, {"edgeOnRiver", m.edge_on_river, e}};
+                {"riverCellKind", m.cell_river_kind, c}, {"edgeOnRiver", m.edge_on_river, e},
+                {"bdyMaskCell", m.bdy_mask_cell, c},     {"bdyMaskEdge", m.bdy_mask_edge, e},
+                {"bdyMaskVertex", m.bdy_mask_vertex, v}};
     for (const auto &tag : tags)
         if (has_variable(file, tag.name)) tag.array.resize(tag.n);
     // The tags come in their groups or not at all.
@@ -139,6 +141,8 @@ void size_arrays(const NcInput &file, MpasMesh &m) {
         m.edge_feature_kind.clear(), m.edge_feature_id.clear(), m.edge_river_downstream.clear();
     if (m.cell_downstream.empty() != m.cell_river_kind.empty()) m.cell_downstream.clear(), m.cell_river_kind.clear();
     if (m.edge_feature_kind.empty()) m.edge_on_river.clear();
+    if (m.bdy_mask_cell.empty() || m.bdy_mask_edge.empty() || m.bdy_mask_vertex.empty())
+        m.bdy_mask_cell.clear(), m.bdy_mask_edge.clear(), m.bdy_mask_vertex.clear();
 }
 
 void read_field(const NcInput &file, const std::string &path, const MpasField &f) {

@@ -211,11 +211,7 @@ class Build(unittest.TestCase):
             self.assertTrue(0 < counts["TRIA3"] < triangles_nc, (counts["TRIA3"], triangles_nc))
             self.assertTrue(triangles.min() == 0 and triangles.max() == cells - 1)
             self.assertEqual(sorted(map(tuple, np.round(points, 3))), sorted(map(tuple, np.round(xyz, 3))))
-            # What is not made for regional meshes yet, and a domain file of
-            # other kinds, are refused.
-            r = run("build", "--spacing-km", "120", "--domain", domain, "--components", "--out", out + "2")
-            self.assertNotEqual(r.returncode, 0)
-            self.assertIn("domain rings with --components: not made for regional meshes yet", r.stderr)
+            # A domain file of other kinds is refused.
             r = run("build", "--spacing-km", "120", "--domain", COAST, "--out", out)
             self.assertNotEqual(r.returncode, 0)
             self.assertIn("--domain " + COAST + ": the feature of id", r.stderr)

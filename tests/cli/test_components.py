@@ -197,5 +197,47 @@ class Refused(unittest.TestCase):
                 self.assertNotIn("oceanCellId", m.variables)
 
 
+class RegionalComponents(unittest.TestCase):
+    """The components of a regional mesh (the North Atlantic box with its
+    coastlines and rivers): each passes the check and keeps the base's
+    limited-area layers; rivers that leave the box without reaching the sea
+    inside drain across its boundary; the components command gives the same
+    files from the regional mesh.nc."""
+
+    def test_a_regional_mesh_splits_into_its_components(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            domain = os.path.join(tmp, "atlantic.geojson")
+            with open(domain, "w") as f:
+                json.dump({"type": "Feature", "properties": {"kind": "domain"}, "geometry": {
+                    "type": "Polygon", "coordinates": [[[-80, 10], [-5, 10], [-5, 65], [-80, 65], [-80, 10]]]}}, f)
+            out = os.path.join(tmp, "out")
+            r = run("build", "--domain", domain, "--geometry", COAST, "--geometry", RIVERS, "--spacing-km", "120",
+                    "--threads", "2", "--components", "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in ("mesh.nc", "ocean.nc", "land.nc"):
+                check = run("check", os.path.join(out, name))
+                self.assertEqual(check.returncode, 0, check.stdout + check.stderr)
+            with netCDF4.Dataset(os.path.join(out, "mesh.nc")) as base:
+                base_layers = base["bdyMaskCell"][:]
+                self.assertEqual(sorted(set(base_layers.tolist())), list(range(8)))
+                cells = base.dimensions["nCells"].size
+                for name in ("ocean.nc", "land.nc"):
+                    with netCDF4.Dataset(os.path.join(out, name)) as part:
+                        base_of = part["baseCellId"][:] - 1
+                        self.assertTrue(np.array_equal(part["bdyMaskCell"][:], base_layers[base_of]), name)
+                        cells -= part.dimensions["nCells"].size
+                self.assertEqual(cells, 0)
+            with open(os.path.join(out, "rivers.json")) as f:
+                report = json.load(f)
+            self.assertEqual(report["routed_cells"] + report["outlets"] + report["inland_cells"], report["river_cells"])
+            self.assertTrue(0 < report["boundary_outlets"] < report["outlets"], report)
+            self.assertIn("of them on the domain's boundary", r.stdout)
+            again = os.path.join(tmp, "again")
+            r = run("components", os.path.join(out, "mesh.nc"), "--out", again)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in ("mesh.nc",) + COMPONENT_FILES:
+                self.assertTrue(filecmp.cmp(os.path.join(out, name), os.path.join(again, name), shallow=False), name)
+
+
 if __name__ == "__main__":
     unittest.main()

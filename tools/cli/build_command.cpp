@@ -431,9 +431,6 @@ int run_build(const BuildArgs &a) {
         }
         // Domain rings (from --domain or a --geometry file's "domain" kind) make the mesh regional.
         const bool regional = f && holds_domain(ctx, f);
-        if (regional && a.components)
-            throw Failure{"domain rings with --components: not made for regional meshes yet (mesh.nc, graph.info, "
-                          "quality.json, the pictures, --vtu and --jigsaw are)"};
         std::unique_ptr<OutputSet> out;
         try {
             out = std::make_unique<OutputSet>(a.out_dir);

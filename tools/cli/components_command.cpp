@@ -8,6 +8,7 @@
 #include <iterator>
 #include <memory>
 #include <stdexcept>
+#include <string>
 
 #include "available_memory.hpp"
 #include "hdf5_trial.hpp"
@@ -63,15 +64,18 @@ void print_river_summary(const std::string &rivers_json) {
     const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     const long networks = report_count(json, "networks"), cells = report_count(json, "river_cells"),
                routed = report_count(json, "routed_cells") + report_count(json, "outlets"),
-               outlets = report_count(json, "outlets"), inland = report_count(json, "inland_cells");
+               outlets = report_count(json, "outlets"), inland = report_count(json, "inland_cells"),
+               leaving = report_count(json, "boundary_outlets");
     long cycles = 0;
     for (size_t at = json.find("\"networks_with_cycles\""); at != std::string::npos;) {
         at = json.find("\"cycles\": ", at + 1);
         if (at != std::string::npos) cycles += std::strtol(json.c_str() + at + 10, nullptr, 10);
     }
-    std::printf("rivers: %ld networks, %ld river cells: %ld drain to %ld outlets on the coast, %ld in networks "
+    // (A regional mesh's rivers may leave it across its boundary instead.)
+    const std::string across = leaving > 0 ? " (" + std::to_string(leaving) + " of them on the domain's boundary)" : "";
+    std::printf("rivers: %ld networks, %ld river cells: %ld drain to %ld outlets on the coast%s, %ld in networks "
                 "that reach no coast; %ld cycles broken (rivers.json lists where)\n",
-                networks, cells, routed, outlets, inland, cycles);
+                networks, cells, routed, outlets, across.c_str(), inland, cycles);
 }
 
 int run_components(const std::string &mesh_path, const std::string &out_dir) {
