@@ -838,9 +838,9 @@ UM_API um_status um_mesh_quality_counts(const um_mesh *m, int64_t *obtuse,
  * of them, and um_mesh_write_components splits the domain's MPAS mesh (the
  * components keep the base's bdyMask*; a river network that reaches no
  * ocean cell inside the domain drains to where its lines leave it across
- * the boundary: rivers.json's "boundary_outlets"). Not made for regional
- * meshes yet (UM_ERR_USAGE): um_mesh_river_report_json (use the
- * components' rivers.json). */
+ * the boundary: rivers.json's and um_mesh_river_report_json's
+ * "boundary_outlets"; the mesh's own downstreamCell and
+ * edgeRiverDownstream route the same way). */
 
 /* -------------------------------------------------------------- MPAS output */
 

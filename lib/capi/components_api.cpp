@@ -62,8 +62,6 @@ UM_API um_status um_mesh_river_report_json(const um_mesh *m, char *buf, int64_t 
     UM_API_BEGIN
     require_handle(m, HandleKind::mesh, "m");
     const MeshInUse in_use(m);
-    if (m->mesh.regional())
-        fail(UM_ERR_USAGE, "the river report of a regional mesh is not made yet (its routing covers the sphere)");
     const um::dual::MpasSource &source = m->staggered();
     const std::string json = um::components::river_report_json(
         source.river_report(), [&](int32_t cell, double &lat, double &lon) { source.cell_lat_lon(cell, lat, lon); });

@@ -211,34 +211,46 @@ MpasSource::MpasSource(Context &ctx, const mesh::RefinedMesh &refined)
     std::sort(t.restricted.begin(), t.restricted.end());
     t.edge_on_river = river_crossings(ctx, layout_, refined);
     // The routing needs the whole river graph: the topology and tags it reads,
-    // for every cell and edge (of the whole triangulation, a regional
-    // mesh's too), held only while it runs.
+    // for every cell and edge, held only while it runs. A regional mesh's is
+    // the region's, as its file and its components hold it: the cells
+    // outside are no neighbours, an edge with one cell inside has it first
+    // (the row's turn: a river crossing there leaves the mesh), an edge with
+    // none carries no river.
     MpasMesh graph;
     graph.n_cells = layout_.n_cells(), graph.n_edges = layout_.n_edges(), graph.n_vertices = layout_.n_vertices();
     graph.max_edges = layout_.max_edges();
     const size_t w = static_cast<size_t>(layout_.max_edges());
     graph.n_edges_on_cell.resize(static_cast<size_t>(graph.n_cells));
     graph.cells_on_cell.assign(w * graph.n_cells, kNone);
+    auto inside = [&](int32_t c) { return c != kNone && layout_.row_of_cell(c) != kNone; };
     ctx.parallel_for(graph.n_cells, 1024, [&](int64_t b, int64_t e) {
         CellRing ring;
         for (int64_t c = b; c < e; ++c) {
             layout_.cell_ring(static_cast<int32_t>(c), ring);
             graph.n_edges_on_cell[c] = ring.degree();
-            std::copy(ring.cells.begin(), ring.cells.end(), &graph.cells_on_cell[w * c]);
+            for (int j = 0; j < ring.degree(); ++j) graph.cells_on_cell[w * c + j] = inside(ring.cells[j]) ? ring.cells[j] : kNone;
         }
     });
     if (t.sides) cell_sides(0, graph.n_cells, graph, true);
     graph.cells_on_edge.resize(2 * static_cast<size_t>(graph.n_edges));
     graph.edge_feature_kind.resize(static_cast<size_t>(graph.n_edges));
+    graph.edge_on_river.assign(t.edge_on_river.begin(), t.edge_on_river.end());
     ctx.parallel_for(graph.n_edges, 4096, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             const EdgeEnds ends = layout_.edge_ends(static_cast<int32_t>(i));
-            graph.cells_on_edge[2 * i] = ends.cell[0], graph.cells_on_edge[2 * i + 1] = ends.cell[1];
-            graph.edge_feature_kind[i] = t.edge_feature(layout_, ends).first;
+            const bool in0 = inside(ends.cell[0]), in1 = inside(ends.cell[1]);
+            graph.cells_on_edge[2 * i] = in0 ? ends.cell[0] : in1 ? ends.cell[1] : ends.cell[0];
+            graph.cells_on_edge[2 * i + 1] = in0 && in1 ? ends.cell[1] : in0 || in1 ? kNone : ends.cell[1];
+            graph.edge_feature_kind[i] = in0 || in1 ? t.edge_feature(layout_, ends).first : 0;
+            if (!in0 && !in1) graph.edge_on_river[i] = 0;
         }
     });
-    graph.edge_on_river.assign(t.edge_on_river.begin(), t.edge_on_river.end());
     t.routing = river_routing(graph);
+    // (Each edge's flow back to its ends' order: edge_tags turns it with its row.)
+    if (layout_.regional())
+        for (int64_t i = 0; i < graph.n_edges; ++i)
+            if (layout_.turned(layout_.edge_ends(static_cast<int32_t>(i))))
+                t.routing.edge_river_downstream[i] = -t.routing.edge_river_downstream[i];
 }
 
 MpasSource::~MpasSource() = default;

@@ -176,10 +176,18 @@ std::vector<uint8_t> river_mouths(const MpasMesh &m, const std::vector<int32_t> 
 // Each river edge's flow (+1 from cellsOnEdge 1 to 2, -1 back, 0 none):
 // down the routing, from the farther cell to the nearer one where the edge
 // closes a cycle; into the sea from an outlet; none where the distances
-// (steps to the outlet, -1 unrouted) tie or no coast is reached.
+// (steps to the outlet, -1 unrouted) tie or no coast is reached. A regional
+// mesh's river edges across its boundary flow out of an outlet there and in
+// elsewhere.
 std::vector<int32_t> edge_flows(const MpasMesh &m, const std::vector<int32_t> &distance) {
     std::vector<int32_t> flows(static_cast<size_t>(m.n_edges), 0);
     for (int64_t e = 0; e < m.n_edges; ++e) {
+        // Across a regional mesh's boundary: out of an outlet there, in
+        // towards an outlet elsewhere.
+        if (leaves_the_mesh(m, e) && is_land(m, m.cells_on_edge[2 * e])) {
+            const int32_t steps = distance[m.cells_on_edge[2 * e]];
+            flows[e] = steps == 0 ? 1 : steps > 0 ? -1 : 0;
+        }
         if (!is_river_edge(m, e)) continue;
         const int32_t a = m.cells_on_edge[2 * e], b = m.cells_on_edge[2 * e + 1];
         const bool land_a = is_land(m, a), land_b = is_land(m, b);

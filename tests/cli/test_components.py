@@ -201,8 +201,8 @@ class RegionalComponents(unittest.TestCase):
     """The components of a regional mesh (the North Atlantic box with its
     coastlines and rivers): each passes the check and keeps the base's
     limited-area layers; rivers that leave the box without reaching the sea
-    inside drain across its boundary; the components command gives the same
-    files from the regional mesh.nc."""
+    inside drain across its boundary, in the mesh's own file too; the
+    components command gives the same files from the regional mesh.nc."""
 
     def test_a_regional_mesh_splits_into_its_components(self):
         with tempfile.TemporaryDirectory() as tmp:
@@ -232,6 +232,18 @@ class RegionalComponents(unittest.TestCase):
             self.assertEqual(report["routed_cells"] + report["outlets"] + report["inland_cells"], report["river_cells"])
             self.assertTrue(0 < report["boundary_outlets"] < report["outlets"], report)
             self.assertIn("of them on the domain's boundary", r.stdout)
+            # The mesh's own file routes its rivers as its components do: within
+            # the domain, every routed cell with a downstream cell.
+            plain = os.path.join(tmp, "plain")
+            r = run("build", "--domain", domain, "--geometry", COAST, "--geometry", RIVERS, "--spacing-km", "120",
+                    "--threads", "2", "--out", plain)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with netCDF4.Dataset(os.path.join(plain, "mesh.nc")) as own, \
+                    netCDF4.Dataset(os.path.join(out, "mesh.nc")) as base:
+                for name in ("riverCellKind", "downstreamCell", "edgeRiverDownstream"):
+                    self.assertTrue(np.array_equal(own[name][:], base[name][:]), name)
+                kind, down = own["riverCellKind"][:], own["downstreamCell"][:]
+                self.assertTrue(np.all(down[kind == 1] > 0))
             again = os.path.join(tmp, "again")
             r = run("components", os.path.join(out, "mesh.nc"), "--out", again)
             self.assertEqual(r.returncode, 0, r.stderr)
