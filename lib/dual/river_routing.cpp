@@ -22,11 +22,12 @@ struct RiverGraph {
 
 bool is_land(const MpasMesh &m, int32_t c) { return m.cell_land_mask.empty() || m.cell_land_mask[c] != 0; }
 
-// An edge of the river graph: one a river's line crosses (edge_on_river),
-// or, where the mesh does not know that, one whose dual crosses a river.
+// Whether a river's line crosses edge e (edge_on_river), or, where the mesh
+// does not know that, whether its dual crosses a river.
 bool on_a_river_line(const MpasMesh &m, int64_t e) {
     return m.edge_on_river.empty() ? m.edge_feature_kind[e] == UM_FEATURE_RIVER : m.edge_on_river[e] != 0;
 }
+// An edge of the river graph: one on a river's line between two cells.
 bool is_river_edge(const MpasMesh &m, int64_t e) {
     return on_a_river_line(m, e) && m.cells_on_edge[2 * e] != kNone && m.cells_on_edge[2 * e + 1] != kNone;
 }

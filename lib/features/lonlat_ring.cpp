@@ -60,11 +60,14 @@ bool runs_round_the_sphere(const double *lon, int64_t n) {
     return false;
 }
 
-PolarCapRing polar_cap_ring(const double *lon, const double *lat, int64_t n) {
+namespace {
+
+// The ring as drawn with its long edges cut (the shorter way round is then
+// the way drawn), each point once: a pole's points, or the antimeridian's two
+// longitudes, are one point. `pole`: the pole it reaches (0: none).
+PolarCapRing cut_long_edges(const double *lon, const double *lat, int64_t n, double &pole) {
     PolarCapRing r;
-    // The ring as drawn, its long edges cut; each point once (a pole, or the
-    // antimeridian's two longitudes, one point).
-    double pole = 0;
+    pole = 0;
     for (int64_t k = 0; k < n; ++k) {
         const int64_t j = (k + 1) % n;
         if (std::fabs(lat[k]) == 90) {
@@ -84,27 +87,39 @@ PolarCapRing polar_cap_ring(const double *lon, const double *lat, int64_t n) {
             add(lon[k] + t * dlon, lat[k] + t * (lat[j] - lat[k]));
         }
     }
-    while (r.lon.size() > 1 && same_place(r.lon.back(), r.lat.back(), r.lon[0], r.lat[0]))
-        r.lon.pop_back(), r.lat.pop_back(), r.source.pop_back();
-    // The spikes out and back (to the pole, along the antimeridian) taken out:
-    // a point whose neighbours are one point goes, with one of them.
-    for (bool spiked = true; spiked && r.lon.size() >= 3;) {
-        spiked = false;
-        const size_t m = r.lon.size();
-        for (size_t k = 0; k < m && !spiked; ++k) {
-            const size_t before = (k + m - 1) % m, after = (k + 1) % m;
-            if (!same_place(r.lon[before], r.lat[before], r.lon[after], r.lat[after])) continue;
-            for (size_t gone : {std::max(k, after), std::min(k, after)}) {
-                r.lon.erase(r.lon.begin() + static_cast<std::ptrdiff_t>(gone));
-                r.lat.erase(r.lat.begin() + static_cast<std::ptrdiff_t>(gone));
-                r.source.erase(r.source.begin() + static_cast<std::ptrdiff_t>(gone));
-            }
-            spiked = true;
-        }
+    return r;
+}
+
+// Takes out the spikes out and back (to the pole, along the antimeridian): a
+// point whose neighbours are one point goes, with one of them. In one pass
+// (a stack), then round the ring's closing.
+void drop_spikes(PolarCapRing &r) {
+    PolarCapRing kept;
+    auto same = [&](size_t a, size_t b) { return same_place(kept.lon[a], kept.lat[a], kept.lon[b], kept.lat[b]); };
+    auto pop = [&] { kept.lon.pop_back(), kept.lat.pop_back(), kept.source.pop_back(); };
+    for (size_t k = 0; k < r.lon.size(); ++k) {
+        kept.lon.push_back(r.lon[k]), kept.lat.push_back(r.lat[k]), kept.source.push_back(r.source[k]);
+        const size_t m = kept.lon.size();
+        if (m >= 2 && same(m - 1, m - 2)) pop();
+        else if (m >= 3 && same(m - 1, m - 3)) pop(), pop();
     }
-    // What is left must go once round the pole it reached, and that side be
-    // the smaller: the cap's area in (longitude, sine of latitude), from the
-    // pole to each edge.
+    size_t first = 0;  // round the closing: kept[first..] is the ring
+    while (kept.lon.size() - first >= 3) {
+        const size_t last = kept.lon.size() - 1;
+        if (same(last, first)) pop();                  // a point twice
+        else if (same(last - 1, first)) pop(), pop();  // a spike at the last point
+        else if (same(last, first + 1)) first += 2;    // a spike at the first
+        else break;
+    }
+    r.lon.assign(kept.lon.begin() + static_cast<std::ptrdiff_t>(first), kept.lon.end());
+    r.lat.assign(kept.lat.begin() + static_cast<std::ptrdiff_t>(first), kept.lat.end());
+    r.source.assign(kept.source.begin() + static_cast<std::ptrdiff_t>(first), kept.source.end());
+}
+
+// Why the ring left is no cap round `pole` smaller than a hemisphere (empty:
+// it is one): it must go once round, and the pole's side be the smaller, by
+// the area in (longitude, sine of latitude) from the pole to each edge.
+std::string cap_error(const PolarCapRing &r, double pole) {
     const size_t m = r.lon.size();
     double turned = 0, area = 0;
     for (size_t k = 0; k < m; ++k) {
@@ -115,11 +130,21 @@ PolarCapRing polar_cap_ring(const double *lon, const double *lat, int64_t n) {
         area += dlon * (1 - (pole > 0 ? mean_sine : -mean_sine));
     }
     if (pole == 0 || m < 3 || std::fabs(std::fabs(turned) - 2 * M_PI) > 1e-6)
-        return r.error = "does not run along one pole, to and from it along one meridian, and once round", r;
+        return "does not run along one pole, to and from it along one meridian, and once round";
     if (std::fabs(area) >= 2 * M_PI)
-        return r.error = concat("draws a cap round the ", pole > 0 ? "north" : "south",
-                                " pole larger than a hemisphere (a ring round a pole holds the smaller side)"),
-               r;
+        return concat("draws a cap round the ", pole > 0 ? "north" : "south",
+                      " pole larger than a hemisphere (a ring round a pole holds the smaller side)");
+    return {};
+}
+
+}  // namespace
+
+PolarCapRing polar_cap_ring(const double *lon, const double *lat, int64_t n) {
+    double pole = 0;
+    PolarCapRing r = cut_long_edges(lon, lat, n, pole);
+    if (!r.error.empty()) return r;
+    drop_spikes(r);
+    r.error = cap_error(r, pole);
     return r;
 }
 
