@@ -72,10 +72,12 @@ void print_river_summary(const std::string &rivers_json) {
         if (at != std::string::npos) cycles += std::strtol(json.c_str() + at + 10, nullptr, 10);
     }
     // (A regional mesh's rivers may leave it across its boundary instead.)
-    const std::string across = leaving > 0 ? " (" + std::to_string(leaving) + " of them on the domain's boundary)" : "";
-    std::printf("rivers: %ld networks, %ld river cells: %ld drain to %ld outlets on the coast%s, %ld in networks "
+    const std::string where = leaving > 0 ? " (" + std::to_string(outlets - leaving) + " on the coast, " +
+                                                std::to_string(leaving) + " on the domain's boundary)"
+                                          : " on the coast";
+    std::printf("rivers: %ld networks, %ld river cells: %ld drain to %ld outlets%s, %ld in networks "
                 "that reach no coast; %ld cycles broken (rivers.json lists where)\n",
-                networks, cells, routed, outlets, across.c_str(), inland, cycles);
+                networks, cells, routed, outlets, where.c_str(), inland, cycles);
 }
 
 int run_components(const std::string &mesh_path, const std::string &out_dir) {
