@@ -235,11 +235,13 @@ MpasSource::MpasSource(Context &ctx, const mesh::RefinedMesh &refined)
     graph.cells_on_edge.resize(2 * static_cast<size_t>(graph.n_edges));
     graph.edge_feature_kind.resize(static_cast<size_t>(graph.n_edges));
     graph.edge_on_river.assign(t.edge_on_river.begin(), t.edge_on_river.end());
+    std::vector<uint8_t> turned(static_cast<size_t>(graph.n_edges), 0);  // the inside cell put first
     ctx.parallel_for(graph.n_edges, 4096, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             const EdgeEnds ends = layout_.edge_ends(static_cast<int32_t>(i));
             const bool in0 = inside(ends.cell[0]), in1 = inside(ends.cell[1]);
-            graph.cells_on_edge[2 * i] = in0 ? ends.cell[0] : in1 ? ends.cell[1] : ends.cell[0];
+            turned[i] = !in0 && in1;
+            graph.cells_on_edge[2 * i] = turned[i] ? ends.cell[1] : ends.cell[0];
             graph.cells_on_edge[2 * i + 1] = in0 && in1 ? ends.cell[1] : in0 || in1 ? kNone : ends.cell[1];
             graph.edge_feature_kind[i] = in0 || in1 ? t.edge_feature(layout_, ends).first : 0;
             if (!in0 && !in1) graph.edge_on_river[i] = 0;
@@ -247,10 +249,8 @@ MpasSource::MpasSource(Context &ctx, const mesh::RefinedMesh &refined)
     });
     t.routing = river_routing(graph);
     // (Each edge's flow back to its ends' order: edge_tags turns it with its row.)
-    if (layout_.regional())
-        for (int64_t i = 0; i < graph.n_edges; ++i)
-            if (layout_.turned(layout_.edge_ends(static_cast<int32_t>(i))))
-                t.routing.edge_river_downstream[i] = -t.routing.edge_river_downstream[i];
+    for (size_t i = 0; i < turned.size(); ++i)
+        if (turned[i]) t.routing.edge_river_downstream[i] = -t.routing.edge_river_downstream[i];
 }
 
 MpasSource::~MpasSource() = default;

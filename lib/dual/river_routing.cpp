@@ -149,7 +149,7 @@ std::vector<int32_t> label_networks(const MpasMesh &m, const RiverGraph &g, std:
 // the domain and reaches the sea inside drains to the sea.
 std::vector<uint8_t> river_mouths(const MpasMesh &m, const std::vector<int32_t> &network, size_t networks,
                                   int32_t *leaving) {
-    std::vector<uint8_t> mouth(static_cast<size_t>(m.n_cells), 0), has_mouth(networks, 0), coastal(networks, 0);
+    std::vector<uint8_t> mouth(static_cast<size_t>(m.n_cells), 0), has_mouth(networks, 0);
     for (int64_t e = 0; e < m.n_edges; ++e) {
         if (!is_river_edge(m, e)) continue;
         const int32_t a = m.cells_on_edge[2 * e], b = m.cells_on_edge[2 * e + 1];
@@ -157,18 +157,16 @@ std::vector<uint8_t> river_mouths(const MpasMesh &m, const std::vector<int32_t> 
         const int32_t land = is_land(m, a) ? a : b;
         mouth[land] = 1, has_mouth[network[land]] = 1;
     }
+    std::vector<uint8_t> reaches_sea = has_mouth;  // by a mouth, or on the coast
     for (int32_t c = 0; c < m.n_cells; ++c)
-        if (network[c] >= 0 && on_coast(m, c)) coastal[network[c]] = 1;
+        if (network[c] >= 0 && on_coast(m, c)) reaches_sea[network[c]] = 1;
     *leaving = 0;
     for (int64_t e = 0; e < m.n_edges; ++e) {
         const int32_t cell = m.cells_on_edge[2 * e];
         if (!leaves_the_mesh(m, e) || !is_land(m, cell) || network[cell] < 0 || mouth[cell] != 0) continue;
-        if (has_mouth[network[cell]] || coastal[network[cell]]) continue;
-        mouth[cell] = 1, ++*leaving;
+        if (reaches_sea[network[cell]]) continue;
+        mouth[cell] = 1, has_mouth[network[cell]] = 1, ++*leaving;
     }
-    for (int64_t e = 0; e < m.n_edges; ++e)  // (the networks that got mouths on the boundary)
-        if (leaves_the_mesh(m, e) && mouth[m.cells_on_edge[2 * e]] == 1)
-            has_mouth[network[m.cells_on_edge[2 * e]]] = 1;
     for (int32_t c = 0; c < m.n_cells; ++c)
         if (mouth[c] == 0 && network[c] >= 0 && has_mouth[network[c]]) mouth[c] = 2;
     return mouth;
